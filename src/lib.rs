@@ -1,0 +1,14 @@
+//! nanobeam: nonlocal viscoelastic Euler–Bernoulli nanobeams — forward model,
+//! Bayesian calibration (DRAM, TMCMC), model diagnosis and the reproduction of
+//! the source paper. See ARCHITECTURE.md for the map and the data flow.
+//!
+//! Data flows one way: spec -> [`beam`] -> [`calibration`] (posterior) ->
+//! [`bayes`] (samplers) -> results -> [`report`].
+
+pub mod bayes;
+pub mod beam;
+pub mod calibration;
+pub mod diagnose;
+pub mod error;
+pub mod report;
+pub mod reproduce;
