@@ -1,1 +1,7 @@
-//! (module under construction)
+//! Statistics only, beam-agnostic: priors, likelihoods, DRAM, TMCMC, MAP,
+//! summaries and convergence diagnostics. It sees a log-density over a named
+//! vector ([`Posterior`]) and nothing else.
+
+pub mod posterior;
+
+pub use posterior::Posterior;

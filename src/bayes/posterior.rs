@@ -1,0 +1,42 @@
+//! The problem side of the argmin-style split: a posterior is a log-density
+//! over a named parameter vector. Samplers and optimisers consume it and know
+//! nothing about what computes it (beams live elsewhere).
+
+use rand::RngCore;
+
+/// An unnormalised log posterior log π(θ | y) = log π(θ) + log L(θ), eq. (24),
+/// split into prior and likelihood so tempered samplers (TMCMC) can weight the
+/// likelihood alone.
+pub trait Posterior: Sync {
+    /// Parameter names, in the order of θ.
+    fn names(&self) -> Vec<String>;
+
+    /// Dimension of θ.
+    fn dim(&self) -> usize {
+        self.names().len()
+    }
+
+    /// log π(θ); `f64::NEG_INFINITY` outside the prior's support.
+    fn log_prior(&self, theta: &[f64]) -> f64;
+
+    /// log L(θ) = log π(y | θ). May return NaN or ±∞ when the model fails;
+    /// samplers count that as a rejection, never a crash.
+    fn log_likelihood(&self, theta: &[f64]) -> f64;
+
+    /// One draw from the prior (used by TMCMC and multi-start optimisers).
+    fn sample_prior(&self, rng: &mut dyn RngCore) -> Vec<f64>;
+
+    /// log π(θ) + log L(θ); the likelihood is not evaluated outside the support.
+    fn log_posterior(&self, theta: &[f64]) -> f64 {
+        let lp = self.log_prior(theta);
+        if !lp.is_finite() {
+            return f64::NEG_INFINITY;
+        }
+        let ll = self.log_likelihood(theta);
+        if ll.is_nan() {
+            f64::NEG_INFINITY
+        } else {
+            lp + ll
+        }
+    }
+}
