@@ -1,1 +1,10 @@
-//! (module under construction)
+//! The glue between physics and statistics: the measured-data file, named
+//! parameters mapped onto a beam, and the beam posterior that the samplers see.
+
+pub mod measured;
+pub mod parameters;
+pub mod sampler;
+
+pub use measured::{MeasuredData, ModeObservation};
+pub use parameters::{Parameter, ParameterSet, Target};
+pub use sampler::SamplerSpec;

@@ -1,0 +1,254 @@
+//! Named calibration parameters and how each one maps onto a beam.
+//!
+//! A parameter set is an ordered list of (name, prior, proposal sd). The name
+//! decides what the value changes in the beam (or, for `beta_squared`, in the
+//! likelihood's noise scaling, eq. 41).
+
+use serde::{Deserialize, Serialize};
+
+use crate::bayes::prior::Prior;
+use crate::beam::{BeamSpec, InternalVariable, PointMass};
+use crate::error::InputError;
+
+/// What a named parameter acts on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Target {
+    /// Eringen parameter e0a (nm).
+    NonlocalE0a,
+    /// Δ of internal variable `i` (0-based), eq. (8).
+    Delta(usize),
+    /// Ω of internal variable `i` (0-based) in rad/s, eq. (8).
+    Omega(usize),
+    /// Diameter d (nm): a nuisance parameter in Cases 2A–2C and 3.
+    Diameter,
+    /// β² of eq. (41): Σ̃ = β² Σεε. Acts on the likelihood, not on the beam.
+    BetaSquared,
+    ViscousDamping,
+    SupportRotationalStiffness,
+    PointMassKg,
+    PointMassXnm,
+    YoungsModulus,
+    Density,
+    Length,
+}
+
+/// Names accepted in `parameters`, with the allowed form. `delta`/`omega_rad_s`
+/// are the first internal variable; `delta_2`, `omega_2_rad_s`, ... further ones.
+pub const KNOWN_NAMES: &str = "nonlocal_e0a_nm, delta, omega_rad_s, delta_K, omega_K_rad_s (K >= 2), \
+diameter_nm, beta_squared, viscous_damping_n_s_m2, support_rotational_stiffness_n_m_rad, \
+point_mass_kg, point_mass_x_nm, youngs_modulus_pa, density_kg_m3, length_nm";
+
+impl Target {
+    pub fn from_name(name: &str) -> Option<Target> {
+        Some(match name {
+            "nonlocal_e0a_nm" => Target::NonlocalE0a,
+            "delta" => Target::Delta(0),
+            "omega_rad_s" => Target::Omega(0),
+            "diameter_nm" => Target::Diameter,
+            "beta_squared" => Target::BetaSquared,
+            "viscous_damping_n_s_m2" => Target::ViscousDamping,
+            "support_rotational_stiffness_n_m_rad" => Target::SupportRotationalStiffness,
+            "point_mass_kg" => Target::PointMassKg,
+            "point_mass_x_nm" => Target::PointMassXnm,
+            "youngs_modulus_pa" => Target::YoungsModulus,
+            "density_kg_m3" => Target::Density,
+            "length_nm" => Target::Length,
+            _ => {
+                if let Some(k) = name.strip_prefix("delta_") {
+                    let k: usize = k.parse().ok().filter(|&k| k >= 2)?;
+                    Target::Delta(k - 1)
+                } else if let Some(rest) = name.strip_prefix("omega_") {
+                    let k: usize = rest.strip_suffix("_rad_s")?.parse().ok().filter(|&k| k >= 2)?;
+                    Target::Omega(k - 1)
+                } else {
+                    return None;
+                }
+            }
+        })
+    }
+}
+
+/// One entry of `parameters:` as written.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParameterEntry {
+    pub prior: Prior,
+    /// Standard deviation of the initial (non-adaptive) proposal C0, eq. (30),
+    /// in the parameter's unit. Default: 1 % of the prior's scale.
+    #[serde(default)]
+    pub proposal_sd: Option<f64>,
+}
+
+/// A resolved parameter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Parameter {
+    pub name: String,
+    pub target: Target,
+    pub prior: Prior,
+    pub proposal_sd: f64,
+}
+
+/// The ordered parameter vector θ.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParameterSet {
+    pub params: Vec<Parameter>,
+}
+
+impl ParameterSet {
+    pub fn len(&self) -> usize {
+        self.params.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.params.is_empty()
+    }
+
+    pub fn names(&self) -> Vec<String> {
+        self.params.iter().map(|p| p.name.clone()).collect()
+    }
+
+    /// The paper's N = 1 set (§4.2.1): e0a ~ U[0, 2] nm, Δ ~ U[0, 1],
+    /// Ω ~ U[0, 1e13] rad/s, C0 = diag(0.01 nm, 0.01, 0.01e12 rad/s)².
+    pub fn paper_n1() -> Self {
+        let p = |name: &str, lower: f64, upper: f64, sd: f64| Parameter {
+            name: name.to_string(),
+            target: Target::from_name(name).expect("known name"),
+            prior: Prior::Uniform { lower, upper },
+            proposal_sd: sd,
+        };
+        ParameterSet {
+            params: vec![
+                p("nonlocal_e0a_nm", 0.0, 2.0, 0.01),
+                p("delta", 0.0, 1.0, 0.01),
+                p("omega_rad_s", 0.0, 1e13, 0.01e12),
+            ],
+        }
+    }
+
+    /// Builds the set from the YAML mapping, preserving the written order.
+    pub fn from_mapping(map: &serde_yaml::Mapping) -> Result<Self, InputError> {
+        if map.is_empty() {
+            return Err(InputError::new("parameters", "{}", "at least one parameter"));
+        }
+        let mut params = Vec::with_capacity(map.len());
+        for (key, value) in map {
+            let name = key
+                .as_str()
+                .ok_or_else(|| InputError::new("parameters", format!("{key:?}"), "string keys"))?
+                .to_string();
+            let field = format!("parameters.{name}");
+            let target = Target::from_name(&name)
+                .ok_or_else(|| InputError::new("parameters", &name, format!("one of: {KNOWN_NAMES}")))?;
+            if params.iter().any(|p: &Parameter| p.target == target) {
+                return Err(InputError::new(&field, &name, "each parameter once"));
+            }
+            let entry: ParameterEntry = serde_yaml::from_value(value.clone())
+                .map_err(|e| InputError::new(&field, "(see message)", e.to_string()))?;
+            entry.prior.validate(&format!("{field}.prior"))?;
+            let proposal_sd = match entry.proposal_sd {
+                Some(sd) => {
+                    crate::error::positive(&format!("{field}.proposal_sd"), sd)?;
+                    sd
+                }
+                None => default_proposal_sd(&entry.prior),
+            };
+            params.push(Parameter { name, target, prior: entry.prior, proposal_sd });
+        }
+        Ok(ParameterSet { params })
+    }
+
+    /// Rejects parameters the beam cannot carry (e.g. `delta_2` on a beam
+    /// with one internal variable) and physically impossible prior supports.
+    pub fn check_against_beam(&self, beam: &BeamSpec) -> Result<(), InputError> {
+        let n_iv = beam.internal_variables.len();
+        for p in &self.params {
+            let field = format!("parameters.{}", p.name);
+            let (lo, _hi) = p.prior.support();
+            let needs_iv = match p.target {
+                Target::Delta(i) | Target::Omega(i) => Some(i),
+                _ => None,
+            };
+            if let Some(i) = needs_iv {
+                if i > n_iv {
+                    return Err(InputError::new(
+                        &field,
+                        &p.name,
+                        format!("internal variable {} needs variables 1..{} calibrated or listed in beam.internal_variables", i + 1, i),
+                    ));
+                }
+            }
+            // Every beam quantity and β² is non-negative by nature.
+            if lo < 0.0 {
+                return Err(InputError::new(format!("{field}.prior"), lo, "a support within the physical range >= 0"));
+            }
+            if p.target == Target::PointMassXnm {
+                let (_, hi) = p.prior.support();
+                if hi > beam.length_nm {
+                    return Err(InputError::new(
+                        format!("{field}.prior"),
+                        hi,
+                        format!("a support within the beam [0, length_nm = {}]", beam.length_nm),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Index of β² in θ, if calibrated.
+    pub fn beta_squared_index(&self) -> Option<usize> {
+        self.params.iter().position(|p| p.target == Target::BetaSquared)
+    }
+
+    /// The beam with θ applied. Internal variables beyond the beam's list are
+    /// appended (Δ = 0, Ω = 1e12 rad/s placeholders are overwritten by θ).
+    pub fn apply(&self, base: &BeamSpec, theta: &[f64]) -> BeamSpec {
+        let mut beam = base.clone();
+        self.apply_in_place(&mut beam, theta);
+        beam
+    }
+
+    /// [`Self::apply`] into an existing beam (no allocation when the number of
+    /// internal variables does not change).
+    pub fn apply_in_place(&self, beam: &mut BeamSpec, theta: &[f64]) {
+        for (p, &v) in self.params.iter().zip(theta) {
+            match p.target {
+                Target::NonlocalE0a => beam.nonlocal_e0a_nm = v,
+                Target::Delta(i) => iv_mut(beam, i).delta = v,
+                Target::Omega(i) => iv_mut(beam, i).omega_rad_s = v,
+                Target::Diameter => beam.diameter_nm = v,
+                Target::BetaSquared => {}
+                Target::ViscousDamping => beam.viscous_damping_n_s_m2 = v,
+                Target::SupportRotationalStiffness => beam.support_rotational_stiffness_n_m_rad = v,
+                Target::PointMassKg => point_mass_mut(beam).mass_kg = v,
+                Target::PointMassXnm => point_mass_mut(beam).x_nm = v,
+                Target::YoungsModulus => beam.youngs_modulus_pa = v,
+                Target::Density => beam.density_kg_m3 = v,
+                Target::Length => beam.length_nm = v,
+            }
+        }
+    }
+}
+
+fn iv_mut(beam: &mut BeamSpec, i: usize) -> &mut InternalVariable {
+    while beam.internal_variables.len() <= i {
+        beam.internal_variables.push(InternalVariable { delta: 0.0, omega_rad_s: 1e12 });
+    }
+    &mut beam.internal_variables[i]
+}
+
+fn point_mass_mut(beam: &mut BeamSpec) -> &mut PointMass {
+    let half = beam.length_nm / 2.0;
+    beam.point_mass.get_or_insert(PointMass { mass_kg: 0.0, x_nm: half })
+}
+
+/// 1 % of the prior's scale (support width for bounded priors, sd otherwise):
+/// the same relative size as the paper's C0 for e0a and Δ.
+fn default_proposal_sd(prior: &Prior) -> f64 {
+    let (lo, hi) = prior.support();
+    if lo.is_finite() && hi.is_finite() {
+        0.01 * (hi - lo)
+    } else {
+        0.01 * prior.sd().unwrap_or(1.0).abs().max(f64::MIN_POSITIVE)
+    }
+}
