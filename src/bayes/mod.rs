@@ -2,6 +2,10 @@
 //! summaries and convergence diagnostics. It sees a log-density over a named
 //! vector ([`Posterior`]) and nothing else.
 
+pub mod diagnostics;
+pub mod laplace;
 pub mod posterior;
+pub mod summary;
+pub mod tmcmc;
 
 pub use posterior::Posterior;
