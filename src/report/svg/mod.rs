@@ -20,14 +20,14 @@
 //! | [`bar_chart`] | one value per category (e.g. class probabilities) |
 //! | [`residual_plot`] | standardized residual per mode, several groups, ±band |
 
-//mod categorical;
+mod categorical;
 mod common;
 mod heatmap;
 mod line;
-//mod mcmc;
+mod mcmc;
 
-//pub use categorical::{bar_chart, residual_plot, BarChart, ResidualPlot};
+pub use categorical::{bar_chart, residual_plot, BarChart, ResidualPlot};
 pub use common::{Axis, NamedValues, RefLine, Scale, Series};
 pub use heatmap::{heatmap, viridis, Heatmap};
 pub use line::{line_plot, Band, LinePlot};
-//pub use mcmc::{histogram, pair_plot, trace_plot, HistogramPlot, PairPlot, TracePlot};
+pub use mcmc::{histogram, pair_plot, trace_plot, HistogramPlot, PairPlot, TracePlot};
