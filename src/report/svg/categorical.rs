@@ -3,7 +3,14 @@
 use super::common::{draw_err, series_colour, tick_label, NamedValues, DESC_SIZE, FONT, TICK_SIZE, TITLE_SIZE};
 use crate::report::error::{ReportError, Result};
 use crate::report::table::fmt_sig;
+use plotters::coord::ranged1d::SegmentedCoord;
 use plotters::prelude::*;
+
+/// A category axis with segments `0..n` (plotters' segmented coordinate
+/// over the *inclusive* integer range 0..=n-1).
+fn categories(n: usize) -> SegmentedCoord<plotters::coord::types::RangedCoordi32> {
+    (0..n as i32 - 1).into_segmented()
+}
 
 /// Spec of [`bar_chart`]: one bar per category, its value printed above it
 /// (e.g. posterior probabilities of candidate model classes).
@@ -53,7 +60,7 @@ pub fn bar_chart(spec: &BarChart) -> Result<String> {
             .margin(12)
             .x_label_area_size(55)
             .y_label_area_size(80)
-            .build_cartesian_2d((0..n as i32).into_segmented(), y0..y1)
+            .build_cartesian_2d(categories(n), y0..y1)
             .map_err(draw_err)?;
         let label = |v: &SegmentValue<i32>| match v {
             SegmentValue::CenterOf(i) => spec.categories.get(*i as usize).cloned().unwrap_or_default(),
@@ -154,7 +161,7 @@ pub fn residual_plot(spec: &ResidualPlot) -> Result<String> {
             .margin(12)
             .x_label_area_size(55)
             .y_label_area_size(80)
-            .build_cartesian_2d((0..n as i32).into_segmented(), -extent..extent)
+            .build_cartesian_2d(categories(n), -extent..extent)
             .map_err(draw_err)?;
         let label = |v: &SegmentValue<i32>| match v {
             SegmentValue::CenterOf(i) => spec.labels.get(*i as usize).cloned().unwrap_or_default(),
@@ -202,7 +209,11 @@ pub fn residual_plot(spec: &ResidualPlot) -> Result<String> {
                 _ => chart.draw_series(pts.into_iter().map(|p| Cross::new(p, 6, colour.stroke_width(2)).into_dyn())),
             }
             .map_err(draw_err)?;
-            series.label(&g.name).legend(move |(x, y)| Circle::new((x + 10, y), 5, colour.filled()));
+            series.label(&g.name).legend(move |(x, y)| match k % 3 {
+                0 => Circle::new((x + 10, y), 5, colour.filled()).into_dyn(),
+                1 => TriangleMarker::new((x + 10, y), 6, colour.filled()).into_dyn(),
+                _ => Cross::new((x + 10, y), 5, colour.stroke_width(2)).into_dyn(),
+            });
         }
         if !spec.groups.is_empty() {
             chart

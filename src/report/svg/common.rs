@@ -145,15 +145,17 @@ pub(crate) fn axis_range(axis: &Axis, values: impl Iterator<Item = f64>, what: &
     })
 }
 
-/// Tick label: three significant digits, trailing zeros of a fixed-notation
-/// fraction dropped (`0.00100` -> `0.001`, `10.0` -> `10`).
+/// Tick label: three significant digits, trailing zeros of the fraction
+/// dropped (`0.00100` -> `0.001`, `10.0` -> `10`, `1.00e13` -> `1e13`).
 pub(crate) fn tick_label(v: &f64) -> String {
     let s = fmt_sig(*v, 3);
-    if s.contains('.') && !s.contains('e') {
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    } else {
-        s
-    }
+    let (mantissa, exponent) = match s.split_once('e') {
+        Some((m, e)) => (m.to_string(), format!("e{e}")),
+        None => (s, String::new()),
+    };
+    let mantissa =
+        if mantissa.contains('.') { mantissa.trim_end_matches('0').trim_end_matches('.').to_string() } else { mantissa };
+    format!("{mantissa}{exponent}")
 }
 
 /// Font sizes (plotters' size units; its SVG text is about 0.65 of this in px).

@@ -142,7 +142,7 @@ pub fn heatmap(spec: &Heatmap) -> Result<String> {
             chart.draw_series(cells).map_err(draw_err)?;
         });
         let mut bar_chart = ChartBuilder::on(&bar)
-            .margin_top(10)
+            .margin_top(20)
             .margin_bottom(65)
             .margin_right(10)
             .y_label_area_size(80)
