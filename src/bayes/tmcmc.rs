@@ -34,7 +34,7 @@
 //! estimate Var(S_j) ≈ CoV_j²/N for N independent weights (Var(mean w)/mean(w)²),
 //! summed over stages: se = sqrt(Σ_j CoV_j²/N). It is a lower bound in spirit:
 //! the resampled, MH-moved samples are positively correlated, so the true
-//! run-to-run spread is larger (measured in tests/bayes_tmcmc.rs; about 1.5-2× there).
+//! run-to-run spread is larger (measured in tests/bayes_tmcmc.rs: about 1.5× there).
 //! The estimator of the evidence itself is consistent as N → ∞; log p̂ carries a
 //! small negative bias ≈ −se²/2 (Jensen).
 
