@@ -34,10 +34,12 @@
 //! is the same formula and still detects a drifting chain. Inputs with fewer
 //! than 4 draws per chain, non-finite values or ragged chains give NaN.
 //!
-//! Autocovariances are computed with a small hand-written radix-2 FFT: the
-//! `rustfft` crate is not a dependency of this workspace, and the direct
-//! O(N·lag) sum becomes O(N²) for poorly mixing chains (4 × 20 000 draws
-//! would cost ~10⁹ multiplications per call, three calls per parameter).
+//! Autocovariances: the first 64 lags are direct sums (enough for well-mixed
+//! chains, where Geyer's sequence stops after a few lags); beyond that all lags
+//! come from a small hand-written radix-2 FFT: the `rustfft` crate is not a
+//! dependency of this workspace, and the direct O(N·lag) sum becomes O(N²) for
+//! poorly mixing chains (4 × 20 000 draws would cost ~10⁹ multiplications per
+//! call, three calls per parameter).
 
 use num_complex::Complex64;
 use statrs::distribution::{ContinuousCDF, Normal};
@@ -45,21 +47,28 @@ use statrs::distribution::{ContinuousCDF, Normal};
 /// Rank-normalised split-R̂ (maximum of bulk and folded-tail R̂), see module docs.
 /// NaN for invalid input (ragged chains, < 4 draws per chain, non-finite draws).
 pub fn rhat(chains: &[Vec<f64>]) -> f64 {
-    let Some(n) = valid_draws_per_chain(chains) else { return f64::NAN };
+    let Some(n) = valid_draws_per_chain(chains) else {
+        return f64::NAN;
+    };
     if n < 4 {
         return f64::NAN;
     }
     let split = split_chains(chains);
     let bulk = classic_rhat(&rank_normalize(&split));
     let med = median(&pooled(chains));
-    let folded: Vec<Vec<f64>> = chains.iter().map(|c| c.iter().map(|x| (x - med).abs()).collect()).collect();
+    let folded: Vec<Vec<f64>> = chains
+        .iter()
+        .map(|c| c.iter().map(|x| (x - med).abs()).collect())
+        .collect();
     let tail = classic_rhat(&rank_normalize(&split_chains(&folded)));
     bulk.max(tail)
 }
 
 /// Bulk effective sample size: ESS of the rank-normalised split chains.
 pub fn ess_bulk(chains: &[Vec<f64>]) -> f64 {
-    let Some(n) = valid_draws_per_chain(chains) else { return f64::NAN };
+    let Some(n) = valid_draws_per_chain(chains) else {
+        return f64::NAN;
+    };
     if n < 4 {
         return f64::NAN;
     }
@@ -69,7 +78,9 @@ pub fn ess_bulk(chains: &[Vec<f64>]) -> f64 {
 /// Tail effective sample size: min of the ESS of I(x ≤ Q(5 %)) and I(x ≤ Q(95 %)),
 /// each on split chains.
 pub fn ess_tail(chains: &[Vec<f64>]) -> f64 {
-    let Some(n) = valid_draws_per_chain(chains) else { return f64::NAN };
+    let Some(n) = valid_draws_per_chain(chains) else {
+        return f64::NAN;
+    };
     if n < 4 {
         return f64::NAN;
     }
@@ -79,8 +90,10 @@ pub fn ess_tail(chains: &[Vec<f64>]) -> f64 {
         .iter()
         .map(|&p| {
             let q = quantile_sorted(&all, p);
-            let ind: Vec<Vec<f64>> =
-                chains.iter().map(|c| c.iter().map(|&x| if x <= q { 1.0 } else { 0.0 }).collect()).collect();
+            let ind: Vec<Vec<f64>> = chains
+                .iter()
+                .map(|c| c.iter().map(|&x| if x <= q { 1.0 } else { 0.0 }).collect())
+                .collect();
             ess(&split_chains(&ind))
         })
         .fold(f64::INFINITY, f64::min)
@@ -91,19 +104,26 @@ pub fn ess_tail(chains: &[Vec<f64>]) -> f64 {
 /// autocorrelation (module docs). Constant input returns the number of draws
 /// (as ArviZ); invalid input returns NaN.
 pub fn ess(chains: &[Vec<f64>]) -> f64 {
-    let Some(n) = valid_draws_per_chain(chains) else { return f64::NAN };
+    let Some(n) = valid_draws_per_chain(chains) else {
+        return f64::NAN;
+    };
     let m = chains.len();
     let total = (m * n) as f64;
     if n < 2 {
         return f64::NAN;
     }
-    let (lo, hi) = chains.iter().flatten().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
+    let (lo, hi) = chains
+        .iter()
+        .flatten()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
     // ArviZ: `np.max - np.min < np.finfo(float).resolution` (1e-15) → constant.
     if hi - lo < 1e-15 {
         return total;
     }
-    let acov: Vec<Vec<f64>> = chains.iter().map(|c| autocovariance(c)).collect();
-    let mean_acov = |t: usize| acov.iter().map(|a| a[t]).sum::<f64>() / m as f64;
+    let acov = LazyAutocovariance::new(chains);
+    let mean_acov = |t: usize| acov.mean_at(t);
     let nf = n as f64;
     let mean_var = mean_acov(0) * nf / (nf - 1.0);
     let mut var_plus = mean_var * (nf - 1.0) / nf;
@@ -197,6 +217,61 @@ pub fn integrated_autocorrelation_time(x: &[f64]) -> f64 {
     tau
 }
 
+/// Lags below this are summed directly; the first request beyond switches to FFT.
+const DIRECT_LAGS: usize = 64;
+
+/// Chain-averaged biased autocovariance mean_m ĉ_m(t), computed on demand: direct
+/// sums for t < [`DIRECT_LAGS`] (well-mixed chains stop the Geyer sequence within a
+/// few lags, costing O(M·N·t)), otherwise all lags at once by FFT (O(M·N log N)).
+struct LazyAutocovariance<'a> {
+    chains: &'a [Vec<f64>],
+    centred: Vec<Vec<f64>>,
+    fft: std::cell::OnceCell<Vec<f64>>,
+}
+
+impl<'a> LazyAutocovariance<'a> {
+    fn new(chains: &'a [Vec<f64>]) -> Self {
+        let centred = chains
+            .iter()
+            .map(|c| {
+                let mu = mean(c);
+                c.iter().map(|x| x - mu).collect()
+            })
+            .collect();
+        Self {
+            chains,
+            centred,
+            fft: std::cell::OnceCell::new(),
+        }
+    }
+
+    fn mean_at(&self, t: usize) -> f64 {
+        let m = self.chains.len() as f64;
+        if t < DIRECT_LAGS && self.fft.get().is_none() {
+            return self
+                .centred
+                .iter()
+                .map(|y| {
+                    y[..y.len() - t]
+                        .iter()
+                        .zip(&y[t..])
+                        .map(|(a, b)| a * b)
+                        .sum::<f64>()
+                        / y.len() as f64
+                })
+                .sum::<f64>()
+                / m;
+        }
+        let all = self.fft.get_or_init(|| {
+            let per_chain: Vec<Vec<f64>> = self.chains.iter().map(|c| autocovariance(c)).collect();
+            (0..per_chain[0].len())
+                .map(|k| per_chain.iter().map(|a| a[k]).sum::<f64>() / m)
+                .collect()
+        });
+        all[t]
+    }
+}
+
 /// Biased autocovariance ĉ(k), k = 0..N−1, of one series, via zero-padded FFT:
 /// ĉ = IFFT(|FFT(x − x̄)|²)/N with padding to a power of two ≥ 2N (no wrap-around).
 pub fn autocovariance(x: &[f64]) -> Vec<f64> {
@@ -241,7 +316,9 @@ fn fft_in_place(a: &mut [Complex64], inverse: bool) {
         // Twiddles computed directly (not by repeated multiplication) to keep
         // round-off at O(ε log N).
         let half = len / 2;
-        let tw: Vec<Complex64> = (0..half).map(|k| Complex64::from_polar(1.0, ang * k as f64)).collect();
+        let tw: Vec<Complex64> = (0..half)
+            .map(|k| Complex64::from_polar(1.0, ang * k as f64))
+            .collect();
         for start in (0..n).step_by(len) {
             for k in 0..half {
                 let u = a[start + k];
@@ -293,11 +370,15 @@ pub fn rank_normalize(chains: &[Vec<f64>]) -> Vec<Vec<f64>> {
     let mut out = Vec::with_capacity(chains.len());
     let mut k = 0;
     for c in chains {
-        out.push(c.iter().map(|_| {
-            let z = normal.inverse_cdf((rank[k] - 0.375) / denom);
-            k += 1;
-            z
-        }).collect());
+        out.push(
+            c.iter()
+                .map(|_| {
+                    let z = normal.inverse_cdf((rank[k] - 0.375) / denom);
+                    k += 1;
+                    z
+                })
+                .collect(),
+        );
     }
     out
 }
@@ -327,7 +408,9 @@ pub fn classic_rhat(chains: &[Vec<f64>]) -> f64 {
 
 fn valid_draws_per_chain(chains: &[Vec<f64>]) -> Option<usize> {
     let n = chains.first()?.len();
-    let ok = chains.iter().all(|c| c.len() == n && c.iter().all(|x| x.is_finite()));
+    let ok = chains
+        .iter()
+        .all(|c| c.len() == n && c.iter().all(|x| x.is_finite()));
     ok.then_some(n)
 }
 
@@ -356,13 +439,22 @@ mod tests {
 
     #[test]
     fn fft_autocovariance_matches_direct_sum() {
-        let x: Vec<f64> = (0..37).map(|i| ((i * 7919) % 31) as f64 * 0.3 - (i as f64).sin()).collect();
+        let x: Vec<f64> = (0..37)
+            .map(|i| ((i * 7919) % 31) as f64 * 0.3 - (i as f64).sin())
+            .collect();
         let c = autocovariance(&x);
         let mu = mean(&x);
         for k in 0..x.len() {
-            let direct: f64 = (0..x.len() - k).map(|i| (x[i] - mu) * (x[i + k] - mu)).sum::<f64>() / x.len() as f64;
+            let direct: f64 = (0..x.len() - k)
+                .map(|i| (x[i] - mu) * (x[i + k] - mu))
+                .sum::<f64>()
+                / x.len() as f64;
             // FFT round-off: O(ε log2(size) Σx²/N) ≈ 1e-16·7·(c0 scale ≈ 10) → 1e-12 is ≥ 100× margin.
-            assert!((c[k] - direct).abs() < 1e-12, "lag {k}: {} vs {direct}", c[k]);
+            assert!(
+                (c[k] - direct).abs() < 1e-12,
+                "lag {k}: {} vs {direct}",
+                c[k]
+            );
         }
     }
 }

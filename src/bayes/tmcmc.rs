@@ -34,7 +34,7 @@
 //! estimate Var(S_j) ≈ CoV_j²/N for N independent weights (Var(mean w)/mean(w)²),
 //! summed over stages: se = sqrt(Σ_j CoV_j²/N). It is a lower bound in spirit:
 //! the resampled, MH-moved samples are positively correlated, so the true
-//! run-to-run spread is larger (measured in tests/bayes_tmcmc.rs; about 1.5-2× there).
+//! run-to-run spread is larger (measured in tests/bayes_tmcmc.rs: about 1.5× there).
 //! The estimator of the evidence itself is consistent as N → ∞; log p̂ carries a
 //! small negative bias ≈ −se²/2 (Jensen).
 
@@ -99,7 +99,11 @@ impl TmcmcConfig {
         crate::error::positive("tmcmc.target_cov", self.target_cov)?;
         crate::error::positive("tmcmc.beta", self.beta)?;
         if !(self.target_acceptance > 0.0 && self.target_acceptance < 1.0) {
-            return Err(InputError::new("tmcmc.target_acceptance", self.target_acceptance, "in (0, 1)"));
+            return Err(InputError::new(
+                "tmcmc.target_acceptance",
+                self.target_acceptance,
+                "in (0, 1)",
+            ));
         }
         Ok(())
     }
@@ -136,7 +140,11 @@ pub enum TmcmcError {
     #[error("TMCMC did not reach p = 1 within {max_stages} stages (p = {p})")]
     TooManyStages { max_stages: usize, p: f64 },
     #[error("TMCMC: prior sample {index} has dimension {got}, expected {expected}")]
-    BadPriorSample { index: usize, got: usize, expected: usize },
+    BadPriorSample {
+        index: usize,
+        got: usize,
+        expected: usize,
+    },
 }
 
 /// Purposes of the random streams (part of the stream key).
@@ -178,11 +186,20 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
         })
         .collect();
     if let Some((index, s)) = samples.iter().enumerate().find(|(_, s)| s.len() != d) {
-        return Err(TmcmcError::BadPriorSample { index, got: s.len(), expected: d });
+        return Err(TmcmcError::BadPriorSample {
+            index,
+            got: s.len(),
+            expected: d,
+        });
     }
-    let mut loglik: Vec<f64> =
-        samples.par_iter().map(|th| finite_or_neg_inf(posterior.log_likelihood(th))).collect();
-    let mut logprior: Vec<f64> = samples.par_iter().map(|th| posterior.log_prior(th)).collect();
+    let mut loglik: Vec<f64> = samples
+        .par_iter()
+        .map(|th| finite_or_neg_inf(posterior.log_likelihood(th)))
+        .collect();
+    let mut logprior: Vec<f64> = samples
+        .par_iter()
+        .map(|th| posterior.log_prior(th))
+        .collect();
     let prior_sd = weighted_mean_cov(&samples, &vec![1.0 / n as f64; n]).1;
 
     let mut p = 0.0;
@@ -196,7 +213,10 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
     let mut stage = 0usize;
     while p < 1.0 {
         if stage >= config.max_stages {
-            return Err(TmcmcError::TooManyStages { max_stages: config.max_stages, p });
+            return Err(TmcmcError::TooManyStages {
+                max_stages: config.max_stages,
+                p,
+            });
         }
         stage += 1;
         let l_max = loglik.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -249,8 +269,9 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
                     for zi in z.iter_mut() {
                         *zi = rng.sample(StandardNormal);
                     }
-                    let prop: Vec<f64> =
-                        (0..d).map(|a| th[a] + beta * (0..=a).map(|b| chol[a][b] * z[b]).sum::<f64>()).collect();
+                    let prop: Vec<f64> = (0..d)
+                        .map(|a| th[a] + beta * (0..=a).map(|b| chol[a][b] * z[b]).sum::<f64>())
+                        .collect();
                     let lp_new = posterior.log_prior(&prop);
                     let u: f64 = rng.gen();
                     if !lp_new.is_finite() {
@@ -405,5 +426,7 @@ fn proposal_factor(samples: &[Vec<f64>], wbar: &[f64], prior_sd: &[f64]) -> Vec<
         }
         jitter = if jitter == 0.0 { 1e-10 } else { jitter * 10.0 };
     };
-    (0..d).map(|a| (0..d).map(|b| sd[a] * l[(a, b)]).collect()).collect()
+    (0..d)
+        .map(|a| (0..d).map(|b| sd[a] * l[(a, b)]).collect())
+        .collect()
 }
