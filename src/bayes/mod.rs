@@ -4,7 +4,9 @@
 
 pub mod diagnostics;
 pub mod laplace;
+pub mod likelihood;
 pub mod posterior;
+pub mod prior;
 pub mod summary;
 pub mod tmcmc;
 

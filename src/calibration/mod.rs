@@ -3,8 +3,10 @@
 
 pub mod measured;
 pub mod parameters;
+pub mod posterior;
 pub mod sampler;
 
 pub use measured::{MeasuredData, ModeObservation};
 pub use parameters::{Parameter, ParameterSet, Target};
+pub use posterior::BeamPosterior;
 pub use sampler::SamplerSpec;
