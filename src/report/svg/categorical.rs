@@ -1,6 +1,8 @@
 //! Figures over named categories: bar charts and per-mode residual plots.
 
-use super::common::{draw_err, series_colour, tick_label, NamedValues, DESC_SIZE, FONT, TICK_SIZE, TITLE_SIZE};
+use super::common::{
+    draw_err, series_colour, tick_label, NamedValues, DESC_SIZE, FONT, TICK_SIZE, TITLE_SIZE,
+};
 use crate::report::error::{ReportError, Result};
 use crate::report::table::fmt_sig;
 use plotters::coord::ranged1d::SegmentedCoord;
@@ -28,7 +30,14 @@ pub struct BarChart {
 
 impl Default for BarChart {
     fn default() -> Self {
-        Self { title: String::new(), y_label: String::new(), categories: Vec::new(), values: Vec::new(), y_range: None, size: (700, 450) }
+        Self {
+            title: String::new(),
+            y_label: String::new(),
+            categories: Vec::new(),
+            values: Vec::new(),
+            y_range: None,
+            size: (700, 450),
+        }
     }
 }
 
@@ -36,19 +45,37 @@ impl Default for BarChart {
 pub fn bar_chart(spec: &BarChart) -> Result<String> {
     let n = spec.categories.len();
     if n == 0 || spec.values.len() != n {
-        return Err(ReportError::invalid("bar chart", format!("{} values for {n} categories (need >= 1, equal)", spec.values.len())));
+        return Err(ReportError::invalid(
+            "bar chart",
+            format!(
+                "{} values for {n} categories (need >= 1, equal)",
+                spec.values.len()
+            ),
+        ));
     }
     if let Some(v) = spec.values.iter().find(|v| !v.is_finite()) {
-        return Err(ReportError::invalid("bar chart values", format!("{v} is not finite")));
+        return Err(ReportError::invalid(
+            "bar chart values",
+            format!("{v} is not finite"),
+        ));
     }
     let (y0, y1) = match spec.y_range {
         Some((a, b)) if a.is_finite() && b.is_finite() && a < b => (a, b),
-        Some((a, b)) => return Err(ReportError::invalid("bar chart y_range", format!("({a}, {b}) must be finite and increasing"))),
+        Some((a, b)) => {
+            return Err(ReportError::invalid(
+                "bar chart y_range",
+                format!("({a}, {b}) must be finite and increasing"),
+            ))
+        }
         None => {
             let lo = spec.values.iter().copied().fold(0.0, f64::min);
             let hi = spec.values.iter().copied().fold(0.0, f64::max);
             let (lo, hi) = (1.1 * lo, 1.1 * hi);
-            if hi > lo { (lo, hi) } else { (0.0, 1.0) }
+            if hi > lo {
+                (lo, hi)
+            } else {
+                (0.0, 1.0)
+            }
         }
     };
     let mut svg = String::new();
@@ -63,7 +90,11 @@ pub fn bar_chart(spec: &BarChart) -> Result<String> {
             .build_cartesian_2d(categories(n), y0..y1)
             .map_err(draw_err)?;
         let label = |v: &SegmentValue<i32>| match v {
-            SegmentValue::CenterOf(i) => spec.categories.get(*i as usize).cloned().unwrap_or_default(),
+            SegmentValue::CenterOf(i) => spec
+                .categories
+                .get(*i as usize)
+                .cloned()
+                .unwrap_or_default(),
             _ => String::new(),
         };
         chart
@@ -81,7 +112,10 @@ pub fn bar_chart(spec: &BarChart) -> Result<String> {
         chart
             .draw_series(spec.values.iter().enumerate().map(|(i, &v)| {
                 let mut bar = Rectangle::new(
-                    [(SegmentValue::Exact(i as i32), 0.0), (SegmentValue::Exact(i as i32 + 1), v)],
+                    [
+                        (SegmentValue::Exact(i as i32), 0.0),
+                        (SegmentValue::Exact(i as i32 + 1), v),
+                    ],
                     series_colour(0).filled(),
                 );
                 bar.set_margin(0, 0, 12, 12);
@@ -93,10 +127,12 @@ pub fn bar_chart(spec: &BarChart) -> Result<String> {
                 Text::new(
                     fmt_sig(v, 3),
                     (SegmentValue::CenterOf(i as i32), v),
-                    (FONT, TICK_SIZE).into_font().color(&BLACK).pos(plotters::style::text_anchor::Pos::new(
-                        plotters::style::text_anchor::HPos::Center,
-                        plotters::style::text_anchor::VPos::Bottom,
-                    )),
+                    (FONT, TICK_SIZE).into_font().color(&BLACK).pos(
+                        plotters::style::text_anchor::Pos::new(
+                            plotters::style::text_anchor::HPos::Center,
+                            plotters::style::text_anchor::VPos::Bottom,
+                        ),
+                    ),
                 )
             }))
             .map_err(draw_err)?;
@@ -144,13 +180,24 @@ pub fn residual_plot(spec: &ResidualPlot) -> Result<String> {
     }
     for g in &spec.groups {
         if g.values.len() != n {
-            return Err(ReportError::invalid(format!("residual plot group `{}`", g.name), format!("{} values for {n} labels", g.values.len())));
+            return Err(ReportError::invalid(
+                format!("residual plot group `{}`", g.name),
+                format!("{} values for {n} labels", g.values.len()),
+            ));
         }
     }
     if !(spec.band.is_finite() && spec.band >= 0.0) {
-        return Err(ReportError::invalid("residual plot band", format!("{} must be finite and >= 0", spec.band)));
+        return Err(ReportError::invalid(
+            "residual plot band",
+            format!("{} must be finite and >= 0", spec.band),
+        ));
     }
-    let extent = spec.groups.iter().flat_map(|g| g.values.iter()).filter(|v| v.is_finite()).fold(spec.band, |m, v| m.max(v.abs()));
+    let extent = spec
+        .groups
+        .iter()
+        .flat_map(|g| g.values.iter())
+        .filter(|v| v.is_finite())
+        .fold(spec.band, |m, v| m.max(v.abs()));
     let extent = if extent > 0.0 { 1.15 * extent } else { 1.0 };
     let mut svg = String::new();
     {
@@ -188,10 +235,20 @@ pub fn residual_plot(spec: &ResidualPlot) -> Result<String> {
             .map_err(draw_err)?;
         for b in [-spec.band, spec.band] {
             chart
-                .draw_series(DashedLineSeries::new(vec![(left.clone(), b), (right.clone(), b)], 6, 4, BLACK.stroke_width(1)))
+                .draw_series(DashedLineSeries::new(
+                    vec![(left.clone(), b), (right.clone(), b)],
+                    6,
+                    4,
+                    BLACK.stroke_width(1),
+                ))
                 .map_err(draw_err)?;
         }
-        chart.draw_series(LineSeries::new(vec![(left, 0.0), (right, 0.0)], BLACK.stroke_width(1))).map_err(draw_err)?;
+        chart
+            .draw_series(LineSeries::new(
+                vec![(left, 0.0), (right, 0.0)],
+                BLACK.stroke_width(1),
+            ))
+            .map_err(draw_err)?;
         for (k, g) in spec.groups.iter().enumerate() {
             let colour = series_colour(k);
             let pts: Vec<(SegmentValue<i32>, f64)> = g
@@ -204,9 +261,18 @@ pub fn residual_plot(spec: &ResidualPlot) -> Result<String> {
             // Marker shape cycles circle / triangle / cross so that groups
             // stay distinguishable where they overlap and in grey print.
             let series = match k % 3 {
-                0 => chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 6, colour.filled()).into_dyn())),
-                1 => chart.draw_series(pts.into_iter().map(|p| TriangleMarker::new(p, 7, colour.filled()).into_dyn())),
-                _ => chart.draw_series(pts.into_iter().map(|p| Cross::new(p, 6, colour.stroke_width(2)).into_dyn())),
+                0 => chart.draw_series(
+                    pts.into_iter()
+                        .map(|p| Circle::new(p, 6, colour.filled()).into_dyn()),
+                ),
+                1 => chart.draw_series(
+                    pts.into_iter()
+                        .map(|p| TriangleMarker::new(p, 7, colour.filled()).into_dyn()),
+                ),
+                _ => chart.draw_series(
+                    pts.into_iter()
+                        .map(|p| Cross::new(p, 6, colour.stroke_width(2)).into_dyn()),
+                ),
             }
             .map_err(draw_err)?;
             series.label(&g.name).legend(move |(x, y)| match k % 3 {
