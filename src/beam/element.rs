@@ -81,6 +81,12 @@ pub fn shape(h: f64, xbar: f64) -> [f64; 4] {
     [1.0 - 3.0 * x2 + 2.0 * x3, h * (x - 2.0 * x2 + x3), 3.0 * x2 - 2.0 * x3, h * (x3 - x2)]
 }
 
+/// dN/dx̄ at x̄ ∈ [0, h].
+pub fn shape_d(h: f64, xbar: f64) -> [f64; 4] {
+    let x = xbar / h;
+    [(-6.0 * x + 6.0 * x * x) / h, 1.0 - 4.0 * x + 3.0 * x * x, (6.0 * x - 6.0 * x * x) / h, -2.0 * x + 3.0 * x * x]
+}
+
 /// d²N/dx̄² at x̄ ∈ [0, h].
 pub fn shape_dd(h: f64, xbar: f64) -> [f64; 4] {
     let x = xbar / h;
@@ -116,11 +122,6 @@ mod tests {
             }
         }
         out
-    }
-
-    fn shape_d(h: f64, xbar: f64) -> [f64; 4] {
-        let x = xbar / h;
-        [(-6.0 * x + 6.0 * x * x) / h, 1.0 - 4.0 * x + 3.0 * x * x, (6.0 * x - 6.0 * x * x) / h, -2.0 * x + 3.0 * x * x]
     }
 
     fn outer(a: [f64; 4]) -> Mat4 {

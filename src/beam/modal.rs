@@ -73,26 +73,27 @@ impl ModalSolver {
         Self::default()
     }
 
-    fn mesh_for(&mut self, beam: &BeamSpec) -> &UnitMesh {
-        let stale = !matches!(&self.mesh, Some(m) if m.elements == beam.elements && m.support == beam.support);
-        if stale {
-            self.mesh = Some(UnitMesh::new(beam.elements, beam.support));
-        }
-        self.mesh.as_ref().expect("mesh just set")
-    }
 
     /// The fastest exact path: decoupled families when the proof above
     /// applies, otherwise Newton on det T(s) (falling back to the state space).
     pub fn modal(&mut self, beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
         beam.validate()?;
-        let model = ScaledModel::new(beam, self.mesh_for(beam));
+        let stale = !matches!(&self.mesh, Some(m) if m.elements == beam.elements && m.support == beam.support);
+        if stale {
+            self.mesh = Some(UnitMesh::new(beam.elements, beam.support));
+        }
+        let Self { mesh, work } = self;
+        let model = ScaledModel::new(beam, mesh.as_ref().expect("mesh just set"));
         check_mode_count(n_modes, model.n())?;
         if model.decouples() {
-            decoupled_path(&model, n_modes, &mut self.work)
+            decoupled_path(&model, n_modes, work)
         } else {
-            match general_path(&model, n_modes, &mut self.work) {
+            match general_path(&model, n_modes, work) {
                 Ok(r) => Ok(r),
-                Err(_) => state_space_modal(&model, n_modes),
+                Err(e) => {
+                    if std::env::var("EIGDBG").is_ok() { eprintln!("general path failed: {e}"); }
+                    state_space_modal(&model, n_modes)
+                }
             }
         }
     }
@@ -106,7 +107,8 @@ pub fn modal(beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> 
 /// Modal parameters from the eigenvalues of the state matrix (A15) (reference).
 pub fn modal_state_space(beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
     beam.validate()?;
-    let model = ScaledModel::new(beam, &UnitMesh::new(beam.elements, beam.support));
+    let mesh = UnitMesh::new(beam.elements, beam.support);
+    let model = ScaledModel::new(beam, &mesh);
     check_mode_count(n_modes, model.n())?;
     state_space_modal(&model, n_modes)
 }
@@ -115,7 +117,8 @@ pub fn modal_state_space(beam: &BeamSpec, n_modes: usize) -> Result<ModalResult,
 /// Count (2 + N)·n, n = free DOFs, N = number of internal variables.
 pub fn poles_state_space(beam: &BeamSpec) -> Result<Vec<Complex64>, BeamError> {
     beam.validate()?;
-    let model = ScaledModel::new(beam, &UnitMesh::new(beam.elements, beam.support));
+    let mesh = UnitMesh::new(beam.elements, beam.support);
+    let model = ScaledModel::new(beam, &mesh);
     Ok(state_space::scaled_poles(&model)?.into_iter().map(|p| p * model.omega_ref).collect())
 }
 
@@ -158,7 +161,7 @@ fn decoupled_path(model: &ScaledModel, n_modes: usize, work: &mut Vec<Dual<f64>>
     let n = model.n();
     let mut count = n_modes;
     loop {
-        let lambdas = lowest_eigenvalues(&model.k, &model.m, count, work)?;
+        let lambdas = lowest_eigenvalues(model.k, &model.m, count, work, &mut |l| Ok(rayleigh(model, model.k, l)?.0))?;
         let families =
             lambdas.iter().map(|&l| family_roots(0.0, l, model.c, &model.ivs)).collect::<Result<Vec<_>, _>>()?;
         if let Some(r) = assemble(&families, n_modes, model.omega_ref) {
@@ -181,15 +184,20 @@ fn family_approximations(
     work: &mut Vec<Dual<f64>>,
 ) -> Result<Vec<(f64, f64, f64)>, BeamError> {
     let kt = model.k_total();
-    let lambdas = lowest_eigenvalues(&kt, &model.m, count, work)?;
-    lambdas
-        .iter()
-        .map(|&l| {
-            let phi = eigenvector(&kt, &model.m, l)?;
-            let b = model.k.bilinear(&phi, &phi);
-            Ok(((l - b).max(0.0), b, model.c * model.m_beam.bilinear(&phi, &phi)))
-        })
-        .collect()
+    let lambdas = lowest_eigenvalues(&kt, &model.m, count, work, &mut |l| Ok(rayleigh(model, &kt, l)?.0))?;
+    lambdas.iter().map(|&l| Ok(rayleigh(model, &kt, l)?.1)).collect()
+}
+
+/// Inverse iteration at σ, then the Rayleigh quotient from element energies:
+/// λ = (xᵀK̃x + xᵀK̃_spring x)/xᵀM̃x (error quadratic in the eigenvector error).
+/// Also returns the one-term family coefficients (a, b, c) = (xᵀK̃_s x, xᵀK̃x,
+/// c̃·xᵀM̃_beam x)/xᵀM̃x.
+fn rayleigh(model: &ScaledModel, k_total: &crate::beam::band::SymBand, sigma: f64) -> Result<(f64, (f64, f64, f64)), BeamError> {
+    let phi = eigenvector(k_total, &model.m, sigma)?;
+    let x: Vec<Complex64> = phi.iter().map(|&v| Complex64::new(v, 0.0)).collect();
+    let (k, m, mb, ks) = model.forms(&x);
+    let (k, m, mb, ks) = (k.re, m.re, mb.re, ks.re);
+    Ok(((k + ks) / m, (ks / m, k / m, model.c * mb / m)))
 }
 
 /// Path (c): Newton on det T(s̃) = 0, T̃(s̃) = s̃²M̃ + s̃c̃M̃_beam + K̃_spring + G(s̃)K̃,
@@ -239,10 +247,15 @@ fn general_path(model: &ScaledModel, n_modes: usize, work: &mut Vec<Dual<f64>>) 
     }
 }
 
-/// Newton–Maehly on det T̃(s̃): s̃ ← s̃ − 1/(tr(T⁻¹T') − Σ_found 1/(s̃ − f)).
-/// Quadratic at simple roots; stop when the step is below 1e-13 relative.
+/// Newton–Maehly on det T̃(s̃): s̃ ← s̃ − 1/(tr(T⁻¹T') − Σ_found 1/(s̃ − f)),
+/// quadratic at simple roots, run to 1e-13 relative or to its noise floor
+/// (det T is evaluated with ~eps·‖K‖ absolute pivot errors, ≈1e-10 relative in s̃);
+/// then polished by Newton on the Rayleigh functional xᵀT(s̃)x with x = T(s̃)⁻¹b
+/// evaluated from element energies (error quadratic in the vector error).
 fn newton_det(model: &ScaledModel, start: Complex64, found: &[Complex64]) -> Result<Complex64, BeamError> {
     let mut s = start;
+    let mut prev = f64::INFINITY;
+    let mut converged = false;
     for _ in 0..80 {
         let dlog = dlog_det_t(model, s)?;
         let deflated = dlog - found.iter().map(|&f| 1.0 / (s - f)).sum::<Complex64>();
@@ -250,12 +263,67 @@ fn newton_det(model: &ScaledModel, start: Complex64, found: &[Complex64]) -> Res
         if !step.is_finite() {
             return Err(BeamError::numerical("det-Newton produced a non-finite step"));
         }
+        if step.norm() <= 1e-7 * s.norm() && step.norm() > 0.5 * prev {
+            converged = true;
+            break;
+        }
         s += step;
+        prev = step.norm();
+        if std::env::var("EIGDBG2").is_ok() { eprintln!("s {s} step {step}"); }
         if step.norm() <= 1e-13 * s.norm() {
-            return Ok(if start.im == 0.0 { Complex64::new(s.re, 0.0) } else { s });
+            converged = true;
+            break;
         }
     }
-    Err(BeamError::numerical("det-Newton did not converge"))
+    if !converged {
+        return Err(BeamError::numerical("det-Newton did not converge"));
+    }
+    let before = s;
+    for _ in 0..2 {
+        s = rayleigh_functional_step(model, s)?;
+    }
+    if (s - before).norm() > 1e-6 * before.norm() {
+        return Err(BeamError::numerical("Rayleigh-functional polish moved too far"));
+    }
+    Ok(if start.im == 0.0 { Complex64::new(s.re, 0.0) } else { s })
+}
+
+/// One inverse iteration x = T(s̃)⁻¹ M̃·1 and one Newton step on xᵀT(s̃)x = 0.
+fn rayleigh_functional_step(model: &ScaledModel, s: Complex64) -> Result<Complex64, BeamError> {
+    let (g, dg) = model.relaxation(s);
+    let spring = if model.has_spring() { model.spring } else { 0.0 };
+    let t = |i: usize, j: usize| {
+        let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
+        s * s * model.m.get(i, j) + s * (model.c * model.m_beam.get(i, j)) + ks + g * model.k.get(i, j)
+    };
+    let lu = BandLu::factor(model.n(), t)
+        .or_else(|| {
+            let s2 = s * (1.0 + 1e-14);
+            let (g2, _) = model.relaxation(s2);
+            BandLu::factor(model.n(), |i, j| {
+                let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
+                s2 * s2 * model.m.get(i, j) + s2 * (model.c * model.m_beam.get(i, j)) + ks + g2 * model.k.get(i, j)
+            })
+        })
+        .ok_or_else(|| BeamError::numerical("T(s) singular in the Rayleigh-functional polish"))?;
+    let ones = vec![1.0; model.n()];
+    let mut x: Vec<Complex64> = model.m.mul_vec(&ones).into_iter().map(|v| Complex64::new(v, 0.0)).collect();
+    lu.solve(&mut x);
+    let scale = x.iter().map(|v| v.norm()).fold(0.0, f64::max);
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(BeamError::numerical("inverse iteration on T(s) broke down"));
+    }
+    for v in x.iter_mut() {
+        *v /= scale;
+    }
+    let (k, m, mb, ks) = model.forms(&x);
+    let f = s * s * m + s * model.c * mb + ks + g * k;
+    let df = 2.0 * s * m + model.c * mb + dg * k;
+    let next = s - f / df;
+    if !next.is_finite() {
+        return Err(BeamError::numerical("non-finite Rayleigh-functional step"));
+    }
+    Ok(next)
 }
 
 /// d/ds̃ log det T̃(s̃) via a dual-number banded LU.

@@ -23,6 +23,8 @@
 //! (both ends for simply supported, x = L for clamped–pinned); it is elastic
 //! only (not multiplied by the relaxation factor 1 + ΣΔᵢ s/(s+Ωᵢ)).
 
+use num_complex::Complex64;
+
 use crate::beam::band::SymBand;
 use crate::beam::element;
 use crate::beam::spec::{BeamSpec, Support};
@@ -99,6 +101,40 @@ impl UnitMesh {
         (e, xt - e as f64 / ne as f64)
     }
 
+    /// The bilinear (not Hermitian) energy forms of a DOF vector x, element by
+    /// element with 4-point Gauss (exact to degree 7 ≥ 6):
+    /// [∫(w'')², ∫w², ∫(w')²] over x̃ ∈ [0, 1], w = Nᵀx.
+    /// Computing xᵀKx as Σ∫(w'')² instead of from the assembled K avoids the
+    /// cancellation between entries of size 12/h̃³ that limits xᵀKx to
+    /// ~eps·λ_max absolute accuracy; here only the ~1/(π²h̃²) cancellation
+    /// inside w'' remains, so Rayleigh quotients are accurate to ~1e-14.
+    pub fn energy_forms(&self, x: &[Complex64]) -> [Complex64; 3] {
+        const GX: [f64; 4] = [-0.861_136_311_594_052_6, -0.339_981_043_584_856_3, 0.339_981_043_584_856_3, 0.861_136_311_594_052_6];
+        const GW: [f64; 4] = [0.347_854_845_137_453_8, 0.652_145_154_862_546_1, 0.652_145_154_862_546_1, 0.347_854_845_137_453_8];
+        let h = 1.0 / self.elements as f64;
+        let zero = Complex64::new(0.0, 0.0);
+        let mut out = [zero; 3];
+        for e in 0..self.elements {
+            let mut q = [zero; 4];
+            for (a, qa) in q.iter_mut().enumerate() {
+                if let Some(i) = self.dof_map[2 * e + a] {
+                    *qa = x[i];
+                }
+            }
+            for (gx, gw) in GX.iter().zip(GW) {
+                let xl = 0.5 * h * (1.0 + gx);
+                let wt = 0.5 * h * gw;
+                let (n, d, dd) = (element::shape(h, xl), element::shape_d(h, xl), element::shape_dd(h, xl));
+                let dot = |f: [f64; 4]| q.iter().zip(f).map(|(qa, fa)| qa * fa).sum::<Complex64>();
+                let (w, w1, w2) = (dot(n), dot(d), dot(dd));
+                out[0] += wt * w2 * w2;
+                out[1] += wt * w * w;
+                out[2] += wt * w1 * w1;
+            }
+        }
+        out
+    }
+
     /// Interpolation vector N(x̃) in reduced DOFs (w = Nᵀq).
     pub fn shape_vector(&self, xt: f64) -> Vec<f64> {
         let h = 1.0 / self.elements as f64;
@@ -144,9 +180,12 @@ impl UnitMesh {
 
 /// The scaled model of one beam: everything the pole and FRF solvers need.
 #[derive(Debug, Clone)]
-pub struct ScaledModel {
+pub struct ScaledModel<'a> {
+    pub mesh: &'a UnitMesh,
     /// K̃ (beam, relaxed).
-    pub k: SymBand,
+    pub k: &'a SymBand,
+    /// Point mass μ̃ and N(x̃₀) (reduced DOFs).
+    pub point_mass: Option<(f64, Vec<f64>)>,
     /// M̃ including the point mass.
     pub m: SymBand,
     /// M̃ of the beam alone (the viscous damping is c̃ times this).
@@ -166,8 +205,8 @@ pub struct ScaledModel {
     pub e_tilde: f64,
 }
 
-impl ScaledModel {
-    pub fn new(beam: &BeamSpec, mesh: &UnitMesh) -> Self {
+impl<'a> ScaledModel<'a> {
+    pub fn new(beam: &BeamSpec, mesh: &'a UnitMesh) -> Self {
         let l = beam.length_nm * 1e-9;
         let ei = beam.youngs_modulus_pa * beam.inertia_m4();
         let rho_a = beam.density_kg_m3 * beam.area_m2();
@@ -175,6 +214,7 @@ impl ScaledModel {
         let e_tilde = beam.nonlocal_e0a_nm / beam.length_nm;
         let m_beam = mesh.m0.plus_scaled(e_tilde * e_tilde, &mesh.m1);
         let mut m = m_beam.clone();
+        let mut point_mass = None;
         if let Some(pm) = &beam.point_mass {
             let mu = pm.mass_kg / (rho_a * l);
             let nv = mesh.shape_vector(pm.x_nm / beam.length_nm);
@@ -186,12 +226,15 @@ impl ScaledModel {
                     }
                 }
             }
+            point_mass = Some((mu, nv));
         }
         let spring = beam.support_rotational_stiffness_n_m_rad * l / ei;
         let ivs_all: Vec<(f64, f64)> =
             beam.internal_variables.iter().map(|iv| (iv.delta, iv.omega_rad_s / omega_ref)).collect();
         Self {
-            k: mesh.k.clone(),
+            mesh,
+            k: &mesh.k,
+            point_mass,
             m,
             m_beam,
             spring,
@@ -229,6 +272,25 @@ impl ScaledModel {
             }
         }
         k
+    }
+
+    /// Bilinear forms of x: (xᵀK̃x, xᵀM̃x, xᵀM̃_beam x, xᵀK̃_spring x), the
+    /// first three from element energies (see [`UnitMesh::energy_forms`]).
+    pub fn forms(&self, x: &[Complex64]) -> (Complex64, Complex64, Complex64, Complex64) {
+        let [k, m0, m1] = self.mesh.energy_forms(x);
+        let mb = m0 + self.e_tilde * self.e_tilde * m1;
+        let mut m = mb;
+        if let Some((mu, nv)) = &self.point_mass {
+            let w: Complex64 = nv.iter().zip(x).map(|(a, b)| a * b).sum();
+            m += mu * w * w;
+        }
+        let mut ks = Complex64::new(0.0, 0.0);
+        if self.has_spring() {
+            for &i in &self.spring_dofs {
+                ks += self.spring * x[i] * x[i];
+            }
+        }
+        (k, m, mb, ks)
     }
 
     /// Relaxation factor G(s̃) = 1 + Σ Δᵢ s̃/(s̃ + Ω̃ᵢ) (Laplace transform of eq. 8
