@@ -23,7 +23,6 @@
 //! (both ends for simply supported, x = L for clamped–pinned); it is elastic
 //! only (not multiplied by the relaxation factor 1 + ΣΔᵢ s/(s+Ωᵢ)).
 
-use num_complex::Complex64;
 
 use crate::beam::band::SymBand;
 use crate::beam::element;
