@@ -77,6 +77,18 @@ pub struct ModalSolver {
     mesh: Option<UnitMesh>,
     work: Vec<Dual<f64>>,
     cache: Option<(PencilKey, Vec<f64>)>,
+    last_path: Option<SolverPath>,
+}
+
+/// Which method produced the last [`ModalSolver::modal`] result.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SolverPath {
+    /// (b) exact decoupling into family polynomials.
+    Decoupled,
+    /// (c) Newton on det T(s) (coupling extensions).
+    DetNewton,
+    /// (a) the state-space reference, used because (b)/(c) failed numerically.
+    StateSpaceFallback,
 }
 
 /// Bitwise identity of the scaled pencil (K̃, M̃) for a given mesh.
@@ -93,6 +105,11 @@ impl ModalSolver {
     }
 
 
+    /// The path used by the last successful or attempted call.
+    pub fn last_path(&self) -> Option<SolverPath> {
+        self.last_path
+    }
+
     /// The fastest exact path: decoupled families when the proof above
     /// applies, otherwise Newton on det T(s) (falling back to the state space).
     pub fn modal(&mut self, beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
@@ -104,7 +121,7 @@ impl ModalSolver {
         if stale {
             self.cache = None;
         }
-        let Self { mesh, work, cache } = self;
+        let Self { mesh, work, cache, last_path } = self;
         let model = ScaledModel::new(beam, mesh.as_ref().expect("mesh just set"));
         check_mode_count(n_modes, model.n())?;
         if model.decouples() {
@@ -113,11 +130,23 @@ impl ModalSolver {
                 mu: model.point_mass.as_ref().map_or(0, |p| p.0.to_bits()),
                 x: beam.point_mass.as_ref().map_or(0, |p| (p.x_nm / beam.length_nm).to_bits()),
             };
-            decoupled_path(&model, n_modes, work, key, cache)
+            *last_path = Some(SolverPath::Decoupled);
+            match decoupled_path(&model, n_modes, work, key, cache) {
+                Err(BeamError::Numerical(_)) => {
+                    *last_path = Some(SolverPath::StateSpaceFallback);
+                    state_space_modal(&model, n_modes)
+                }
+                other => other,
+            }
         } else {
+            *last_path = Some(SolverPath::DetNewton);
             match general_path(&model, n_modes, work) {
                 Ok(r) => Ok(r),
-                Err(_) => state_space_modal(&model, n_modes),
+                Err(BeamError::Numerical(_)) => {
+                    *last_path = Some(SolverPath::StateSpaceFallback);
+                    state_space_modal(&model, n_modes)
+                }
+                Err(e) => Err(e),
             }
         }
     }
@@ -390,15 +419,8 @@ fn rayleigh_functional_step(model: &ScaledModel, s: Complex64) -> Result<Complex
         let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
         s * s * model.m.get(i, j) + s * (model.c * model.m_beam.get(i, j)) + ks + g * model.k.get(i, j)
     };
-    let lu = BandLu::factor(model.n(), t)
-        .or_else(|| {
-            let s2 = s * (1.0 + 1e-14);
-            let (g2, _) = model.relaxation(s2);
-            BandLu::factor(model.n(), |i, j| {
-                let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
-                s2 * s2 * model.m.get(i, j) + s2 * (model.c * model.m_beam.get(i, j)) + ks + g2 * model.k.get(i, j)
-            })
-        })
+    let tiny = Complex64::new(f64::EPSILON * (model.k.get(0, 0) + s.norm_sqr() * model.m.get(0, 0)), 0.0);
+    let lu = BandLu::factor_for_inverse_iteration(model.n(), t, tiny)
         .ok_or_else(|| BeamError::numerical("T(s) singular in the Rayleigh-functional polish"))?;
     let ones = vec![1.0; model.n()];
     let mut x: Vec<Complex64> = model.m.mul_vec(&ones).into_iter().map(|v| Complex64::new(v, 0.0)).collect();
