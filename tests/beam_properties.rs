@@ -276,7 +276,14 @@ fn assert_same(fast: &ModalResult, reference: &ModalResult, compare_real: bool) 
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig {
+        // fixed seed: the suite is deterministic; 256 cases run in ~1 s (600-case
+        // runs with random seeds were also clean during development)
+        cases: 256,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x6e61_6e6f_6265_616d),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
 
     /// Poles of (A15): (2 + N)·n of them, closed under conjugation, Re s ≤ 0.
     #[test]

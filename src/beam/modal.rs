@@ -337,7 +337,11 @@ fn newton_det(model: &ScaledModel, start: Complex64, found: &[Complex64]) -> Res
     let mut prev = f64::INFINITY;
     let mut converged = false;
     for _ in 0..80 {
-        let dlog = dlog_det_t(model, s)?;
+        // an exactly singular T(s) in floating point means s is a root
+        let Some(dlog) = dlog_det_t(model, s) else {
+            converged = true;
+            break;
+        };
         let deflated = dlog - found.iter().map(|&f| 1.0 / (s - f)).sum::<Complex64>();
         let step = -1.0 / deflated;
         if !step.is_finite() {
@@ -443,7 +447,7 @@ fn rayleigh_functional_step(model: &ScaledModel, s: Complex64) -> Result<Complex
 }
 
 /// d/ds̃ log det T̃(s̃) via a dual-number banded LU.
-fn dlog_det_t(model: &ScaledModel, s: Complex64) -> Result<Complex64, BeamError> {
+fn dlog_det_t(model: &ScaledModel, s: Complex64) -> Option<Complex64> {
     let (g, dg) = model.relaxation(s);
     let c = model.c;
     let spring = if model.has_spring() { model.spring } else { 0.0 };
@@ -453,9 +457,8 @@ fn dlog_det_t(model: &ScaledModel, s: Complex64) -> Result<Complex64, BeamError>
         let k = model.k.get(i, j);
         let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
         Dual::new(s * s * m + s * (c * mb) + ks + g * k, 2.0 * s * m + c * mb + dg * k)
-    })
-    .ok_or_else(|| BeamError::numerical("T(s) exactly singular at a Newton iterate"))?;
-    Ok(lu.dlog_det())
+    })?;
+    Some(lu.dlog_det())
 }
 
 /// Path (a) turned into modal parameters. Real poles are assigned to the
