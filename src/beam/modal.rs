@@ -536,36 +536,3 @@ fn dense_family_approximations(model: &ScaledModel) -> Result<Vec<(f64, f64, f64
     out.sort_by(|x, y| (x.0 + x.1).total_cmp(&(y.0 + y.1)));
     Ok(out)
 }
-
-#[cfg(test)]
-mod timing {
-    use super::*;
-    fn best<F: FnMut()>(name: &str, mut f: F) {
-        let mut best = std::time::Duration::MAX;
-        for _ in 0..30 {
-            let t = std::time::Instant::now();
-            for _ in 0..50 { f(); }
-            best = best.min(t.elapsed() / 50);
-        }
-        println!("{name}: {best:?}");
-    }
-    #[test]
-    #[ignore]
-    fn pieces() {
-        let b: BeamSpec = serde_yaml::from_str("length_nm: 8\ndiameter_nm: 1\nyoungs_modulus_pa: 1.0e12\ndensity_kg_m3: 2300\nsupport: simply-supported\nelements: 20\nnonlocal_e0a_nm: 0.5\nviscous_damping_n_s_m2: 1.0e-5\ninternal_variables: [{delta: 0.1, omega_rad_s: 1.0e11}, {delta: 0.05, omega_rad_s: 3.0e12}]\n").unwrap();
-        let mesh = UnitMesh::new(20, b.support);
-        let model = ScaledModel::new(&b, &mesh);
-        let mut work = Vec::new();
-        best("eig newton only", || { lowest_eigenvalues(model.k, &model.m, 3, NEWTON_TOL, &mut work, &mut |l| Ok(l)).unwrap(); });
-        best("eig + rq", || { lowest_eigenvalues(model.k, &model.m, 3, NEWTON_TOL, &mut work, &mut |l| Ok(rayleigh(&model, model.k, l)?.0)).unwrap(); });
-        best("3 families", || { for l in [97.0, 1500.0, 7000.0] { family_roots(0.0, l, model.c, &model.ivs).unwrap(); } });
-        best("model", || { ScaledModel::new(&b, &mesh); });
-        best("eigenvector", || { eigenvector(model.k, &model.m, 97.409).unwrap(); });
-        let phi = eigenvector(model.k, &model.m, 97.409).unwrap();
-        best("rayleigh_of", || { rayleigh_of(&model, &phi); });
-        best("one ldl", || { model.k.ldl_inertia(&model.m, 50.0, &mut work).unwrap(); });
-        best("modal cold", || { modal(&b, 3).unwrap(); });
-        let mut solver = ModalSolver::new();
-        best("modal cached pencil", || { solver.modal(&b, 3).unwrap(); });
-    }
-}
