@@ -2,7 +2,8 @@
 //! derived in the comment beside it.
 
 use nanobeam::beam::{
-    frf, modal, modal_state_space, poles_state_space, BeamSpec, InternalVariable, ModalResult, PointMass, Support,
+    frf, modal, modal_state_space, poles_state_space, BeamSpec, InternalVariable, ModalResult, ModalSolver, PointMass,
+    SolverPath, Support,
 };
 use proptest::prelude::*;
 
@@ -275,7 +276,14 @@ fn assert_same(fast: &ModalResult, reference: &ModalResult, compare_real: bool) 
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig {
+        // fixed seed: the suite is deterministic; 256 cases run in ~1 s (600-case
+        // runs with random seeds were also clean during development)
+        cases: 256,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x6e61_6e6f_6265_616d),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
 
     /// Poles of (A15): (2 + N)·n of them, closed under conjugation, Re s ≤ 0.
     #[test]
@@ -300,7 +308,10 @@ proptest! {
     #[test]
     fn fast_path_equals_state_space(d in draw(false)) {
         let b = spec_of(&d);
-        let fast = modal(&b, 3).unwrap();
+        let mut solver = ModalSolver::new();
+        let fast = solver.modal(&b, 3).unwrap();
+        // the comparison must not be against the fallback (which *is* (a))
+        prop_assert_eq!(solver.last_path(), Some(SolverPath::Decoupled));
         let reference = modal_state_space(&b, 3).unwrap();
         assert_same(&fast, &reference, true)?;
     }
@@ -308,7 +319,10 @@ proptest! {
     #[test]
     fn general_path_equals_state_space_with_extensions(d in draw(true)) {
         let b = spec_of(&d);
-        let fast = modal(&b, 3).unwrap();
+        let mut solver = ModalSolver::new();
+        let fast = solver.modal(&b, 3).unwrap();
+        let expected = if decouples(&b) { SolverPath::Decoupled } else { SolverPath::DetNewton };
+        prop_assert_eq!(solver.last_path(), Some(expected));
         let reference = modal_state_space(&b, 3).unwrap();
         // real-pole family assignment in (a) is exact only when the model decouples
         assert_same(&fast, &reference, decouples(&b))?;

@@ -142,7 +142,18 @@ const WG: usize = KL + KU2 + 1;
 impl<T: Scalar> BandLu<T> {
     /// Builds the band matrix from `entry(i, j)` for |i − j| ≤ KD and factorises it.
     /// Returns `None` if a pivot column is exactly zero (singular matrix).
-    pub fn factor(n: usize, mut entry: impl FnMut(usize, usize) -> T) -> Option<Self> {
+    pub fn factor(n: usize, entry: impl FnMut(usize, usize) -> T) -> Option<Self> {
+        Self::factor_with(n, entry, None)
+    }
+
+    /// For inverse iteration at a (numerically) exact eigenvalue: an exactly
+    /// zero pivot is replaced by `tiny` (the classic remedy: the solve then
+    /// returns a huge multiple of the eigenvector, which is what is wanted).
+    pub fn factor_for_inverse_iteration(n: usize, entry: impl FnMut(usize, usize) -> T, tiny: T) -> Option<Self> {
+        Self::factor_with(n, entry, Some(tiny))
+    }
+
+    fn factor_with(n: usize, mut entry: impl FnMut(usize, usize) -> T, tiny: Option<T>) -> Option<Self> {
         let mut ab = vec![T::zero(); n * WG];
         for i in 0..n {
             let lo = i.saturating_sub(KD);
@@ -152,7 +163,7 @@ impl<T: Scalar> BandLu<T> {
             }
         }
         let mut lu = BandLu { n, ab, piv: vec![0; n] };
-        lu.factor_in_place().then_some(lu)
+        lu.factor_in_place(tiny).then_some(lu)
     }
 
     #[inline]
@@ -160,7 +171,7 @@ impl<T: Scalar> BandLu<T> {
         i * WG + (j + KL - i)
     }
 
-    fn factor_in_place(&mut self) -> bool {
+    fn factor_in_place(&mut self, tiny: Option<T>) -> bool {
         let n = self.n;
         for k in 0..n {
             let last_row = (k + KL).min(n - 1);
@@ -174,8 +185,14 @@ impl<T: Scalar> BandLu<T> {
                     p = i;
                 }
             }
-            if best == 0.0 || !best.is_finite() {
+            if !best.is_finite() {
                 return false;
+            }
+            if best == 0.0 {
+                match tiny {
+                    Some(t) => self.ab[Self::idx(k, k)] = t,
+                    None => return false,
+                }
             }
             self.piv[k] = p;
             if p != k {

@@ -102,8 +102,8 @@ pub fn lowest_eigenvalues(
 pub fn eigenvector(k: &SymBand, m: &SymBand, lambda: f64) -> Result<Vec<f64>, BeamError> {
     use crate::beam::band::BandLu;
     let n = k.n;
-    let lu = BandLu::factor(n, |i, j| k.get(i, j) - lambda * m.get(i, j))
-        .or_else(|| BandLu::factor(n, |i, j| k.get(i, j) - lambda * (1.0 + 1e-14) * m.get(i, j)))
+    let tiny = f64::EPSILON * (k.get(0, 0).abs() + lambda * m.get(0, 0).abs());
+    let lu = BandLu::factor_for_inverse_iteration(n, |i, j| k.get(i, j) - lambda * m.get(i, j), tiny)
         .ok_or_else(|| BeamError::numerical("singular shifted pencil in inverse iteration"))?;
     let mut x: Vec<f64> = (0..n).map(|i| 1.0 + 0.01 * i as f64).collect();
     for _ in 0..1 {

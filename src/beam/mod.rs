@@ -21,5 +21,5 @@ mod state_space;
 
 pub use error::BeamError;
 pub use frf::frf;
-pub use modal::{modal, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode};
+pub use modal::{modal, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode, SolverPath};
 pub use spec::{BeamSpec, InternalVariable, PointMass, Support};

@@ -77,6 +77,18 @@ pub struct ModalSolver {
     mesh: Option<UnitMesh>,
     work: Vec<Dual<f64>>,
     cache: Option<(PencilKey, Vec<f64>)>,
+    last_path: Option<SolverPath>,
+}
+
+/// Which method produced the last [`ModalSolver::modal`] result.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SolverPath {
+    /// (b) exact decoupling into family polynomials.
+    Decoupled,
+    /// (c) Newton on det T(s) (coupling extensions).
+    DetNewton,
+    /// (a) the state-space reference, used because (b)/(c) failed numerically.
+    StateSpaceFallback,
 }
 
 /// Bitwise identity of the scaled pencil (K̃, M̃) for a given mesh.
@@ -93,6 +105,11 @@ impl ModalSolver {
     }
 
 
+    /// The path used by the last successful or attempted call.
+    pub fn last_path(&self) -> Option<SolverPath> {
+        self.last_path
+    }
+
     /// The fastest exact path: decoupled families when the proof above
     /// applies, otherwise Newton on det T(s) (falling back to the state space).
     pub fn modal(&mut self, beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
@@ -104,7 +121,7 @@ impl ModalSolver {
         if stale {
             self.cache = None;
         }
-        let Self { mesh, work, cache } = self;
+        let Self { mesh, work, cache, last_path } = self;
         let model = ScaledModel::new(beam, mesh.as_ref().expect("mesh just set"));
         check_mode_count(n_modes, model.n())?;
         if model.decouples() {
@@ -113,11 +130,23 @@ impl ModalSolver {
                 mu: model.point_mass.as_ref().map_or(0, |p| p.0.to_bits()),
                 x: beam.point_mass.as_ref().map_or(0, |p| (p.x_nm / beam.length_nm).to_bits()),
             };
-            decoupled_path(&model, n_modes, work, key, cache)
+            *last_path = Some(SolverPath::Decoupled);
+            match decoupled_path(&model, n_modes, work, key, cache) {
+                Err(BeamError::Numerical(_)) => {
+                    *last_path = Some(SolverPath::StateSpaceFallback);
+                    state_space_modal(&model, n_modes)
+                }
+                other => other,
+            }
         } else {
+            *last_path = Some(SolverPath::DetNewton);
             match general_path(&model, n_modes, work) {
                 Ok(r) => Ok(r),
-                Err(_) => state_space_modal(&model, n_modes),
+                Err(BeamError::Numerical(_)) => {
+                    *last_path = Some(SolverPath::StateSpaceFallback);
+                    state_space_modal(&model, n_modes)
+                }
+                Err(e) => Err(e),
             }
         }
     }
@@ -308,7 +337,11 @@ fn newton_det(model: &ScaledModel, start: Complex64, found: &[Complex64]) -> Res
     let mut prev = f64::INFINITY;
     let mut converged = false;
     for _ in 0..80 {
-        let dlog = dlog_det_t(model, s)?;
+        // an exactly singular T(s) in floating point means s is a root
+        let Some(dlog) = dlog_det_t(model, s) else {
+            converged = true;
+            break;
+        };
         let deflated = dlog - found.iter().map(|&f| 1.0 / (s - f)).sum::<Complex64>();
         let step = -1.0 / deflated;
         if !step.is_finite() {
@@ -390,15 +423,8 @@ fn rayleigh_functional_step(model: &ScaledModel, s: Complex64) -> Result<Complex
         let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
         s * s * model.m.get(i, j) + s * (model.c * model.m_beam.get(i, j)) + ks + g * model.k.get(i, j)
     };
-    let lu = BandLu::factor(model.n(), t)
-        .or_else(|| {
-            let s2 = s * (1.0 + 1e-14);
-            let (g2, _) = model.relaxation(s2);
-            BandLu::factor(model.n(), |i, j| {
-                let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
-                s2 * s2 * model.m.get(i, j) + s2 * (model.c * model.m_beam.get(i, j)) + ks + g2 * model.k.get(i, j)
-            })
-        })
+    let tiny = Complex64::new(f64::EPSILON * (model.k.get(0, 0) + s.norm_sqr() * model.m.get(0, 0)), 0.0);
+    let lu = BandLu::factor_for_inverse_iteration(model.n(), t, tiny)
         .ok_or_else(|| BeamError::numerical("T(s) singular in the Rayleigh-functional polish"))?;
     let ones = vec![1.0; model.n()];
     let mut x: Vec<Complex64> = model.m.mul_vec(&ones).into_iter().map(|v| Complex64::new(v, 0.0)).collect();
@@ -421,7 +447,7 @@ fn rayleigh_functional_step(model: &ScaledModel, s: Complex64) -> Result<Complex
 }
 
 /// d/ds̃ log det T̃(s̃) via a dual-number banded LU.
-fn dlog_det_t(model: &ScaledModel, s: Complex64) -> Result<Complex64, BeamError> {
+fn dlog_det_t(model: &ScaledModel, s: Complex64) -> Option<Complex64> {
     let (g, dg) = model.relaxation(s);
     let c = model.c;
     let spring = if model.has_spring() { model.spring } else { 0.0 };
@@ -431,9 +457,8 @@ fn dlog_det_t(model: &ScaledModel, s: Complex64) -> Result<Complex64, BeamError>
         let k = model.k.get(i, j);
         let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
         Dual::new(s * s * m + s * (c * mb) + ks + g * k, 2.0 * s * m + c * mb + dg * k)
-    })
-    .ok_or_else(|| BeamError::numerical("T(s) exactly singular at a Newton iterate"))?;
-    Ok(lu.dlog_det())
+    })?;
+    Some(lu.dlog_det())
 }
 
 /// Path (a) turned into modal parameters. Real poles are assigned to the
@@ -510,37 +535,4 @@ fn dense_family_approximations(model: &ScaledModel) -> Result<Vec<(f64, f64, f64
         .collect();
     out.sort_by(|x, y| (x.0 + x.1).total_cmp(&(y.0 + y.1)));
     Ok(out)
-}
-
-#[cfg(test)]
-mod timing {
-    use super::*;
-    fn best<F: FnMut()>(name: &str, mut f: F) {
-        let mut best = std::time::Duration::MAX;
-        for _ in 0..30 {
-            let t = std::time::Instant::now();
-            for _ in 0..50 { f(); }
-            best = best.min(t.elapsed() / 50);
-        }
-        println!("{name}: {best:?}");
-    }
-    #[test]
-    #[ignore]
-    fn pieces() {
-        let b: BeamSpec = serde_yaml::from_str("length_nm: 8\ndiameter_nm: 1\nyoungs_modulus_pa: 1.0e12\ndensity_kg_m3: 2300\nsupport: simply-supported\nelements: 20\nnonlocal_e0a_nm: 0.5\nviscous_damping_n_s_m2: 1.0e-5\ninternal_variables: [{delta: 0.1, omega_rad_s: 1.0e11}, {delta: 0.05, omega_rad_s: 3.0e12}]\n").unwrap();
-        let mesh = UnitMesh::new(20, b.support);
-        let model = ScaledModel::new(&b, &mesh);
-        let mut work = Vec::new();
-        best("eig newton only", || { lowest_eigenvalues(model.k, &model.m, 3, NEWTON_TOL, &mut work, &mut |l| Ok(l)).unwrap(); });
-        best("eig + rq", || { lowest_eigenvalues(model.k, &model.m, 3, NEWTON_TOL, &mut work, &mut |l| Ok(rayleigh(&model, model.k, l)?.0)).unwrap(); });
-        best("3 families", || { for l in [97.0, 1500.0, 7000.0] { family_roots(0.0, l, model.c, &model.ivs).unwrap(); } });
-        best("model", || { ScaledModel::new(&b, &mesh); });
-        best("eigenvector", || { eigenvector(model.k, &model.m, 97.409).unwrap(); });
-        let phi = eigenvector(model.k, &model.m, 97.409).unwrap();
-        best("rayleigh_of", || { rayleigh_of(&model, &phi); });
-        best("one ldl", || { model.k.ldl_inertia(&model.m, 50.0, &mut work).unwrap(); });
-        best("modal cold", || { modal(&b, 3).unwrap(); });
-        let mut solver = ModalSolver::new();
-        best("modal cached pencil", || { solver.modal(&b, 3).unwrap(); });
-    }
 }

@@ -31,7 +31,16 @@ pub fn scaled_poles(model: &ScaledModel) -> Result<Vec<Complex64>, BeamError> {
     let a = state_matrix(model)?;
     let a = balance(a);
     let dim = a.nrows();
-    let schur = Schur::try_new(a, f64::EPSILON, 10_000 * dim.max(1))
+    // nalgebra deflates a subdiagonal only when |h| ≤ tol·(|h_ii| + |h_jj|)
+    // (no norm-relative test, no exceptional shifts). Round-off leaves
+    // subdiagonals of size ~eps·‖A‖, so poles much smaller than ‖A‖ (relaxation
+    // clusters near −Ωᵢ, e.g. two nearly equal Ωᵢ) may never deflate at
+    // tol = eps. Retry with tol = 64ᵏ·eps: zeroing |h| ≤ tol·|λ| perturbs such a
+    // pole by ~tol relative (≤ 6e-11 at the last rung), still below the 1e-9
+    // agreement the tests demand and comparable to the eps·‖A‖ backward error.
+    let schur = [1.0, 64.0, 4096.0, 262_144.0]
+        .iter()
+        .find_map(|f| Schur::try_new(a.clone(), f * f64::EPSILON, 1_000 * dim.max(1)))
         .ok_or_else(|| BeamError::numerical("real Schur decomposition of the state matrix did not converge"))?;
     let mut poles: Vec<Complex64> = schur.complex_eigenvalues().iter().copied().collect();
     if poles.iter().any(|p| !p.is_finite()) {
