@@ -33,7 +33,7 @@ mod tests {
     fn equals_product_of_normal_densities() {
         let y = [1.0, 2.0, 3.5];
         let p = [1.1, 1.7, 3.0];
-        let s = [0.1, 0.2, 0.5];
+        let s: [f64; 3] = [0.1, 0.2, 0.5];
         let beta = 1.7;
         let direct: f64 = (0..3)
             .map(|k| {

@@ -90,7 +90,7 @@ impl Prior {
             Prior::InverseGamma { shape, scale } => {
                 shape * scale.ln() - ln_gamma(shape) - (shape + 1.0) * x.ln() - scale / x
             }
-            Prior::LogUniform { lower, upper } => -x.ln() - (upper / lower).ln(),
+            Prior::LogUniform { lower, upper } => -x.ln() - (upper / lower).ln().ln(),
         }
     }
 
