@@ -3,5 +3,6 @@
 //! vector ([`Posterior`]) and nothing else.
 
 pub mod posterior;
+pub mod prior;
 
 pub use posterior::Posterior;

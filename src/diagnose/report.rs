@@ -1,0 +1,1 @@
+//! The Markdown + SVG report of a diagnosis (placeholder, filled next).
