@@ -23,6 +23,7 @@
 //!    both models on the held-out modes.
 
 pub mod classes;
+pub mod cli;
 pub mod evidence;
 pub mod forward;
 pub mod posterior;
