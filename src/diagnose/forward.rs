@@ -181,7 +181,6 @@ fn predict_simply_supported(beam: &BeamSpec, n_modes: usize) -> Result<Vec<Modal
         return Err(format!("{n_modes} modes requested, the mesh resolves {ne}"));
     }
     let (me, ke) = element_matrices(beam);
-    let h = beam.length_nm * 1e-9 / ne as f64;
     let c = beam.viscous_damping_n_s_m2 / (beam.density_kg_m3 * beam.area_m2());
     let mut out = Vec::with_capacity(n_modes);
     for r in 1..=n_modes {
@@ -276,11 +275,11 @@ fn standing_waves(beam: &BeamSpec) -> Vec<Wave> {
             if w.rotation_only {
                 w.a = 1.0;
             }
+            // φᵀMφ element by element from the nodal values (computed once per node)
+            let nodal: Vec<(f64, f64)> = (0..=ne).map(|n| w.dofs(n, h)).collect();
             let mut mu = 0.0;
             for e in 0..ne {
-                let (w0, t0) = w.dofs(e, h);
-                let (w1, t1) = w.dofs(e + 1, h);
-                let v = [w0, t0, w1, t1];
+                let v = [nodal[e].0, nodal[e].1, nodal[e + 1].0, nodal[e + 1].1];
                 for i in 0..4 {
                     for j in 0..4 {
                         mu += v[i] * me[i][j] * v[j];
@@ -304,9 +303,10 @@ fn standing_waves(beam: &BeamSpec) -> Vec<Wave> {
 fn rank_one(waves: &[Wave], u: &[f64], kappa: f64, increasing: bool, n: usize) -> Vec<(f64, Vec<f64>)> {
     let total: f64 = u.iter().map(|v| v * v).sum();
     let mut out = Vec::new();
-    let active: Vec<usize> = (0..waves.len()).filter(|&j| u[j] * u[j] > 1e-14 * total).collect();
+    let is_active: Vec<bool> = u.iter().map(|v| v * v > 1e-14 * total).collect();
+    let active: Vec<usize> = (0..waves.len()).filter(|&j| is_active[j]).collect();
     for (j, w) in waves.iter().enumerate() {
-        if !active.contains(&j) {
+        if !is_active[j] {
             let mut q = vec![0.0; waves.len()];
             q[j] = 1.0;
             out.push((w.lambda, q));
@@ -334,7 +334,7 @@ fn rank_one(waves: &[Wave], u: &[f64], kappa: f64, increasing: bool, n: usize) -
             if (v < 0.0) == increasing { lo = mid } else { hi = mid }
         }
         let lam = 0.5 * (lo + hi);
-        let q = (0..waves.len()).map(|i| if active.contains(&i) { u[i] / (waves[i].lambda - lam) } else { 0.0 }).collect();
+        let q = (0..waves.len()).map(|i| if is_active[i] { u[i] / (waves[i].lambda - lam) } else { 0.0 }).collect();
         out.push((lam, q));
     }
     out.sort_by(|a, b| a.0.total_cmp(&b.0));
