@@ -69,6 +69,10 @@ pub fn tmcmc<P: Posterior>(post: &P, s: &TmcmcSettings) -> TmcmcResult {
     let mut log_z = 0.0;
     let mut scale = 2.38 / (d as f64).sqrt();
     let mut stage = 0;
+    // Chain length per stage: at least `mh_steps`, and enough that a sample
+    // stays put with probability ≤ 1 % at the last stage's acceptance rate a,
+    // (1 − a)^L ≤ 0.01 (the adaptive length of Betz et al. 2016), capped at 5·mh_steps.
+    let mut steps = s.mh_steps;
     while p < 1.0 && stage < 200 {
         stage += 1;
         // bisection on dp so that cov(w) = target (cov grows with dp)
@@ -135,7 +139,7 @@ pub fn tmcmc<P: Posterior>(post: &P, s: &TmcmcSettings) -> TmcmcResult {
                 let mut cur_ll = ll[k];
                 let mut cur_lp = post.log_prior(&cur);
                 let mut acc = 0;
-                for _ in 0..s.mh_steps {
+                for _ in 0..steps {
                     let z = DVector::from_fn(d, |_, _| rng.sample::<f64, _>(StandardNormal));
                     let step = &chol * z * sc;
                     let cand: Vec<f64> = cur.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
@@ -155,9 +159,11 @@ pub fn tmcmc<P: Posterior>(post: &P, s: &TmcmcSettings) -> TmcmcResult {
                 (cur, cur_ll, acc)
             })
             .collect();
-        evaluations += n * s.mh_steps;
+        evaluations += n * steps;
         let accepted: usize = moved.iter().map(|m| m.2).sum();
-        let rate = accepted as f64 / (n * s.mh_steps) as f64;
+        let rate = accepted as f64 / (n * steps) as f64;
+        let wanted = if rate > 0.0 && rate < 1.0 { (0.01f64.ln() / (1.0 - rate).ln()).ceil() as usize } else { s.mh_steps };
+        steps = wanted.clamp(s.mh_steps, 5 * s.mh_steps);
         // Betz et al. (2016): steer the acceptance rate towards ≈ 0.23
         scale *= (1.0 / 9.0 + 8.0 / 9.0 * rate / 0.234).clamp(0.2, 2.0);
         theta = moved.iter().map(|m| m.0.clone()).collect();
