@@ -8,6 +8,7 @@
 pub mod bayes;
 pub mod beam;
 pub mod calibration;
+pub mod cli;
 pub mod diagnose;
 pub mod error;
 pub mod report;

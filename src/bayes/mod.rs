@@ -2,7 +2,15 @@
 //! summaries and convergence diagnostics. It sees a log-density over a named
 //! vector ([`Posterior`]) and nothing else.
 
+pub mod chains;
+pub mod diagnostics;
+pub mod dram;
+pub mod laplace;
+pub mod likelihood;
+pub mod map;
 pub mod posterior;
 pub mod prior;
+pub mod summary;
+pub mod tmcmc;
 
 pub use posterior::Posterior;

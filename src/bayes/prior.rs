@@ -1,14 +1,19 @@
-//! TEMPORARY stand-in written on branch `diagnose` so the crate compiles before
-//! the bayes helper's `prior` lands; on merge the real module replaces this file.
-//! Priors: uniform, normal, inverse-gamma, log-uniform.
+//! Prior densities with their supports.
+//!
+//! Written in YAML as an internally tagged map:
+//! `{dist: uniform, lower, upper}`, `{dist: normal, mean, sd}`,
+//! `{dist: inverse-gamma, shape, scale}` (pdf b^a/Γ(a) x^(−a−1) e^(−b/x);
+//! Case 3 puts IG(9.5, 11.1) on β²), `{dist: log-uniform, lower, upper}`
+//! (density ∝ 1/x on [lower, upper]).
 
 use rand::RngCore;
-use rand_distr::{Distribution, Gamma, Normal, Uniform};
+use rand_distr::{Distribution, Normal, Uniform};
 use serde::{Deserialize, Serialize};
+use statrs::function::gamma::ln_gamma;
 
 use crate::error::InputError;
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "dist", rename_all = "kebab-case", deny_unknown_fields)]
 pub enum Prior {
     Uniform { lower: f64, upper: f64 },
@@ -18,20 +23,43 @@ pub enum Prior {
 }
 
 impl Prior {
+    /// Checks the parameters; `field` names the prior in the error.
     pub fn validate(&self, field: &str) -> Result<(), InputError> {
-        let ok = match *self {
-            Prior::Uniform { lower, upper } => lower.is_finite() && upper.is_finite() && lower < upper,
-            Prior::Normal { mean, sd } => mean.is_finite() && sd.is_finite() && sd > 0.0,
-            Prior::InverseGamma { shape, scale } => shape > 0.0 && scale > 0.0 && shape.is_finite() && scale.is_finite(),
-            Prior::LogUniform { lower, upper } => lower > 0.0 && upper.is_finite() && lower < upper,
+        let finite = |name: &str, v: f64| {
+            if v.is_finite() {
+                Ok(())
+            } else {
+                Err(InputError::new(format!("{field}.{name}"), v, "a finite number"))
+            }
         };
-        if ok {
-            Ok(())
-        } else {
-            Err(InputError::new(field, format!("{self:?}"), "a proper prior"))
+        match *self {
+            Prior::Uniform { lower, upper } => {
+                finite("lower", lower)?;
+                finite("upper", upper)?;
+                if upper <= lower {
+                    return Err(InputError::new(format!("{field}.upper"), upper, format!("> lower = {lower}")));
+                }
+            }
+            Prior::Normal { mean, sd } => {
+                finite("mean", mean)?;
+                crate::error::positive(&format!("{field}.sd"), sd)?;
+            }
+            Prior::InverseGamma { shape, scale } => {
+                crate::error::positive(&format!("{field}.shape"), shape)?;
+                crate::error::positive(&format!("{field}.scale"), scale)?;
+            }
+            Prior::LogUniform { lower, upper } => {
+                crate::error::positive(&format!("{field}.lower"), lower)?;
+                finite("upper", upper)?;
+                if upper <= lower {
+                    return Err(InputError::new(format!("{field}.upper"), upper, format!("> lower = {lower}")));
+                }
+            }
         }
+        Ok(())
     }
 
+    /// Closed support [lo, hi] (±∞ where unbounded).
     pub fn support(&self) -> (f64, f64) {
         match *self {
             Prior::Uniform { lower, upper } | Prior::LogUniform { lower, upper } => (lower, upper),
@@ -40,43 +68,127 @@ impl Prior {
         }
     }
 
-    pub fn sd(&self) -> Option<f64> {
-        match *self {
-            Prior::Uniform { lower, upper } => Some((upper - lower) / 12f64.sqrt()),
-            Prior::Normal { sd, .. } => Some(sd),
-            Prior::InverseGamma { shape, scale } => (shape > 2.0).then(|| scale / (shape - 1.0) / (shape - 2.0).sqrt()),
-            Prior::LogUniform { .. } => None,
+    pub fn in_support(&self, x: f64) -> bool {
+        let (lo, hi) = self.support();
+        match self {
+            Prior::InverseGamma { .. } => x > 0.0 && x.is_finite(),
+            _ => x >= lo && x <= hi && x.is_finite(),
         }
     }
 
+    /// log density, `NEG_INFINITY` outside the support.
     pub fn ln_pdf(&self, x: f64) -> f64 {
+        if !self.in_support(x) {
+            return f64::NEG_INFINITY;
+        }
         match *self {
-            Prior::Uniform { lower, upper } => {
-                if x >= lower && x <= upper { -(upper - lower).ln() } else { f64::NEG_INFINITY }
-            }
+            Prior::Uniform { lower, upper } => -(upper - lower).ln(),
             Prior::Normal { mean, sd } => {
                 let z = (x - mean) / sd;
                 -0.5 * z * z - sd.ln() - 0.5 * (2.0 * std::f64::consts::PI).ln()
             }
             Prior::InverseGamma { shape, scale } => {
-                if x > 0.0 {
-                    shape * scale.ln() - statrs::function::gamma::ln_gamma(shape) - (shape + 1.0) * x.ln() - scale / x
-                } else {
-                    f64::NEG_INFINITY
-                }
+                shape * scale.ln() - ln_gamma(shape) - (shape + 1.0) * x.ln() - scale / x
+            }
+            Prior::LogUniform { lower, upper } => -x.ln() - (upper / lower).ln(),
+        }
+    }
+
+    /// One draw.
+    pub fn sample(&self, rng: &mut dyn RngCore) -> f64 {
+        match *self {
+            Prior::Uniform { lower, upper } => Uniform::new_inclusive(lower, upper).sample(rng),
+            Prior::Normal { mean, sd } => Normal::new(mean, sd).expect("validated sd > 0").sample(rng),
+            Prior::InverseGamma { shape, scale } => {
+                // X ~ IG(a, b)  <=>  1/X ~ Gamma(shape a, rate b) = Gamma(a, scale 1/b).
+                let g = rand_distr::Gamma::new(shape, 1.0 / scale).expect("validated shape, scale > 0");
+                1.0 / g.sample(rng)
             }
             Prior::LogUniform { lower, upper } => {
-                if x >= lower && x <= upper { -x.ln() - (upper / lower).ln() } else { f64::NEG_INFINITY }
+                (Uniform::new_inclusive(lower.ln(), upper.ln()).sample(rng)).exp().clamp(lower, upper)
             }
         }
     }
 
-    pub fn sample(&self, rng: &mut dyn RngCore) -> f64 {
+    /// Mean, where finite.
+    pub fn mean(&self) -> Option<f64> {
         match *self {
-            Prior::Uniform { lower, upper } => Uniform::new_inclusive(lower, upper).sample(rng),
-            Prior::Normal { mean, sd } => Normal::new(mean, sd).expect("valid").sample(rng),
-            Prior::InverseGamma { shape, scale } => 1.0 / Gamma::new(shape, 1.0 / scale).expect("valid").sample(rng),
-            Prior::LogUniform { lower, upper } => Uniform::new_inclusive(lower.ln(), upper.ln()).sample(rng).exp(),
+            Prior::Uniform { lower, upper } => Some(0.5 * (lower + upper)),
+            Prior::Normal { mean, .. } => Some(mean),
+            Prior::InverseGamma { shape, scale } => (shape > 1.0).then(|| scale / (shape - 1.0)),
+            Prior::LogUniform { lower, upper } => Some((upper - lower) / (upper / lower).ln()),
         }
+    }
+
+    /// Standard deviation, where finite.
+    pub fn sd(&self) -> Option<f64> {
+        match *self {
+            Prior::Uniform { lower, upper } => Some((upper - lower) / 12f64.sqrt()),
+            Prior::Normal { sd, .. } => Some(sd),
+            Prior::InverseGamma { shape, scale } => {
+                (shape > 2.0).then(|| scale / (shape - 1.0) / (shape - 2.0).sqrt())
+            }
+            Prior::LogUniform { lower, upper } => {
+                let l = (upper / lower).ln();
+                let m = (upper - lower) / l;
+                let m2 = (upper * upper - lower * lower) / (2.0 * l);
+                Some((m2 - m * m).max(0.0).sqrt())
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::SeedableRng;
+
+    /// ∫ pdf = 1 by the trapezoidal rule on a fine grid: the error of the
+    /// rule for these smooth densities is < 1e-6 with 200 001 points.
+    #[test]
+    fn densities_integrate_to_one() {
+        let priors = [
+            Prior::Uniform { lower: -1.0, upper: 3.0 },
+            Prior::Normal { mean: 1.0, sd: 0.5 },
+            Prior::InverseGamma { shape: 9.5, scale: 11.1 },
+            Prior::LogUniform { lower: 1e-2, upper: 1e2 },
+        ];
+        for p in priors {
+            let (lo, hi) = match p {
+                Prior::Normal { mean, sd } => (mean - 12.0 * sd, mean + 12.0 * sd),
+                Prior::InverseGamma { .. } => (1e-6, 60.0),
+                _ => p.support(),
+            };
+            let n = 200_000;
+            let h = (hi - lo) / n as f64;
+            let mut s = 0.0;
+            for i in 0..=n {
+                let x = lo + i as f64 * h;
+                let w = if i == 0 || i == n { 0.5 } else { 1.0 };
+                s += w * p.ln_pdf(x).exp();
+            }
+            // LogUniform's 1/x peak at 1e-2 makes the trapezoid error ~h²·f''/12·width ≈ 2e-4.
+            assert!((s * h - 1.0).abs() < 5e-4, "{p:?}: {}", s * h);
+        }
+    }
+
+    /// Sample means within 5 standard errors (σ/√n) of the analytic mean.
+    #[test]
+    fn sample_moments_match() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        for p in [Prior::InverseGamma { shape: 9.5, scale: 11.1 }, Prior::LogUniform { lower: 1.0, upper: 100.0 }] {
+            let n = 100_000;
+            let m: f64 = (0..n).map(|_| p.sample(&mut rng)).sum::<f64>() / n as f64;
+            let se = p.sd().unwrap() / (n as f64).sqrt();
+            assert!((m - p.mean().unwrap()).abs() < 5.0 * se, "{p:?}: {m}");
+        }
+    }
+
+    #[test]
+    fn validation_names_the_field() {
+        let e = Prior::Uniform { lower: 2.0, upper: 1.0 }.validate("parameters.delta.prior").unwrap_err();
+        assert_eq!(e.field, "parameters.delta.prior.upper");
+        assert!(Prior::Normal { mean: 0.0, sd: -1.0 }.validate("p").is_err());
+        assert!(Prior::LogUniform { lower: 0.0, upper: 1.0 }.validate("p").is_err());
     }
 }

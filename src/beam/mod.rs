@@ -1,6 +1,25 @@
 //! Physics only: the beam description, finite elements, poles, modal
 //! parameters and FRF. Knows nothing of probability.
+//!
+//! Map: `spec` (YAML contract) → `element` (A3–A7) → `model` (assembly,
+//! supports, extensions, nondimensional scaling) → poles by `state_space`
+//! (A15, reference) or `modal` (exact decoupled families via `eigen` +
+//! `family`, or Newton on det T(s) when the extensions couple the modes) →
+//! `frf` (direct banded solves).
 
+pub(crate) mod band;
+pub(crate) mod dual;
+pub mod element;
+mod error;
+pub(crate) mod eigen;
+pub(crate) mod family;
+mod frf;
+pub(crate) mod model;
+mod modal;
 pub mod spec;
+mod state_space;
 
+pub use error::BeamError;
+pub use frf::frf;
+pub use modal::{modal, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode};
 pub use spec::{BeamSpec, InternalVariable, PointMass, Support};

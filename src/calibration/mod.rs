@@ -2,9 +2,14 @@
 //! parameters mapped onto a beam, and the beam posterior that the samplers see.
 
 pub mod measured;
+pub mod output;
 pub mod parameters;
+pub mod posterior;
+pub mod run;
 pub mod sampler;
 
 pub use measured::{MeasuredData, ModeObservation};
 pub use parameters::{Parameter, ParameterSet, Target};
+pub use posterior::BeamPosterior;
+pub use run::{calibrate, calibrate_posterior, CalibrateOptions, CalibrationResult};
 pub use sampler::SamplerSpec;

@@ -1,1 +1,21 @@
-//! (module under construction)
+//! Presentation utilities: plain data in, files out.
+//!
+//! This module knows nothing about beams or statistics; callers hand it
+//! numbers and labels. It has three jobs, one submodule each:
+//!
+//! * [`svg`]: deterministic SVG figures (line plots with log axes, bands and
+//!   reference lines; heatmaps with a colour bar; MCMC trace plots, marginal
+//!   histograms, pair plots; bar charts; residual plots). Every function
+//!   renders to a `String` so the caller can write the file atomically.
+//! * [`table`]: a plain table rendered as Markdown or CSV, and number formatting.
+//! * [`render`]: tera templates from a directory, and atomic writes of files
+//!   and of whole output directories.
+//!
+//! All fallible functions return [`ReportError`].
+
+pub mod error;
+pub mod render;
+pub mod svg;
+pub mod table;
+
+pub use error::{ReportError, Result};

@@ -1,1 +1,4 @@
-//! (module under construction)
+//! The paper pipeline as a library (under construction): what the paper
+//! publishes and the reference values its printed numbers encode.
+
+pub mod reference;

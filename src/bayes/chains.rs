@@ -1,0 +1,43 @@
+//! Several DRAM chains in parallel (rayon), deterministic for any thread count:
+//! chain c draws from ChaCha8 stream c of the master seed, and results are
+//! gathered in chain order.
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+
+use crate::bayes::dram::{run_chain, ChainOutput, DramSettings};
+use crate::bayes::Posterior;
+
+/// The RNG of chain `chain` under master seed `seed`.
+pub fn chain_rng(seed: u64, chain: usize) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(chain as u64);
+    rng
+}
+
+/// Runs one chain per start state; `on_progress` receives step increments.
+pub fn run_chains(
+    post: &dyn Posterior,
+    settings: &DramSettings,
+    c0_sd: &[f64],
+    starts: &[Vec<f64>],
+    seed: u64,
+    on_progress: Option<&(dyn Fn(usize) + Sync)>,
+) -> Vec<ChainOutput> {
+    starts
+        .par_iter()
+        .enumerate()
+        .map(|(c, start)| {
+            let mut rng = chain_rng(seed, c);
+            run_chain(post, settings, c0_sd, start, &mut rng, on_progress)
+        })
+        .collect()
+}
+
+/// Pooled acceptance fraction per DR stage over all chains.
+pub fn pooled_acceptance(chains: &[ChainOutput]) -> Vec<f64> {
+    let stages = chains.first().map_or(0, |c| c.accepted.len());
+    let steps: f64 = chains.iter().map(|c| c.draws.len().saturating_sub(1) as f64).sum::<f64>().max(1.0);
+    (0..stages).map(|s| chains.iter().map(|c| c.accepted[s] as f64).sum::<f64>() / steps).collect()
+}

@@ -1,0 +1,460 @@
+//! Convergence diagnostics for MCMC output of one scalar parameter:
+//! rank-normalised split-R̂, bulk and tail effective sample size, and the
+//! integrated autocorrelation time.
+//!
+//! Definitions follow Vehtari, Gelman, Simpson, Carpenter & Bürkner (2021),
+//! "Rank-normalization, folding, and localization: an improved R̂", Bayesian
+//! Analysis 16(2), exactly as implemented in ArviZ (`arviz.rhat(method="rank")`,
+//! `arviz.ess(method="bulk" | "tail")`):
+//!
+//! * input: `chains[m][n]`, M chains of N draws each (post burn-in, equal lengths);
+//! * split: every chain is cut into its first ⌊N/2⌋ and its last ⌊N/2⌋ draws
+//!   (the middle draw is dropped when N is odd), giving 2M chains;
+//! * rank normalisation: with r the fractional rank (ties averaged) of a draw
+//!   among all S pooled draws, z = Φ⁻¹((r − 3/8)/(S + 1/4)) (Blom);
+//! * classic R̂ of M' chains of length n: W = mean of the chain variances
+//!   (ddof 1), B = n·var(chain means, ddof 1),
+//!   R̂ = sqrt(((n − 1)/n · W + B/n) / W);
+//! * rank R̂ = max(R̂ of the rank-normalised split draws,
+//!   R̂ of the rank-normalised split folded draws |x − median(x)|);
+//! * ESS (Geyer's initial monotone sequence on the multi-chain autocorrelation,
+//!   Stan reference manual §"Effective sample size"): with ĉ_m(t) the biased
+//!   autocovariance of chain m (divided by n), W = mean_m ĉ_m(0)·n/(n−1),
+//!   var⁺ = (n−1)/n·W + var(chain means, ddof 1) (second term only if M > 1),
+//!   ρ̂_t = 1 − (W − mean_m ĉ_m(t))/var⁺; pairs Γ_k = ρ̂_{2k} + ρ̂_{2k+1} are summed
+//!   while positive and forced monotone non-increasing;
+//!   τ̂ = −1 + 2 Σ_{t ≤ t_max} ρ̂_t + ρ̂_{t_max+1}, τ̂ ≥ 1/log10(MN), ESS = MN/τ̂;
+//! * bulk ESS = ESS of the split chains of the rank-normalised draws (ranks
+//!   over all draws before splitting, as ArviZ does);
+//! * tail ESS = min over q ∈ {5 %, 95 %} of the ESS of the split chains of the
+//!   indicator I(x ≤ Q(q)), Q the type-7 (linear) quantile of the pooled draws.
+//!
+//! Deviation from ArviZ: ArviZ returns NaN for R̂ of a single chain; here a
+//! single chain is split into two halves and R̂ is computed from those, which
+//! is the same formula and still detects a drifting chain. Inputs with fewer
+//! than 4 draws per chain, non-finite values or ragged chains give NaN.
+//!
+//! Autocovariances: the first 64 lags are direct sums (enough for well-mixed
+//! chains, where Geyer's sequence stops after a few lags); beyond that all lags
+//! come from a small hand-written radix-2 FFT: the `rustfft` crate is not a
+//! dependency of this workspace, and the direct O(N·lag) sum becomes O(N²) for
+//! poorly mixing chains (4 × 20 000 draws would cost ~10⁹ multiplications per
+//! call, three calls per parameter).
+
+use num_complex::Complex64;
+use statrs::distribution::{ContinuousCDF, Normal};
+
+/// Rank-normalised split-R̂ (maximum of bulk and folded-tail R̂), see module docs.
+/// NaN for invalid input (ragged chains, < 4 draws per chain, non-finite draws).
+pub fn rhat(chains: &[Vec<f64>]) -> f64 {
+    let Some(n) = valid_draws_per_chain(chains) else {
+        return f64::NAN;
+    };
+    if n < 4 {
+        return f64::NAN;
+    }
+    let split = split_chains(chains);
+    let bulk = classic_rhat(&rank_normalize(&split));
+    let med = median(&pooled(chains));
+    let folded: Vec<Vec<f64>> = chains
+        .iter()
+        .map(|c| c.iter().map(|x| (x - med).abs()).collect())
+        .collect();
+    let tail = classic_rhat(&rank_normalize(&split_chains(&folded)));
+    bulk.max(tail)
+}
+
+/// Bulk effective sample size: ESS of the rank-normalised split chains.
+pub fn ess_bulk(chains: &[Vec<f64>]) -> f64 {
+    let Some(n) = valid_draws_per_chain(chains) else {
+        return f64::NAN;
+    };
+    if n < 4 {
+        return f64::NAN;
+    }
+    ess(&split_chains(&rank_normalize(chains)))
+}
+
+/// Tail effective sample size: min of the ESS of I(x ≤ Q(5 %)) and I(x ≤ Q(95 %)),
+/// each on split chains.
+pub fn ess_tail(chains: &[Vec<f64>]) -> f64 {
+    let Some(n) = valid_draws_per_chain(chains) else {
+        return f64::NAN;
+    };
+    if n < 4 {
+        return f64::NAN;
+    }
+    let mut all = pooled(chains);
+    all.sort_by(f64::total_cmp);
+    [0.05, 0.95]
+        .iter()
+        .map(|&p| {
+            let q = quantile_sorted(&all, p);
+            let ind: Vec<Vec<f64>> = chains
+                .iter()
+                .map(|c| c.iter().map(|&x| if x <= q { 1.0 } else { 0.0 }).collect())
+                .collect();
+            ess(&split_chains(&ind))
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Effective sample size of the given chains as they are (no splitting, no rank
+/// normalisation): Geyer's initial monotone sequence on the multi-chain
+/// autocorrelation (module docs). Constant input returns the number of draws
+/// (as ArviZ); invalid input returns NaN.
+pub fn ess(chains: &[Vec<f64>]) -> f64 {
+    let Some(n) = valid_draws_per_chain(chains) else {
+        return f64::NAN;
+    };
+    let m = chains.len();
+    let total = (m * n) as f64;
+    if n < 2 {
+        return f64::NAN;
+    }
+    let (lo, hi) = chains
+        .iter()
+        .flatten()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        });
+    // ArviZ: `np.max - np.min < np.finfo(float).resolution` (1e-15) → constant.
+    if hi - lo < 1e-15 {
+        return total;
+    }
+    let acov = LazyAutocovariance::new(chains);
+    let mean_acov = |t: usize| acov.mean_at(t);
+    let nf = n as f64;
+    let mean_var = mean_acov(0) * nf / (nf - 1.0);
+    let mut var_plus = mean_var * (nf - 1.0) / nf;
+    if m > 1 {
+        let means: Vec<f64> = chains.iter().map(|c| mean(c)).collect();
+        var_plus += variance_ddof1(&means);
+    }
+    let rho = |t: usize| 1.0 - (mean_var - mean_acov(t)) / var_plus;
+
+    // Geyer's initial positive sequence (transcribed from ArviZ `_ess`).
+    let mut rho_t = vec![0.0; n];
+    let mut rho_even = 1.0;
+    rho_t[0] = rho_even;
+    let mut rho_odd = if n > 1 { rho(1) } else { 0.0 };
+    if n > 1 {
+        rho_t[1] = rho_odd;
+    }
+    let mut t = 1usize;
+    while t + 3 < n && rho_even + rho_odd > 0.0 {
+        rho_even = rho(t + 1);
+        rho_odd = rho(t + 2);
+        if rho_even + rho_odd >= 0.0 {
+            rho_t[t + 1] = rho_even;
+            rho_t[t + 2] = rho_odd;
+        }
+        t += 2;
+    }
+    // ArviZ: max_t = t - 2 (may be -1 when the loop never ran: n ≤ 4).
+    let max_t = t as i64 - 2;
+    if rho_even > 0.0 && max_t + 1 >= 0 && ((max_t + 1) as usize) < n {
+        rho_t[(max_t + 1) as usize] = rho_even;
+    }
+    // Geyer's initial monotone sequence.
+    let mut t = 1i64;
+    while t <= max_t - 2 {
+        let tu = t as usize;
+        if rho_t[tu + 1] + rho_t[tu + 2] > rho_t[tu - 1] + rho_t[tu] {
+            rho_t[tu + 1] = (rho_t[tu - 1] + rho_t[tu]) / 2.0;
+            rho_t[tu + 2] = rho_t[tu + 1];
+        }
+        t += 2;
+    }
+    let upto = (max_t + 1).max(0) as usize; // exclusive end of rho_t[: max_t + 1]
+    let mut tau = -1.0 + 2.0 * rho_t[..upto.min(n)].iter().sum::<f64>();
+    if upto < n {
+        tau += rho_t[upto];
+    }
+    tau = tau.max(1.0 / total.log10());
+    let ess = total / tau;
+    if rho_t.iter().any(|r| r.is_nan()) {
+        f64::NAN
+    } else {
+        ess
+    }
+}
+
+/// Normalised autocorrelation ρ_k = ĉ(k)/ĉ(0), k = 0..=max_lag (clipped to N − 1),
+/// with the biased autocovariance ĉ(k) = (1/N) Σ_{i<N−k} (x_i − x̄)(x_{i+k} − x̄).
+/// A constant series gives ρ_0 = 1 and ρ_k = 0 for k ≥ 1.
+pub fn autocorrelation(x: &[f64], max_lag: usize) -> Vec<f64> {
+    if x.is_empty() {
+        return Vec::new();
+    }
+    let c = autocovariance(x);
+    let last = max_lag.min(x.len() - 1);
+    if c[0] <= 0.0 {
+        let mut r = vec![0.0; last + 1];
+        r[0] = 1.0;
+        return r;
+    }
+    c[..=last].iter().map(|v| v / c[0]).collect()
+}
+
+/// Integrated autocorrelation time τ = 1 + 2 Σ_{k=1}^{M} ρ_k of one chain, with
+/// Sokal's automatic window: M is the smallest lag with M ≥ c·τ(M), c = 5
+/// (Sokal 1997, "Monte Carlo methods in statistical mechanics", §3; also emcee).
+/// The chain's ESS is then ≈ N/τ. Returns NaN for fewer than 2 or non-finite draws.
+pub fn integrated_autocorrelation_time(x: &[f64]) -> f64 {
+    const C: f64 = 5.0;
+    if x.len() < 2 || x.iter().any(|v| !v.is_finite()) {
+        return f64::NAN;
+    }
+    let rho = autocorrelation(x, x.len() - 1);
+    let mut tau = 1.0;
+    for (k, r) in rho.iter().enumerate().skip(1) {
+        tau += 2.0 * r;
+        if (k as f64) >= C * tau {
+            break;
+        }
+    }
+    tau
+}
+
+/// Lags below this are summed directly; the first request beyond switches to FFT.
+const DIRECT_LAGS: usize = 64;
+
+/// Chain-averaged biased autocovariance mean_m ĉ_m(t), computed on demand: direct
+/// sums for t < [`DIRECT_LAGS`] (well-mixed chains stop the Geyer sequence within a
+/// few lags, costing O(M·N·t)), otherwise all lags at once by FFT (O(M·N log N)).
+struct LazyAutocovariance<'a> {
+    chains: &'a [Vec<f64>],
+    centred: Vec<Vec<f64>>,
+    fft: std::cell::OnceCell<Vec<f64>>,
+}
+
+impl<'a> LazyAutocovariance<'a> {
+    fn new(chains: &'a [Vec<f64>]) -> Self {
+        let centred = chains
+            .iter()
+            .map(|c| {
+                let mu = mean(c);
+                c.iter().map(|x| x - mu).collect()
+            })
+            .collect();
+        Self {
+            chains,
+            centred,
+            fft: std::cell::OnceCell::new(),
+        }
+    }
+
+    fn mean_at(&self, t: usize) -> f64 {
+        let m = self.chains.len() as f64;
+        if t < DIRECT_LAGS && self.fft.get().is_none() {
+            return self
+                .centred
+                .iter()
+                .map(|y| {
+                    y[..y.len() - t]
+                        .iter()
+                        .zip(&y[t..])
+                        .map(|(a, b)| a * b)
+                        .sum::<f64>()
+                        / y.len() as f64
+                })
+                .sum::<f64>()
+                / m;
+        }
+        let all = self.fft.get_or_init(|| {
+            let per_chain: Vec<Vec<f64>> = self.chains.iter().map(|c| autocovariance(c)).collect();
+            (0..per_chain[0].len())
+                .map(|k| per_chain.iter().map(|a| a[k]).sum::<f64>() / m)
+                .collect()
+        });
+        all[t]
+    }
+}
+
+/// Biased autocovariance ĉ(k), k = 0..N−1, of one series, via zero-padded FFT:
+/// ĉ = IFFT(|FFT(x − x̄)|²)/N with padding to a power of two ≥ 2N (no wrap-around).
+pub fn autocovariance(x: &[f64]) -> Vec<f64> {
+    let n = x.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    let mu = mean(x);
+    let size = (2 * n).next_power_of_two();
+    let mut buf: Vec<Complex64> = x.iter().map(|&v| Complex64::new(v - mu, 0.0)).collect();
+    buf.resize(size, Complex64::new(0.0, 0.0));
+    fft_in_place(&mut buf, false);
+    for z in buf.iter_mut() {
+        *z = Complex64::new(z.norm_sqr(), 0.0);
+    }
+    fft_in_place(&mut buf, true);
+    let scale = 1.0 / (size as f64 * n as f64);
+    buf[..n].iter().map(|z| z.re * scale).collect()
+}
+
+/// Iterative radix-2 Cooley–Tukey FFT (length must be a power of two); the
+/// inverse is unnormalised (caller divides by the length).
+fn fft_in_place(a: &mut [Complex64], inverse: bool) {
+    let n = a.len();
+    debug_assert!(n.is_power_of_two());
+    let mut j = 0usize;
+    for i in 1..n {
+        let mut bit = n >> 1;
+        while j & bit != 0 {
+            j ^= bit;
+            bit >>= 1;
+        }
+        j |= bit;
+        if i < j {
+            a.swap(i, j);
+        }
+    }
+    let sign = if inverse { 1.0 } else { -1.0 };
+    let mut len = 2;
+    while len <= n {
+        let ang = sign * 2.0 * std::f64::consts::PI / len as f64;
+        // Twiddles computed directly (not by repeated multiplication) to keep
+        // round-off at O(ε log N).
+        let half = len / 2;
+        let tw: Vec<Complex64> = (0..half)
+            .map(|k| Complex64::from_polar(1.0, ang * k as f64))
+            .collect();
+        for start in (0..n).step_by(len) {
+            for k in 0..half {
+                let u = a[start + k];
+                let v = a[start + k + half] * tw[k];
+                a[start + k] = u + v;
+                a[start + k + half] = u - v;
+            }
+        }
+        len <<= 1;
+    }
+}
+
+/// Type-7 (linear interpolation, numpy's default) quantile of sorted data:
+/// h = (N − 1)p, Q = x_⌊h⌋ + (h − ⌊h⌋)(x_⌊h⌋+1 − x_⌊h⌋).
+pub fn quantile_sorted(sorted: &[f64], p: f64) -> f64 {
+    let n = sorted.len();
+    if n == 0 {
+        return f64::NAN;
+    }
+    let h = (n - 1) as f64 * p.clamp(0.0, 1.0);
+    let lo = h.floor() as usize;
+    let hi = (lo + 1).min(n - 1);
+    sorted[lo] + (h - lo as f64) * (sorted[hi] - sorted[lo])
+}
+
+/// Rank-normalises all draws jointly: z = Φ⁻¹((r − 3/8)/(S + 1/4)) with r the
+/// average (fractional) rank among all S pooled draws, returned in the same shape.
+pub fn rank_normalize(chains: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let flat = pooled(chains);
+    let s = flat.len();
+    let mut idx: Vec<usize> = (0..s).collect();
+    idx.sort_by(|&a, &b| flat[a].total_cmp(&flat[b]));
+    let mut rank = vec![0.0; s];
+    let mut i = 0;
+    while i < s {
+        let mut j = i;
+        while j + 1 < s && flat[idx[j + 1]] == flat[idx[i]] {
+            j += 1;
+        }
+        // Positions i..=j (0-based) share the average 1-based rank.
+        let r = (i + j) as f64 / 2.0 + 1.0;
+        for &k in &idx[i..=j] {
+            rank[k] = r;
+        }
+        i = j + 1;
+    }
+    let normal = Normal::new(0.0, 1.0).expect("standard normal");
+    let denom = s as f64 + 0.25;
+    let mut out = Vec::with_capacity(chains.len());
+    let mut k = 0;
+    for c in chains {
+        out.push(
+            c.iter()
+                .map(|_| {
+                    let z = normal.inverse_cdf((rank[k] - 0.375) / denom);
+                    k += 1;
+                    z
+                })
+                .collect(),
+        );
+    }
+    out
+}
+
+/// Splits every chain into its first ⌊N/2⌋ and last ⌊N/2⌋ draws.
+pub fn split_chains(chains: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let mut out = Vec::with_capacity(2 * chains.len());
+    let mut second = Vec::with_capacity(chains.len());
+    for c in chains {
+        let half = c.len() / 2;
+        out.push(c[..half].to_vec());
+        second.push(c[c.len() - half..].to_vec());
+    }
+    // ArviZ stacks all first halves, then all second halves.
+    out.extend(second);
+    out
+}
+
+/// Classic (non-split) potential scale reduction factor of equal-length chains.
+pub fn classic_rhat(chains: &[Vec<f64>]) -> f64 {
+    let n = chains[0].len() as f64;
+    let means: Vec<f64> = chains.iter().map(|c| mean(c)).collect();
+    let w = chains.iter().map(|c| variance_ddof1(c)).sum::<f64>() / chains.len() as f64;
+    let b = n * variance_ddof1(&means);
+    ((b / w + n - 1.0) / n).sqrt()
+}
+
+fn valid_draws_per_chain(chains: &[Vec<f64>]) -> Option<usize> {
+    let n = chains.first()?.len();
+    let ok = chains
+        .iter()
+        .all(|c| c.len() == n && c.iter().all(|x| x.is_finite()));
+    ok.then_some(n)
+}
+
+fn pooled(chains: &[Vec<f64>]) -> Vec<f64> {
+    chains.iter().flatten().copied().collect()
+}
+
+fn median(x: &[f64]) -> f64 {
+    let mut s = x.to_vec();
+    s.sort_by(f64::total_cmp);
+    quantile_sorted(&s, 0.5)
+}
+
+pub(crate) fn mean(x: &[f64]) -> f64 {
+    x.iter().sum::<f64>() / x.len() as f64
+}
+
+pub(crate) fn variance_ddof1(x: &[f64]) -> f64 {
+    let mu = mean(x);
+    x.iter().map(|v| (v - mu) * (v - mu)).sum::<f64>() / (x.len() as f64 - 1.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fft_autocovariance_matches_direct_sum() {
+        let x: Vec<f64> = (0..37)
+            .map(|i| ((i * 7919) % 31) as f64 * 0.3 - (i as f64).sin())
+            .collect();
+        let c = autocovariance(&x);
+        let mu = mean(&x);
+        for k in 0..x.len() {
+            let direct: f64 = (0..x.len() - k)
+                .map(|i| (x[i] - mu) * (x[i + k] - mu))
+                .sum::<f64>()
+                / x.len() as f64;
+            // FFT round-off: O(ε log2(size) Σx²/N) ≈ 1e-16·7·(c0 scale ≈ 10) → 1e-12 is ≥ 100× margin.
+            assert!(
+                (c[k] - direct).abs() < 1e-12,
+                "lag {k}: {} vs {direct}",
+                c[k]
+            );
+        }
+    }
+}

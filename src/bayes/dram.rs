@@ -1,0 +1,320 @@
+//! Delayed-rejection adaptive Metropolis (DRAM), §3.1 of the paper
+//! (Haario, Laine, Mira & Saksman 2006), with any number of DR stages.
+//!
+//! * Stage 1 proposes θ1 ~ N(θn, C¹n) (eq. 27 with a symmetric q1).
+//! * C¹n = C0 for n ≤ n0; afterwards C¹n = sd·Cov(θ_k … θ_{n−1}) + sd·λ·D,
+//!   eq. (30), where k = `cov_skip` states are ignored, adaptation starts at
+//!   `adapt_start`, and D = diag(C0) makes the regulariser λ relative to the
+//!   parameter scales (an absolute λ·I is meaningless when Ω ~ 1e12 rad/s
+//!   and Δ ~ 0.5 share one vector). The covariance is updated recursively
+//!   (Welford's form of eq. 33) at every state.
+//! * On rejection at stage i−1, stage i proposes θi ~ N(θn, γi·C¹n) (the
+//!   proposals stay centred at the current state, as in the paper's
+//!   q_i ~ N(θn, γi C¹n)), accepted with the general probability (29),
+//!   whose reverse-path factors 1 − α_j(θi, θi−1, …) are evaluated by the
+//!   recursive definition from cached log-densities: no extra model runs.
+//! * Everything is in log space. A proposal outside the prior support or with
+//!   a NaN/∞ model output has log π = −∞: it is rejected at that stage and
+//!   counted in `rejected_invalid`.
+
+use nalgebra::{DMatrix, DVector};
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
+use serde::{Deserialize, Serialize};
+
+use crate::bayes::Posterior;
+use crate::error::InputError;
+
+/// Settings of one DRAM chain. Defaults are the paper's §4.2 values.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct DramSettings {
+    /// States drawn, burn-in included (paper: 20 000).
+    pub draws: usize,
+    /// Leading states flagged as burn-in (paper: 5 000).
+    pub burn_in: usize,
+    /// Non-adaptation period n0 (paper: 4 000).
+    pub nonadapt_n0: usize,
+    /// State at which adaptation starts (paper: 4 000).
+    pub adapt_start: usize,
+    /// The adapted covariance ignores the first `cov_skip` states (paper: 3 000).
+    pub cov_skip: usize,
+    /// γ of stages 2, 3, …: stage i proposes from N(θn, γi C¹n) (paper: [0.1]).
+    pub dr_gammas: Vec<f64>,
+    /// Scaling sd of eq. (30); `None` = 2.4²/d.
+    pub sd: Option<f64>,
+    /// λ of eq. (30), relative to diag(C0).
+    pub lambda: f64,
+}
+
+impl Default for DramSettings {
+    fn default() -> Self {
+        Self {
+            draws: 20_000,
+            burn_in: 5_000,
+            nonadapt_n0: 4_000,
+            adapt_start: 4_000,
+            cov_skip: 3_000,
+            dr_gammas: vec![0.1],
+            sd: None,
+            lambda: 1e-8,
+        }
+    }
+}
+
+impl DramSettings {
+    pub fn validate(&self) -> Result<(), InputError> {
+        if self.draws == 0 {
+            return Err(InputError::new("sampler.draws", 0, ">= 1"));
+        }
+        if self.burn_in >= self.draws {
+            return Err(InputError::new("sampler.burn_in", self.burn_in, format!("< draws = {}", self.draws)));
+        }
+        if self.cov_skip > self.adapt_start {
+            return Err(InputError::new("sampler.cov_skip", self.cov_skip, format!("<= adapt_start = {}", self.adapt_start)));
+        }
+        for (i, &g) in self.dr_gammas.iter().enumerate() {
+            if !(g.is_finite() && g > 0.0 && g <= 1.0) {
+                return Err(InputError::new(format!("sampler.dr_gammas[{i}]"), g, "0 < gamma <= 1"));
+            }
+        }
+        if let Some(sd) = self.sd {
+            crate::error::positive("sampler.sd", sd)?;
+        }
+        crate::error::non_negative("sampler.lambda", self.lambda)?;
+        Ok(())
+    }
+
+    /// Number of DR stages (1 = plain adaptive Metropolis).
+    pub fn stages(&self) -> usize {
+        1 + self.dr_gammas.len()
+    }
+}
+
+/// One chain's output.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChainOutput {
+    /// All states θ0 … θ_{draws−1}, burn-in included.
+    pub draws: Vec<Vec<f64>>,
+    /// log π(θ | y) of every state.
+    pub log_posterior: Vec<f64>,
+    /// Proposals made at each DR stage.
+    pub proposed: Vec<u64>,
+    /// Proposals accepted at each DR stage.
+    pub accepted: Vec<u64>,
+    /// Proposals rejected because they left the support or the model failed.
+    pub rejected_invalid: u64,
+    /// Adapted covariances that were not positive definite (previous kept).
+    pub covariance_failures: u64,
+    /// Stage-1 proposal covariance at the end (row-major).
+    pub final_covariance: Vec<f64>,
+}
+
+impl ChainOutput {
+    /// Fraction of steps that ended by accepting at each stage.
+    pub fn acceptance_per_stage(&self) -> Vec<f64> {
+        let steps = self.draws.len().saturating_sub(1).max(1) as f64;
+        self.accepted.iter().map(|&a| a as f64 / steps).collect()
+    }
+}
+
+/// Gaussian random-walk proposal N(x0, γ·LLᵀ) for the current Cholesky factor L.
+struct Proposal {
+    chol_l: DMatrix<f64>,
+}
+
+impl Proposal {
+    fn from_covariance(c: &DMatrix<f64>) -> Option<Self> {
+        c.clone().cholesky().map(|ch| Proposal { chol_l: ch.l() })
+    }
+
+    /// Quadratic form (x − x0)ᵀ (LLᵀ)⁻¹ (x − x0).
+    fn mahalanobis2(&self, x0: &[f64], x: &[f64]) -> f64 {
+        let diff = DVector::from_iterator(x.len(), x.iter().zip(x0).map(|(a, b)| a - b));
+        match self.chol_l.solve_lower_triangular(&diff) {
+            Some(z) => z.norm_squared(),
+            None => f64::INFINITY,
+        }
+    }
+}
+
+/// log q_j(from → to) up to the stage constant −½ log det(γj C), which
+/// cancels between the numerator and denominator of eq. (29).
+fn log_q(prop: &Proposal, gamma: f64, from: &[f64], to: &[f64]) -> f64 {
+    -0.5 * prop.mahalanobis2(from, to) / gamma
+}
+
+/// Acceptance probability α_i of eq. (29) for the path y0 → y1 → … → yi
+/// (`path[k]` indexes into `points`/`log_pi`), with stage scales `gammas`
+/// (γ1 = 1 first). Recursive: the reverse-path factors are α's of shorter
+/// reversed paths. Exposed for the detailed-balance test.
+pub fn dr_acceptance(
+    points: &[Vec<f64>],
+    log_pi: &[f64],
+    path: &[usize],
+    gammas: &[f64],
+    chol_l: &DMatrix<f64>,
+) -> f64 {
+    let prop = Proposal { chol_l: chol_l.clone() };
+    alpha(points, log_pi, path, gammas, &prop)
+}
+
+fn alpha(points: &[Vec<f64>], log_pi: &[f64], path: &[usize], gammas: &[f64], prop: &Proposal) -> f64 {
+    let i = path.len() - 1;
+    let (y0, yi) = (path[0], path[i]);
+    if log_pi[yi] == f64::NEG_INFINITY {
+        return 0.0;
+    }
+    if log_pi[y0] == f64::NEG_INFINITY {
+        return 1.0;
+    }
+    // Reverse path: yi → y_{i−1} → … → y0.
+    let reverse: Vec<usize> = path.iter().rev().copied().collect();
+    let mut log_num = log_pi[yi];
+    let mut log_den = log_pi[y0];
+    for j in 1..=i {
+        // Stage-j proposal density: centred at the path's start.
+        log_num += log_q(prop, gammas[j - 1], &points[yi], &points[reverse[j]]);
+        log_den += log_q(prop, gammas[j - 1], &points[y0], &points[path[j]]);
+        if j < i {
+            let a_rev = alpha(points, log_pi, &reverse[..=j], gammas, prop);
+            let a_fwd = alpha(points, log_pi, &path[..=j], gammas, prop);
+            if a_rev >= 1.0 {
+                return 0.0;
+            }
+            log_num += (1.0 - a_rev).ln();
+            log_den += (1.0 - a_fwd).ln();
+        }
+    }
+    let log_ratio = log_num - log_den;
+    if log_ratio.is_nan() {
+        0.0
+    } else if log_ratio >= 0.0 {
+        1.0
+    } else {
+        log_ratio.exp()
+    }
+}
+
+/// Running mean and scatter matrix (Welford), the recursive form of eq. (33).
+struct RunningCovariance {
+    n: usize,
+    mean: DVector<f64>,
+    scatter: DMatrix<f64>,
+}
+
+impl RunningCovariance {
+    fn new(d: usize) -> Self {
+        Self { n: 0, mean: DVector::zeros(d), scatter: DMatrix::zeros(d, d) }
+    }
+
+    fn push(&mut self, x: &[f64]) {
+        self.n += 1;
+        let x = DVector::from_column_slice(x);
+        let delta = &x - &self.mean;
+        self.mean += &delta / self.n as f64;
+        let delta2 = &x - &self.mean;
+        self.scatter += &delta * delta2.transpose();
+    }
+
+    /// Sample covariance, eq. (31) (divisor n − 1).
+    fn covariance(&self) -> Option<DMatrix<f64>> {
+        (self.n >= 2).then(|| &self.scatter / (self.n as f64 - 1.0))
+    }
+}
+
+/// Runs one DRAM chain from `start` with initial proposal standard
+/// deviations `c0_sd` (C0 = diag(c0_sd²)). `on_step` is called every 256 states.
+pub fn run_chain(
+    post: &dyn Posterior,
+    settings: &DramSettings,
+    c0_sd: &[f64],
+    start: &[f64],
+    rng: &mut ChaCha8Rng,
+    on_step: Option<&(dyn Fn(usize) + Sync)>,
+) -> ChainOutput {
+    let d = start.len();
+    let stages = settings.stages();
+    let gammas: Vec<f64> = std::iter::once(1.0).chain(settings.dr_gammas.iter().copied()).collect();
+    let sd = settings.sd.unwrap_or(2.4 * 2.4 / d as f64);
+    let c0 = DMatrix::from_diagonal(&DVector::from_iterator(d, c0_sd.iter().map(|s| s * s)));
+    let regulariser = &c0 * (sd * settings.lambda);
+    let mut proposal = Proposal::from_covariance(&c0).expect("C0 = diag(sd²) with sd > 0 is positive definite");
+    let mut current_cov = c0.clone();
+
+    let mut out = ChainOutput {
+        draws: Vec::with_capacity(settings.draws),
+        log_posterior: Vec::with_capacity(settings.draws),
+        proposed: vec![0; stages],
+        accepted: vec![0; stages],
+        rejected_invalid: 0,
+        covariance_failures: 0,
+        final_covariance: Vec::new(),
+    };
+    let mut theta = start.to_vec();
+    let mut lp = post.log_posterior(&theta);
+    let mut running = RunningCovariance::new(d);
+    let mut points: Vec<Vec<f64>> = Vec::with_capacity(stages + 1);
+    let mut log_pi: Vec<f64> = Vec::with_capacity(stages + 1);
+    let mut path: Vec<usize> = Vec::with_capacity(stages + 1);
+
+    for n in 0..settings.draws {
+        if n > 0 {
+            // One DRAM step from θ_{n−1}.
+            points.clear();
+            log_pi.clear();
+            path.clear();
+            points.push(theta.clone());
+            log_pi.push(lp);
+            path.push(0);
+            for stage in 0..stages {
+                let scale = gammas[stage].sqrt();
+                let z = DVector::from_iterator(d, (0..d).map(|_| rng.sample::<f64, _>(StandardNormal)));
+                let step = &proposal.chol_l * z * scale;
+                let cand: Vec<f64> = theta.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
+                let lc = post.log_posterior(&cand);
+                out.proposed[stage] += 1;
+                if !lc.is_finite() {
+                    out.rejected_invalid += 1;
+                }
+                points.push(cand);
+                log_pi.push(if lc.is_nan() { f64::NEG_INFINITY } else { lc });
+                path.push(points.len() - 1);
+                let a = alpha(&points, &log_pi, &path, &gammas, &proposal);
+                if a > 0.0 && rng.gen::<f64>() < a {
+                    theta = points[stage + 1].clone();
+                    lp = log_pi[stage + 1];
+                    out.accepted[stage] += 1;
+                    break;
+                }
+            }
+        }
+        out.draws.push(theta.clone());
+        out.log_posterior.push(lp);
+
+        // Adaptation, eq. (30): the covariance of states cov_skip … n.
+        if n >= settings.cov_skip {
+            running.push(&theta);
+        }
+        if n + 1 > settings.nonadapt_n0 && n + 1 >= settings.adapt_start {
+            if let Some(cov) = running.covariance() {
+                let c = cov * sd + &regulariser;
+                match Proposal::from_covariance(&c) {
+                    Some(p) => {
+                        proposal = p;
+                        current_cov = c;
+                    }
+                    None => out.covariance_failures += 1,
+                }
+            }
+        }
+        if let Some(cb) = on_step {
+            if n % 256 == 255 {
+                cb(256);
+            }
+        }
+    }
+    out.final_covariance = current_cov.transpose().as_slice().to_vec();
+    out
+}

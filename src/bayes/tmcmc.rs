@@ -1,0 +1,432 @@
+//! Transitional Markov chain Monte Carlo (Ching & Chen 2007, J. Eng. Mech.
+//! 133(7)), the sampler Muto & Beck (2008) use for model-class selection: it
+//! returns posterior samples and the log evidence log p(y) = log ∫ L(θ) π(θ) dθ.
+//!
+//! Algorithm (stages j = 0, 1, …, m with 0 = p_0 < p_1 < … < p_m = 1):
+//! 1. draw N samples θ_i ~ π(θ) (the prior), compute ℓ_i = log L(θ_i);
+//! 2. given p_j, pick p_{j+1} ∈ (p_j, 1] by bisection so the plausibility weights
+//!    w_i = L(θ_i)^{p_{j+1} − p_j} have coefficient of variation
+//!    std(w)/mean(w) (population std) equal to the target (1.0); take
+//!    p_{j+1} = 1 if the CoV at p = 1 is already below the target;
+//! 3. log-evidence increment S_j = log((1/N) Σ_i w_i), in log-sum-exp form
+//!    S_j = Δp·ℓ_max + log((1/N) Σ exp(Δp(ℓ_i − ℓ_max))); log p(y) ≈ Σ_j S_j;
+//! 4. resample N indices with probabilities w̄_i = w_i/Σw (multinomial);
+//! 5. move every resampled θ by `mh_steps` Metropolis–Hastings steps targeting
+//!    π_{j+1}(θ) ∝ π(θ) L(θ)^{p_{j+1}}, with Gaussian proposal covariance
+//!    β²·Σ_w, Σ_w the w̄-weighted sample covariance of the stage-j samples
+//!    (Ching & Chen's choice, β = 0.2). Optionally β is adapted between stages:
+//!    β ← β·exp(a_j − a*) with a_j the stage's acceptance rate, a* the target
+//!    (Betz, Papaioannou & Straub 2016 adapt a scale the same way);
+//! 6. stop after the stage that reaches p = 1.
+//!
+//! Scale invariance: the proposal uses the full sample covariance, factorised as
+//! Σ_w = D R Dᵀ with D = diag(sd) and R the correlation matrix (Cholesky of R,
+//! not of Σ_w), so coordinates of wildly different magnitudes (Ω ~ 1e12 next to
+//! Δ ~ 0.5) neither break the Cholesky factorisation nor the moves. Nothing else
+//! in the algorithm depends on coordinate units.
+//!
+//! Determinism: every random stream is a ChaCha8 generator keyed by
+//! (seed, stage, sample index, purpose); the per-sample work runs in parallel
+//! with rayon but each sample owns its stream and all reductions are done
+//! sequentially in index order, so results are byte-identical for any thread count.
+//!
+//! Standard error of the log evidence (`log_evidence_se`): the delta-method
+//! estimate Var(S_j) ≈ CoV_j²/N for N independent weights (Var(mean w)/mean(w)²),
+//! summed over stages: se = sqrt(Σ_j CoV_j²/N). It is a lower bound in spirit:
+//! the resampled, MH-moved samples are positively correlated, so the true
+//! run-to-run spread is larger (measured in tests/bayes_tmcmc.rs: about 1.5× there).
+//! The estimator of the evidence itself is consistent as N → ∞; log p̂ carries a
+//! small negative bias ≈ −se²/2 (Jensen).
+
+use rand::{Rng, RngCore, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::StandardNormal;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::Posterior;
+use crate::error::InputError;
+
+/// Settings of [`tmcmc`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct TmcmcConfig {
+    /// Number of samples N carried through all stages.
+    pub n_samples: usize,
+    /// Target coefficient of variation of the plausibility weights (Ching & Chen: 1.0).
+    pub target_cov: f64,
+    /// Initial proposal scale β (proposal covariance β²Σ_w; Ching & Chen: 0.2).
+    pub beta: f64,
+    /// MH steps per sample per stage.
+    pub mh_steps: usize,
+    /// Adapt β between stages toward `target_acceptance`.
+    pub adapt_beta: bool,
+    /// Target MH acceptance rate for the adaptation.
+    pub target_acceptance: f64,
+    /// Safety stop: error if p has not reached 1 after this many stages.
+    pub max_stages: usize,
+    /// Seed of all random streams.
+    pub seed: u64,
+}
+
+impl Default for TmcmcConfig {
+    fn default() -> Self {
+        Self {
+            n_samples: 2000,
+            target_cov: 1.0,
+            beta: 0.2,
+            mh_steps: 5,
+            adapt_beta: true,
+            target_acceptance: 0.25,
+            max_stages: 200,
+            seed: 0,
+        }
+    }
+}
+
+impl TmcmcConfig {
+    /// Checks every field, naming the offending one as `tmcmc.<field>`.
+    pub fn validate(&self) -> Result<(), InputError> {
+        if self.n_samples < 2 {
+            return Err(InputError::new("tmcmc.n_samples", self.n_samples, ">= 2"));
+        }
+        if self.mh_steps < 1 {
+            return Err(InputError::new("tmcmc.mh_steps", self.mh_steps, ">= 1"));
+        }
+        if self.max_stages < 1 {
+            return Err(InputError::new("tmcmc.max_stages", self.max_stages, ">= 1"));
+        }
+        crate::error::positive("tmcmc.target_cov", self.target_cov)?;
+        crate::error::positive("tmcmc.beta", self.beta)?;
+        if !(self.target_acceptance > 0.0 && self.target_acceptance < 1.0) {
+            return Err(InputError::new(
+                "tmcmc.target_acceptance",
+                self.target_acceptance,
+                "in (0, 1)",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Output of [`tmcmc`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TmcmcResult {
+    /// Estimate of log p(y) = Σ_j S_j (natural log).
+    pub log_evidence: f64,
+    /// Delta-method standard error sqrt(Σ_j CoV_j²/N) of `log_evidence` (see module docs).
+    pub log_evidence_se: f64,
+    /// Final posterior samples, `samples[i]` = θ_i.
+    pub samples: Vec<Vec<f64>>,
+    /// log L(θ_i) of the final samples.
+    pub log_likelihoods: Vec<f64>,
+    /// Tempering exponents p_0 = 0, p_1, …, p_m = 1.
+    pub stages: Vec<f64>,
+    /// Log-evidence increments S_j, one per transition p_j → p_{j+1}.
+    pub log_evidence_increments: Vec<f64>,
+    /// MH acceptance rate of each transition's moves.
+    pub acceptance: Vec<f64>,
+    /// Proposal scale β used in each transition.
+    pub beta: Vec<f64>,
+}
+
+/// Failures of [`tmcmc`].
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum TmcmcError {
+    #[error("{0}")]
+    Config(#[from] InputError),
+    #[error("TMCMC stage {stage}: no sample has a finite log-likelihood")]
+    NoFiniteLikelihood { stage: usize },
+    #[error("TMCMC did not reach p = 1 within {max_stages} stages (p = {p})")]
+    TooManyStages { max_stages: usize, p: f64 },
+    #[error("TMCMC: prior sample {index} has dimension {got}, expected {expected}")]
+    BadPriorSample {
+        index: usize,
+        got: usize,
+        expected: usize,
+    },
+}
+
+/// Purposes of the random streams (part of the stream key).
+const PURPOSE_PRIOR: u64 = 1;
+const PURPOSE_RESAMPLE: u64 = 2;
+const PURPOSE_MOVE: u64 = 3;
+
+/// ChaCha8 stream keyed by (seed, stage, index, purpose): the 32-byte key is the
+/// four little-endian u64 words, so distinct tuples give independent streams.
+fn stream(seed: u64, stage: u64, index: u64, purpose: u64) -> ChaCha8Rng {
+    let mut key = [0u8; 32];
+    for (k, w) in [seed, stage, index, purpose].iter().enumerate() {
+        key[8 * k..8 * k + 8].copy_from_slice(&w.to_le_bytes());
+    }
+    ChaCha8Rng::from_seed(key)
+}
+
+fn finite_or_neg_inf(x: f64) -> f64 {
+    if x.is_nan() {
+        f64::NEG_INFINITY
+    } else {
+        x
+    }
+}
+
+/// Runs TMCMC on `posterior` (uses only `sample_prior`, `log_prior`, `log_likelihood`).
+pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcResult, TmcmcError> {
+    config.validate()?;
+    let n = config.n_samples;
+    let d = posterior.dim();
+    let seed = config.seed;
+
+    // Stage 0: prior samples.
+    let mut samples: Vec<Vec<f64>> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let mut rng = stream(seed, 0, i as u64, PURPOSE_PRIOR);
+            posterior.sample_prior(&mut rng as &mut dyn RngCore)
+        })
+        .collect();
+    if let Some((index, s)) = samples.iter().enumerate().find(|(_, s)| s.len() != d) {
+        return Err(TmcmcError::BadPriorSample {
+            index,
+            got: s.len(),
+            expected: d,
+        });
+    }
+    let mut loglik: Vec<f64> = samples
+        .par_iter()
+        .map(|th| finite_or_neg_inf(posterior.log_likelihood(th)))
+        .collect();
+    let mut logprior: Vec<f64> = samples
+        .par_iter()
+        .map(|th| posterior.log_prior(th))
+        .collect();
+    let prior_sd = weighted_mean_cov(&samples, &vec![1.0 / n as f64; n]).1;
+
+    let mut p = 0.0;
+    let mut stages = vec![0.0];
+    let mut increments = Vec::new();
+    let mut acceptance = Vec::new();
+    let mut betas = Vec::new();
+    let mut se2 = 0.0;
+    let mut beta = config.beta;
+
+    let mut stage = 0usize;
+    while p < 1.0 {
+        if stage >= config.max_stages {
+            return Err(TmcmcError::TooManyStages {
+                max_stages: config.max_stages,
+                p,
+            });
+        }
+        stage += 1;
+        let l_max = loglik.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if !l_max.is_finite() {
+            return Err(TmcmcError::NoFiniteLikelihood { stage });
+        }
+        // Next exponent.
+        let dp = next_increment(&loglik, l_max, 1.0 - p, config.target_cov);
+        let p_next = if dp >= 1.0 - p { 1.0 } else { p + dp };
+        let dp = p_next - p;
+        let w: Vec<f64> = loglik.iter().map(|&l| (dp * (l - l_max)).exp()).collect();
+        let sum_w: f64 = w.iter().sum();
+        let mean_w = sum_w / n as f64;
+        increments.push(dp * l_max + mean_w.ln());
+        let var_w = w.iter().map(|x| (x - mean_w) * (x - mean_w)).sum::<f64>() / n as f64;
+        se2 += var_w / (mean_w * mean_w) / n as f64;
+        let wbar: Vec<f64> = w.iter().map(|x| x / sum_w).collect();
+
+        // Proposal: β²Σ_w, Σ_w = D R D, Cholesky of R.
+        let chol = proposal_factor(&samples, &wbar, &prior_sd);
+
+        // Multinomial resampling (one sequential stream per stage).
+        let mut rs = stream(seed, stage as u64, 0, PURPOSE_RESAMPLE);
+        let cdf: Vec<f64> = wbar
+            .iter()
+            .scan(0.0, |acc, x| {
+                *acc += x;
+                Some(*acc)
+            })
+            .collect();
+        let idx: Vec<usize> = (0..n)
+            .map(|_| {
+                let u: f64 = rs.gen::<f64>() * cdf[n - 1];
+                cdf.partition_point(|&c| c <= u).min(n - 1)
+            })
+            .collect();
+
+        // MH moves, in parallel, one stream per sample.
+        let steps = config.mh_steps;
+        let moved: Vec<(Vec<f64>, f64, f64, usize)> = idx
+            .par_iter()
+            .enumerate()
+            .map(|(i, &k)| {
+                let mut rng = stream(seed, stage as u64, i as u64, PURPOSE_MOVE);
+                let mut th = samples[k].clone();
+                let (mut lp, mut ll) = (logprior[k], loglik[k]);
+                let mut acc = 0usize;
+                let mut z = vec![0.0; d];
+                for _ in 0..steps {
+                    for zi in z.iter_mut() {
+                        *zi = rng.sample(StandardNormal);
+                    }
+                    let prop: Vec<f64> = (0..d)
+                        .map(|a| th[a] + beta * (0..=a).map(|b| chol[a][b] * z[b]).sum::<f64>())
+                        .collect();
+                    let lp_new = posterior.log_prior(&prop);
+                    let u: f64 = rng.gen();
+                    if !lp_new.is_finite() {
+                        continue;
+                    }
+                    let ll_new = finite_or_neg_inf(posterior.log_likelihood(&prop));
+                    if ll_new == f64::NEG_INFINITY {
+                        continue;
+                    }
+                    let log_alpha = lp_new + p_next * ll_new - lp - p_next * ll;
+                    if u.ln() < log_alpha {
+                        th = prop;
+                        lp = lp_new;
+                        ll = ll_new;
+                        acc += 1;
+                    }
+                }
+                (th, lp, ll, acc)
+            })
+            .collect();
+        let accepted: usize = moved.iter().map(|m| m.3).sum();
+        let rate = accepted as f64 / (n * steps) as f64;
+        samples = Vec::with_capacity(n);
+        logprior = Vec::with_capacity(n);
+        loglik = Vec::with_capacity(n);
+        for (th, lp, ll, _) in moved {
+            samples.push(th);
+            logprior.push(lp);
+            loglik.push(ll);
+        }
+        acceptance.push(rate);
+        betas.push(beta);
+        if config.adapt_beta {
+            beta *= (rate - config.target_acceptance).exp();
+        }
+        p = p_next;
+        stages.push(p);
+    }
+
+    Ok(TmcmcResult {
+        log_evidence: increments.iter().sum(),
+        log_evidence_se: se2.sqrt(),
+        samples,
+        log_likelihoods: loglik,
+        stages,
+        log_evidence_increments: increments,
+        acceptance,
+        beta: betas,
+    })
+}
+
+/// Coefficient of variation (population std / mean) of w_i = exp(dp(ℓ_i − ℓ_max)).
+fn weight_cov(loglik: &[f64], l_max: f64, dp: f64) -> f64 {
+    let n = loglik.len() as f64;
+    let w: Vec<f64> = loglik.iter().map(|&l| (dp * (l - l_max)).exp()).collect();
+    let m = w.iter().sum::<f64>() / n;
+    let v = w.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / n;
+    v.sqrt() / m
+}
+
+/// Largest useful Δp ∈ (0, max_dp]: max_dp if CoV(max_dp) ≤ target, otherwise the
+/// root of CoV(Δp) = target by bisection (CoV(0) = 0 and CoV grows with Δp).
+/// 200 halvings of [0, max_dp] reach the f64 resolution of Δp.
+fn next_increment(loglik: &[f64], l_max: f64, max_dp: f64, target: f64) -> f64 {
+    if weight_cov(loglik, l_max, max_dp) <= target {
+        return max_dp;
+    }
+    let (mut lo, mut hi) = (0.0, max_dp);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if weight_cov(loglik, l_max, mid) > target {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    // lo has CoV ≤ target; guard against a zero step when the bracket collapsed.
+    if lo > 0.0 {
+        lo
+    } else {
+        hi
+    }
+}
+
+/// Weighted mean and per-coordinate standard deviation (weights sum to 1).
+fn weighted_mean_cov(samples: &[Vec<f64>], wbar: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let d = samples[0].len();
+    let mut mu = vec![0.0; d];
+    for (th, &w) in samples.iter().zip(wbar) {
+        for a in 0..d {
+            mu[a] += w * th[a];
+        }
+    }
+    let mut sd = vec![0.0; d];
+    for (th, &w) in samples.iter().zip(wbar) {
+        for a in 0..d {
+            sd[a] += w * (th[a] - mu[a]) * (th[a] - mu[a]);
+        }
+    }
+    (mu, sd.into_iter().map(f64::sqrt).collect())
+}
+
+/// Lower-triangular L with L Lᵀ = Σ_w (weighted covariance), computed as D·chol(R).
+/// A coordinate with zero weighted spread (degenerate population) falls back to
+/// 1e-3 × its prior-sample standard deviation; a non-PD correlation matrix
+/// (collinear samples) gets a diagonal jitter 1e-10, 1e-9, … until it factorises
+/// (R + jitter·I is PD for jitter > 0 since R is PSD).
+fn proposal_factor(samples: &[Vec<f64>], wbar: &[f64], prior_sd: &[f64]) -> Vec<Vec<f64>> {
+    let d = samples[0].len();
+    let (mu, mut sd) = weighted_mean_cov(samples, wbar);
+    let mut r = vec![vec![0.0; d]; d];
+    for (th, &w) in samples.iter().zip(wbar) {
+        for a in 0..d {
+            for b in 0..=a {
+                r[a][b] += w * (th[a] - mu[a]) * (th[b] - mu[b]);
+            }
+        }
+    }
+    let degenerate: Vec<bool> = sd.iter().map(|&s| !(s > 0.0 && s.is_finite())).collect();
+    for a in 0..d {
+        for b in 0..=a {
+            r[a][b] = if a == b {
+                1.0
+            } else if degenerate[a] || degenerate[b] {
+                0.0
+            } else {
+                r[a][b] / (sd[a] * sd[b])
+            };
+            r[b][a] = r[a][b];
+        }
+    }
+    for a in 0..d {
+        if degenerate[a] {
+            sd[a] = 1e-3 * prior_sd[a];
+        }
+    }
+    let mut jitter = 0.0;
+    let l = loop {
+        let mut m = nalgebra::DMatrix::from_fn(d, d, |a, b| r[a][b]);
+        for a in 0..d {
+            m[(a, a)] += jitter;
+        }
+        if let Some(c) = nalgebra::Cholesky::new(m) {
+            break c.l();
+        }
+        if jitter >= 1.0 {
+            // Unreachable for a finite correlation matrix (R + I is PD); identity as a last resort.
+            break nalgebra::DMatrix::identity(d, d);
+        }
+        jitter = if jitter == 0.0 { 1e-10 } else { jitter * 10.0 };
+    };
+    (0..d)
+        .map(|a| (0..d).map(|b| sd[a] * l[(a, b)]).collect())
+        .collect()
+}

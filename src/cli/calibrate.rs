@@ -1,0 +1,59 @@
+//! `nanobeam calibrate MEASURED.yaml [--out DIR] [--json]`.
+
+use std::path::PathBuf;
+
+use clap::Args;
+
+use crate::calibration::output::write_calibration_files;
+use crate::calibration::{calibrate, CalibrateOptions};
+use crate::cli::{read_measured, write_out, CliError};
+use crate::report::render::write_dir_atomically;
+use crate::report::table::{fmt_interval, fmt_sig, Table};
+
+#[derive(Debug, Args)]
+pub struct CalibrateArgs {
+    /// Measured-data file (YAML): beam, modes, optional parameters and sampler.
+    pub measured: PathBuf,
+    /// Directory for chains.csv, summary.json and SVG plots (written atomically).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print the summary as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+pub fn run(args: &CalibrateArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    let data = read_measured(&args.measured)?;
+    let result = calibrate(&data, &CalibrateOptions { progress: true });
+    if let Some(dir) = &args.out {
+        write_dir_atomically(dir, |tmp| write_calibration_files(tmp, &result, None))
+            .map_err(|e| CliError::Failure(format!("cannot write {}: {e}", dir.display())))?;
+    }
+    if args.json {
+        let json = serde_json::to_string(&result.json()).expect("summary serialises");
+        return write_out(out, &(json + "\n"));
+    }
+    let mut t = Table::new(["parameter", "mean", "sd", "sd/mean", "CI95", "MAP", "R-hat", "ESS bulk", "ESS tail"]);
+    for p in &result.summary.parameters {
+        t.push_row([
+            p.name.clone(),
+            fmt_sig(p.mean, 4),
+            fmt_sig(p.sd, 3),
+            fmt_sig(p.cv, 3),
+            fmt_interval(p.ci95[0], p.ci95[1], 4),
+            p.map.map_or("-".into(), |m| fmt_sig(m, 4)),
+            format!("{:.4}", p.rhat),
+            format!("{:.0}", p.ess_bulk),
+            format!("{:.0}", p.ess_tail),
+        ]);
+    }
+    let acc: Vec<String> = result.acceptance.iter().map(|a| format!("{a:.3}")).collect();
+    let text = format!(
+        "{}\nacceptance per DR stage: [{}]; rejected invalid proposals: {}; log posterior at MAP: {:.4}\n",
+        t.to_markdown(),
+        acc.join(", "),
+        result.rejected_invalid,
+        result.log_posterior_map
+    );
+    write_out(out, &text)
+}

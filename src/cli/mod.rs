@@ -1,0 +1,123 @@
+//! The `nanobeam` command line: argument definitions and command bodies.
+//! `main.rs` only parses and dispatches. Exit codes: 0 ok, 1 numerical
+//! failure, 2 bad input (one line on stderr naming field, value and range).
+
+pub mod calibrate;
+pub mod frf;
+pub mod modal;
+
+use std::path::Path;
+
+use clap::{Parser, Subcommand};
+
+use crate::beam::{BeamError, BeamSpec};
+use crate::error::InputError;
+
+#[derive(Debug, Parser)]
+#[command(name = "nanobeam", version, about = "Nonlocal viscoelastic Euler-Bernoulli nanobeams: forward model and calibration")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Natural frequencies and damping ratios (eqs. 34-35) of a beam.
+    Modal(modal::ModalArgs),
+    /// Receptance between a point force and a point displacement.
+    Frf(frf::FrfArgs),
+    /// Bayesian calibration (DRAM) against measured modal data.
+    Calibrate(calibrate::CalibrateArgs),
+}
+
+/// A command failure, mapped to the process exit code.
+#[derive(Debug)]
+pub enum CliError {
+    /// Exit 2.
+    Input(InputError),
+    /// Exit 1.
+    Failure(String),
+}
+
+impl CliError {
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            CliError::Input(_) => 2,
+            CliError::Failure(_) => 1,
+        }
+    }
+}
+
+impl std::fmt::Display for CliError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CliError::Input(e) => write!(f, "{e}"),
+            CliError::Failure(m) => write!(f, "error: {m}"),
+        }
+    }
+}
+
+impl From<BeamError> for CliError {
+    fn from(e: BeamError) -> Self {
+        match e {
+            BeamError::Input(i) => CliError::Input(i),
+            BeamError::Numerical(m) => CliError::Failure(format!("numerical failure: {m}")),
+        }
+    }
+}
+
+impl From<InputError> for CliError {
+    fn from(e: InputError) -> Self {
+        CliError::Input(e)
+    }
+}
+
+/// Runs one parsed command, writing its output to `out`.
+pub fn run(cli: Cli, out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    match cli.command {
+        Command::Modal(args) => modal::run(&args, out),
+        Command::Frf(args) => frf::run(&args, out),
+        Command::Calibrate(args) => calibrate::run(&args, out),
+    }
+}
+
+/// Reads and validates a beam YAML file.
+pub fn read_beam(path: &Path) -> Result<BeamSpec, CliError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| InputError::new("BEAM.yaml", path.display(), format!("a readable YAML file ({e})")))?;
+    BeamSpec::from_yaml(&text).map_err(|e| CliError::Input(name_serde_value(e)))
+}
+
+/// serde reports unknown variants/fields inside its message; lift the
+/// offending name into `value` and the expected set into `allowed` so the one
+/// line reads `invalid support = hinged: allowed one of `simply-supported`, …`.
+pub(crate) fn name_serde_value(mut e: InputError) -> InputError {
+    for key in ["unknown variant `", "unknown field `"] {
+        if let Some(start) = e.allowed.find(key) {
+            let rest = &e.allowed[start + key.len()..];
+            let Some(value) = rest.split('`').next().map(str::to_string) else { continue };
+            let expected = rest
+                .find("expected ")
+                .map(|i| rest[i + "expected ".len()..].split(" at line").next().unwrap_or("").to_string())
+                .unwrap_or_default();
+            e.value = value;
+            if key == "unknown field `" {
+                e.allowed = format!("a known field: {expected}");
+            } else {
+                e.allowed = expected;
+            }
+        }
+    }
+    e
+}
+
+pub(crate) fn write_out(out: &mut dyn std::io::Write, text: &str) -> Result<(), CliError> {
+    out.write_all(text.as_bytes()).map_err(|e| CliError::Failure(format!("cannot write output: {e}")))
+}
+
+/// Reads and validates a measured-data file.
+pub fn read_measured(path: &Path) -> Result<crate::calibration::MeasuredData, CliError> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| InputError::new("MEASURED.yaml", path.display(), format!("a readable YAML file ({e})")))?;
+    crate::calibration::MeasuredData::from_yaml(&text).map_err(|e| CliError::Input(name_serde_value(e)))
+}

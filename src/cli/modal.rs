@@ -1,0 +1,81 @@
+//! `nanobeam modal BEAM.yaml [--modes K] [--json]`.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use clap::Args;
+use serde::Serialize;
+
+use crate::beam::{modal, ModalResult};
+use crate::cli::{read_beam, write_out, CliError};
+
+#[derive(Debug, Args)]
+pub struct ModalArgs {
+    /// Beam description (YAML).
+    pub beam: PathBuf,
+    /// Number of modes to report.
+    #[arg(long, default_value_t = 3)]
+    pub modes: usize,
+    /// Print JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Serialize)]
+struct JsonMode {
+    mode: usize,
+    omega_rad_s: f64,
+    zeta: f64,
+    pole_re_rad_s: f64,
+    pole_im_rad_s: f64,
+}
+
+#[derive(Serialize)]
+struct JsonModal {
+    modes: Vec<JsonMode>,
+}
+
+pub fn run(args: &ModalArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    let beam = read_beam(&args.beam)?;
+    let result = modal(&beam, args.modes)?;
+    let text = if args.json { json(&result) } else { table(&result) };
+    write_out(out, &text)
+}
+
+/// Exactly `{"modes":[{"mode":…,"omega_rad_s":…,"zeta":…,"pole_re_rad_s":…,"pole_im_rad_s":…}]}`.
+pub fn json(result: &ModalResult) -> String {
+    let doc = JsonModal {
+        modes: result
+            .modes
+            .iter()
+            .map(|m| JsonMode {
+                mode: m.mode,
+                omega_rad_s: m.omega_rad_s,
+                zeta: m.zeta,
+                pole_re_rad_s: m.pole.re,
+                pole_im_rad_s: m.pole.im,
+            })
+            .collect(),
+    };
+    let mut s = serde_json::to_string(&doc).expect("plain numbers serialise");
+    s.push('\n');
+    s
+}
+
+pub fn table(result: &ModalResult) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "{:>4}  {:>14}  {:>12}  {:>12}", "mode", "omega [rad/s]", "f [GHz]", "zeta");
+    for m in &result.modes {
+        let f_ghz = m.omega_rad_s / (2.0 * std::f64::consts::PI) / 1e9;
+        let _ = writeln!(s, "{:>4}  {:>14.6e}  {:>12.6}  {:>12.6e}", m.mode, m.omega_rad_s, f_ghz, m.zeta);
+    }
+    if result.real_poles_rad_s.is_empty() {
+        let _ = writeln!(s, "real poles: none");
+    } else {
+        let _ = writeln!(s, "real poles [rad/s] (relaxation / overdamped, of the modal families above):");
+        for p in &result.real_poles_rad_s {
+            let _ = writeln!(s, "  {p:.6e}");
+        }
+    }
+    s
+}

@@ -1,0 +1,259 @@
+//! Shared plain-data types and helpers of the SVG figures.
+
+use crate::report::error::{ReportError, Result};
+use crate::report::table::fmt_sig;
+use plotters::style::RGBColor;
+
+/// Axis scale.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Scale {
+    #[default]
+    Linear,
+    /// Base-10 logarithmic; only positive values are drawn.
+    Log,
+}
+
+/// An axis: label (with its unit, e.g. `"frequency (GHz)"`), scale and an
+/// optional fixed range (otherwise taken from the data with a 5 % margin).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Axis {
+    pub label: String,
+    pub scale: Scale,
+    pub range: Option<(f64, f64)>,
+}
+
+impl Axis {
+    /// A linear axis with automatic range.
+    pub fn linear(label: impl Into<String>) -> Self {
+        Self {
+            label: label.into(),
+            scale: Scale::Linear,
+            range: None,
+        }
+    }
+    /// A log-10 axis with automatic range.
+    pub fn log(label: impl Into<String>) -> Self {
+        Self {
+            label: label.into(),
+            scale: Scale::Log,
+            range: None,
+        }
+    }
+    /// The same axis with a fixed range.
+    pub fn with_range(mut self, lo: f64, hi: f64) -> Self {
+        self.range = Some((lo, hi));
+        self
+    }
+}
+
+/// A named (x, y) series; `x` and `y` must have equal length.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Series {
+    pub name: String,
+    pub x: Vec<f64>,
+    pub y: Vec<f64>,
+}
+
+impl Series {
+    pub fn new(name: impl Into<String>, x: Vec<f64>, y: Vec<f64>) -> Self {
+        Self {
+            name: name.into(),
+            x,
+            y,
+        }
+    }
+}
+
+/// A named list of values (a chain, a sample, residuals of one group, ...).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct NamedValues {
+    pub name: String,
+    pub values: Vec<f64>,
+}
+
+impl NamedValues {
+    pub fn new(name: impl Into<String>, values: Vec<f64>) -> Self {
+        Self {
+            name: name.into(),
+            values,
+        }
+    }
+}
+
+/// A dashed reference line across the whole plot.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RefLine {
+    /// y = value
+    Horizontal(f64),
+    /// x = value
+    Vertical(f64),
+}
+
+/// The colour of the `i`-th series (Tableau 10, cycled).
+pub(crate) fn series_colour(i: usize) -> RGBColor {
+    const TABLEAU10: [(u8, u8, u8); 10] = [
+        (31, 119, 180),
+        (255, 127, 14),
+        (44, 160, 44),
+        (214, 39, 40),
+        (148, 103, 189),
+        (140, 86, 75),
+        (227, 119, 194),
+        (127, 127, 127),
+        (188, 189, 34),
+        (23, 190, 207),
+    ];
+    let (r, g, b) = TABLEAU10[i % TABLEAU10.len()];
+    RGBColor(r, g, b)
+}
+
+pub(crate) const FONT: &str = "sans-serif";
+
+/// Maps a plotters drawing error to [`ReportError::Drawing`].
+pub(crate) fn draw_err<E: std::fmt::Debug>(e: E) -> ReportError {
+    ReportError::Drawing(format!("{e:?}"))
+}
+
+/// Whether `v` can be drawn on an axis of this scale.
+pub(crate) fn drawable(v: f64, scale: Scale) -> bool {
+    v.is_finite() && (scale == Scale::Linear || v > 0.0)
+}
+
+/// The range of an axis: the fixed one if given (checked), else the span of
+/// the drawable `values` widened by 5 % (linear) or 5 % of a decade-log span
+/// (log). A degenerate span is widened to ±1 (linear) or a factor 10 (log).
+pub(crate) fn axis_range(
+    axis: &Axis,
+    values: impl Iterator<Item = f64>,
+    what: &str,
+) -> Result<(f64, f64)> {
+    if let Some((lo, hi)) = axis.range {
+        let ok = drawable(lo, axis.scale) && drawable(hi, axis.scale) && lo < hi;
+        return if ok {
+            Ok((lo, hi))
+        } else {
+            Err(ReportError::invalid(
+                what,
+                format!(
+                    "axis range ({lo}, {hi}) must be finite, increasing (and > 0 on a log axis)"
+                ),
+            ))
+        };
+    }
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|&v| drawable(v, axis.scale)) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if lo > hi {
+        return Err(ReportError::invalid(
+            what,
+            "no drawable (finite, and positive on a log axis) values",
+        ));
+    }
+    Ok(match axis.scale {
+        Scale::Linear => {
+            if hi - lo <= f64::EPSILON * lo.abs().max(hi.abs()) {
+                (lo - 1.0, hi + 1.0)
+            } else {
+                let m = 0.05 * (hi - lo);
+                (lo - m, hi + m)
+            }
+        }
+        Scale::Log => {
+            let (a, b) = (lo.log10(), hi.log10());
+            if b - a < 1e-12 {
+                (lo / 10.0, hi * 10.0)
+            } else {
+                let m = 0.05 * (b - a);
+                (10f64.powf(a - m), 10f64.powf(b + m))
+            }
+        }
+    })
+}
+
+/// Tick label: three significant digits, trailing zeros of the fraction
+/// dropped (`0.00100` -> `0.001`, `10.0` -> `10`, `1.00e13` -> `1e13`).
+pub(crate) fn tick_label(v: &f64) -> String {
+    let s = fmt_sig(*v, 3);
+    let (mantissa, exponent) = match s.split_once('e') {
+        Some((m, e)) => (m.to_string(), format!("e{e}")),
+        None => (s, String::new()),
+    };
+    let mantissa = if mantissa.contains('.') {
+        mantissa
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .to_string()
+    } else {
+        mantissa
+    };
+    format!("{mantissa}{exponent}")
+}
+
+/// Font sizes (plotters' size units; its SVG text is about 0.65 of this in px).
+pub(crate) const TITLE_SIZE: u32 = 26;
+pub(crate) const DESC_SIZE: u32 = 20;
+pub(crate) const TICK_SIZE: u32 = 17;
+
+/// Every `stride`-th index so that at most `max_points` remain (all if
+/// `max_points` is 0). Deterministic thinning for long chains.
+pub(crate) fn thin_stride(len: usize, max_points: usize) -> usize {
+    if max_points == 0 || len <= max_points {
+        1
+    } else {
+        len.div_ceil(max_points)
+    }
+}
+
+/// Checks that two paired lists have equal length.
+pub(crate) fn same_len(what: &str, a: usize, b: usize) -> Result<()> {
+    if a == b {
+        Ok(())
+    } else {
+        Err(ReportError::invalid(
+            what,
+            format!("paired lists have different lengths ({a} vs {b})"),
+        ))
+    }
+}
+
+/// Builds a 2-D cartesian chart whose axes are linear or log as given, and
+/// runs `$body` with the chart bound to `$chart`. A macro (not a generic
+/// function) because plotters' linear and log coordinates are different
+/// types; the body is compiled once per combination.
+macro_rules! with_chart {
+    ($builder:expr, $xs:expr, $xr:expr, $ys:expr, $yr:expr, |$chart:ident| $body:block) => {{
+        use plotters::coord::combinators::IntoLogRange;
+        use $crate::report::svg::common::{draw_err, Scale};
+        let (x0, x1) = $xr;
+        let (y0, y1) = $yr;
+        match ($xs, $ys) {
+            (Scale::Linear, Scale::Linear) => {
+                let mut $chart = $builder
+                    .build_cartesian_2d(x0..x1, y0..y1)
+                    .map_err(draw_err)?;
+                $body
+            }
+            (Scale::Log, Scale::Linear) => {
+                let mut $chart = $builder
+                    .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
+                    .map_err(draw_err)?;
+                $body
+            }
+            (Scale::Linear, Scale::Log) => {
+                let mut $chart = $builder
+                    .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
+                    .map_err(draw_err)?;
+                $body
+            }
+            (Scale::Log, Scale::Log) => {
+                let mut $chart = $builder
+                    .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
+                    .map_err(draw_err)?;
+                $body
+            }
+        }
+    }};
+}
+pub(crate) use with_chart;
