@@ -1,53 +1,30 @@
 //! `nanobeam diagnose MEASURED.yaml [--out DIR] [--json]` as a library call
-//! the CLI wires up: returns the process exit code (0 ok, 2 bad input, 1 other failure).
+//! (the clap wiring is `src/cli/diagnose.rs`).
 
 use std::io::Write;
 use std::path::Path;
 
-use crate::calibration::MeasuredData;
+use crate::cli::{read_measured, CliError};
 
 use super::{diagnose_run, report, DiagnoseSettings};
 
-/// Runs the command. Bad input prints one line naming the field and returns 2;
-/// DIR is only replaced when everything succeeded.
-pub fn run(measured: &Path, out: Option<&Path>, json: bool, settings: &DiagnoseSettings) -> i32 {
-    let text = match std::fs::read_to_string(measured) {
-        Ok(t) => t,
-        Err(e) => {
-            eprintln!("error: cannot read {}: {e}", measured.display());
-            return 2;
-        }
-    };
-    let data = match MeasuredData::from_yaml(&text) {
-        Ok(d) => d,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return 2;
-        }
-    };
+/// Runs the command, writing the summary (or the JSON) to `out`. Bad input is
+/// `CliError::Input` (exit 2) naming the field; DIR is only replaced when
+/// everything succeeded.
+pub fn run_to(measured: &Path, dir: Option<&Path>, json: bool, settings: &DiagnoseSettings, out: &mut dyn Write) -> Result<(), CliError> {
+    let data = read_measured(measured)?;
     let t0 = std::time::Instant::now();
-    let run = match diagnose_run(&data, settings) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("error: {e}");
-            return 2;
-        }
-    };
+    let run = diagnose_run(&data, settings)?;
     let elapsed = t0.elapsed();
-    if let Some(dir) = out {
-        if let Err(e) = report::write_report(dir, &run, &data, settings) {
-            eprintln!("error: {e}");
-            return 1;
-        }
+    if let Some(dir) = dir {
+        report::write_report(dir, &run, &data, settings).map_err(CliError::Failure)?;
     }
     let d = &run.diagnosis;
-    let mut stdout = std::io::stdout().lock();
-    let written = if json {
-        serde_json::to_string_pretty(d).map_err(std::io::Error::other).and_then(|s| writeln!(stdout, "{s}"))
+    let text = if json {
+        serde_json::to_string_pretty(d).expect("diagnosis serialises") + "\n"
     } else {
-        writeln!(
-            stdout,
-            "misfit detected: {}\ncause: {}\nln B ({} vs base): {:.2}\nRMS z: {:.2} -> {:.2}\n({:.1} s)",
+        format!(
+            "misfit detected: {}\ncause: {}\nln B ({} vs base): {:.2}\nRMS z: {:.2} -> {:.2}\n({:.1} s)\n",
             d.misfit_detected,
             d.cause,
             d.gain.extension,
@@ -57,8 +34,18 @@ pub fn run(measured: &Path, out: Option<&Path>, json: bool, settings: &DiagnoseS
             elapsed.as_secs_f64()
         )
     };
-    if written.is_err() {
-        return 1;
+    out.write_all(text.as_bytes()).map_err(|e| CliError::Failure(format!("cannot write output: {e}")))
+}
+
+/// [`run_to`] on stdout, returning the process exit code (0, 1 or 2).
+pub fn run(measured: &Path, dir: Option<&Path>, json: bool, settings: &DiagnoseSettings) -> i32 {
+    let stdout = std::io::stdout();
+    let mut lock = stdout.lock();
+    match run_to(measured, dir, json, settings, &mut lock) {
+        Ok(()) => 0,
+        Err(e) => {
+            eprintln!("{e}");
+            e.exit_code()
+        }
     }
-    0
 }
