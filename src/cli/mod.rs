@@ -3,6 +3,7 @@
 //! failure, 2 bad input (one line on stderr naming field, value and range).
 
 pub mod calibrate;
+pub mod diagnose;
 pub mod frf;
 pub mod modal;
 
@@ -28,6 +29,8 @@ pub enum Command {
     Frf(frf::FrfArgs),
     /// Bayesian calibration (DRAM) against measured modal data.
     Calibrate(calibrate::CalibrateArgs),
+    /// Model diagnosis: misfit checks, candidate causes by evidence, gain.
+    Diagnose(diagnose::DiagnoseArgs),
 }
 
 /// A command failure, mapped to the process exit code.
@@ -78,6 +81,7 @@ pub fn run(cli: Cli, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         Command::Modal(args) => modal::run(&args, out),
         Command::Frf(args) => frf::run(&args, out),
         Command::Calibrate(args) => calibrate::run(&args, out),
+        Command::Diagnose(args) => diagnose::run(&args, out),
     }
 }
 
