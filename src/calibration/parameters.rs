@@ -163,7 +163,6 @@ impl ParameterSet {
         let n_iv = beam.internal_variables.len();
         for p in &self.params {
             let field = format!("parameters.{}", p.name);
-            let (lo, _hi) = p.prior.support();
             let needs_iv = match p.target {
                 Target::Delta(i) | Target::Omega(i) => Some(i),
                 _ => None,
@@ -177,10 +176,7 @@ impl ParameterSet {
                     ));
                 }
             }
-            // Every beam quantity and β² is non-negative by nature.
-            if lo < 0.0 {
-                return Err(InputError::new(format!("{field}.prior"), lo, "a support within the physical range >= 0"));
-            }
+            check_physical(&p.prior, &field)?;
             if p.target == Target::PointMassXnm {
                 let (_, hi) = p.prior.support();
                 if hi > beam.length_nm {
@@ -251,4 +247,24 @@ fn default_proposal_sd(prior: &Prior) -> f64 {
     } else {
         0.01 * prior.sd().unwrap_or(1.0).abs().max(f64::MIN_POSITIVE)
     }
+}
+
+/// Every beam quantity and β² is non-negative by nature: bounded priors must
+/// lie in [0, ∞); a normal prior must put its mean at least 4 sd above 0
+/// (P(x < 0) < 3e-5; such draws are rejected by the sampler as invalid).
+pub fn check_physical(prior: &Prior, field: &str) -> Result<(), InputError> {
+    match *prior {
+        Prior::Normal { mean, sd } => {
+            if mean - 4.0 * sd <= 0.0 {
+                return Err(InputError::new(format!("{field}.prior.mean"), mean, format!("> 4 sd = {} (physical range >= 0)", 4.0 * sd)));
+            }
+        }
+        _ => {
+            let (lo, _) = prior.support();
+            if lo < 0.0 {
+                return Err(InputError::new(format!("{field}.prior.lower"), lo, "a support within the physical range >= 0"));
+            }
+        }
+    }
+    Ok(())
 }

@@ -2,3 +2,6 @@
 //! publishes and the reference values its printed numbers encode.
 
 pub mod reference;
+pub mod pipeline;
+pub mod reconstruction;
+pub mod specs;
