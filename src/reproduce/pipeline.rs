@@ -431,7 +431,7 @@ fn case_group_files(cases: &[CaseOutcome]) -> Result<Vec<(String, String)>, Repr
             &[("figure-8", "nonlocal_e0a_nm"), ("figure-9", "delta"), ("figure-10", "omega_rad_s"), ("figure-11", "diameter_nm")],
             "figure-12",
         ),
-        ("table-12", &["3"], &[], "figure-13"),
+        ("table-12", &["3", "3-N2"], &[], "figure-13"),
     ];
     for (table, ids, figs, pair) in groups {
         let g = group(cases, ids);
@@ -505,25 +505,35 @@ fn frf_stage(specs: &Specs, rec: &Reconstruction, cases: &[CaseOutcome], quick: 
         beam::frf(b, fs.input_x_fraction * l, fs.output_x_fraction * l, &w).ok().map(|h| h.iter().map(|z| z.norm()).collect())
     };
     let href = at(reference).ok_or_else(|| ReproduceError::Failure("Figure 14: reference FRF failed".into()))?;
-    let draws: Vec<Vec<f64>> = case.result.kept_draws().into_iter().flatten().collect();
-    let k = if quick { fs.quick_posterior_draws } else { fs.posterior_draws }.min(draws.len());
-    let step = (draws.len() / k.max(1)).max(1);
-    let picked: Vec<&Vec<f64>> = draws.iter().step_by(step).take(k).collect();
-    let curves: Vec<Vec<f64>> = picked.par_iter().filter_map(|t| at(&case.posterior.beam_at(t))).collect();
-    let mut mean = vec![0.0; n];
-    let mut lo = vec![0.0; n];
-    let mut hi = vec![0.0; n];
-    for i in 0..n {
-        let mut col: Vec<f64> = curves.iter().map(|c| c[i]).collect();
-        col.sort_by(f64::total_cmp);
-        mean[i] = col.iter().sum::<f64>() / col.len() as f64;
-        lo[i] = crate::bayes::diagnostics::quantile_sorted(&col, 0.005);
-        hi[i] = crate::bayes::diagnostics::quantile_sorted(&col, 0.995);
-    }
+    let k = if quick { fs.quick_posterior_draws } else { fs.posterior_draws };
+    // Posterior predictive FRFs of a case: (curves, mean, 0.5 % and 99.5 % quantiles).
+    let predictive = |c: &CaseOutcome| {
+        let draws: Vec<Vec<f64>> = c.result.kept_draws().into_iter().flatten().collect();
+        let k = k.min(draws.len());
+        let step = (draws.len() / k.max(1)).max(1);
+        let picked: Vec<&Vec<f64>> = draws.iter().step_by(step).take(k).collect();
+        let curves: Vec<Vec<f64>> = picked.par_iter().filter_map(|t| at(&c.posterior.beam_at(t))).collect();
+        let (mut mean, mut lo, mut hi) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        for i in 0..n {
+            let mut col: Vec<f64> = curves.iter().map(|c| c[i]).collect();
+            col.sort_by(f64::total_cmp);
+            mean[i] = col.iter().sum::<f64>() / col.len() as f64;
+            lo[i] = crate::bayes::diagnostics::quantile_sorted(&col, 0.005);
+            hi[i] = crate::bayes::diagnostics::quantile_sorted(&col, 0.995);
+        }
+        (curves, mean, lo, hi)
+    };
+    let (curves, mean, lo, hi) = predictive(case);
+    let n2 = cases.iter().find(|c| c.spec.id == format!("{}-N2", fs.case)).map(predictive);
     let mode_4_ghz = beam::modal(reference, 4).map(|m| m.modes[3].omega_rad_s / ghz_to_rad_s(1.0)).unwrap_or(f64::NAN);
     let upto: Vec<usize> = (0..n).filter(|&i| f_ghz[i] <= mode_4_ghz * 1.02).collect();
     let covered = upto.iter().filter(|&&i| href[i] >= lo[i] && href[i] <= hi[i]).count();
     let coverage_to_mode_4 = covered as f64 / upto.len().max(1) as f64;
+    // RMS of log10|H_mean| − log10|H_ref| up to mode 4: the FRF error of a model's mean prediction.
+    let log_rms = |m: &[f64]| (upto.iter().map(|&i| (m[i].log10() - href[i].log10()).powi(2)).sum::<f64>() / upto.len().max(1) as f64).sqrt();
+    let err_n1 = log_rms(&mean);
+    let err_n2 = n2.as_ref().map(|(_, m, _, _)| log_rms(m));
+    let coverage_n2 = n2.as_ref().map(|(_, _, l, h)| upto.iter().filter(|&&i| href[i] >= l[i] && href[i] <= h[i]).count() as f64 / upto.len().max(1) as f64);
     let realizations: Vec<Series> = curves
         .iter()
         .take(40)
@@ -536,8 +546,11 @@ fn frf_stage(specs: &Specs, rec: &Reconstruction, cases: &[CaseOutcome], quick: 
         y_axis: Axis::log("|H| (m/N)"),
         series: vec![
             Series { name: "reference (N̄ = 2)".into(), x: f_ghz.clone(), y: href.clone() },
-            Series { name: "posterior mean (N = 1)".into(), x: f_ghz.clone(), y: mean.clone() },
-        ],
+            Series { name: "posterior mean (N = 1, β-inflated)".into(), x: f_ghz.clone(), y: mean.clone() },
+        ]
+        .into_iter()
+        .chain(n2.as_ref().map(|(_, m, _, _)| Series { name: "posterior mean (N = 2, β = 1)".into(), x: f_ghz.clone(), y: m.clone() }))
+        .collect(),
         realizations,
         band: Some(Band { name: "99 % envelope".into(), x: f_ghz.clone(), lower: lo.clone(), upper: hi.clone() }),
         ref_lines: vec![RefLine::Vertical(mode_4_ghz)],
@@ -548,7 +561,8 @@ fn frf_stage(specs: &Specs, rec: &Reconstruction, cases: &[CaseOutcome], quick: 
         csv += &format!("{},{:e},{:e},{:e},{:e}\n", f_ghz[i], href[i], mean[i], lo[i], hi[i]);
     }
     Ok(FrfOutcome {
-        json: json!({"mode_4_ghz": mode_4_ghz, "coverage_to_mode_4": coverage_to_mode_4, "draws": curves.len(), "points": n}),
+        json: json!({"mode_4_ghz": mode_4_ghz, "coverage_to_mode_4": coverage_to_mode_4, "draws": curves.len(), "points": n,
+            "log10_rms_error_to_mode_4_n1": err_n1, "log10_rms_error_to_mode_4_n2": err_n2, "coverage_to_mode_4_n2": coverage_n2}),
         files: vec![("figure-14.svg".into(), svg::line_plot(&plot)?), ("figure-14.csv".into(), csv)],
         coverage_to_mode_4,
         mode_4_ghz,
@@ -733,7 +747,7 @@ fn report_context(
     };
     let params = |f: &crate::reproduce::reconstruction::Fit| f.parameters.iter().map(|(n, v)| format!("{n} = {}", fmt_sig(*v, 5))).collect::<Vec<_>>().join(", ");
     let mut tables = BTreeMap::new();
-    for (name, ids) in [("table_7", vec!["1A", "1B", "1C"]), ("table_8", vec!["2A", "2B", "2C"]), ("table_12", vec!["3"])] {
+    for (name, ids) in [("table_7", vec!["1A", "1B", "1C"]), ("table_8", vec!["2A", "2B", "2C"]), ("table_12", vec!["3", "3-N2"])] {
         let g = group(cases, &ids);
         if !g.is_empty() {
             tables.insert(name, case_table(&g).to_markdown());
@@ -771,6 +785,7 @@ fn report_context(
         "maps_delta": format!("{:.4}", fwd.delta),
         "tables": tables,
         "figure_14_coverage": format!("{:.0}", 100.0 * frf.coverage_to_mode_4),
+        "figure_14": frf.json,
         "audit": audit.to_markdown(),
         "audit_failures": verdicts.iter().filter(|v| !v.pass).count(),
         "audit_total": verdicts.len(),
