@@ -42,7 +42,7 @@ fn quick_reproduction_produces_everything_and_matches_golden() {
     let out = root.join("out");
     let summary = run(&Options { root: root.clone(), out: out.clone(), quick: true }).expect("quick reproduction runs");
     for f in [
-        "report.md", "results.json", "reconstructed.yaml", "table-2.csv", "table-2.md", "table-7.csv", "table-7.md", "table-8.csv",
+        "report.md", "results.json", "reconstructed.yaml", "table-2.csv", "table-2.md", "table-5.csv", "table-5.md", "table-10.csv", "table-10.md", "table-7.csv", "table-7.md", "table-8.csv",
         "table-8.md", "table-12.csv", "table-12.md", "figure-1a.svg", "figure-1b.svg", "figure-2a.svg", "figure-3b.svg",
         "figure-4a.svg", "figure-4b.svg", "figure-5a.svg", "figure-6b.svg", "figure-7-1a.svg", "figure-8a.svg", "figure-11b.svg",
         "figure-12-2b.svg", "figure-13-3.svg", "figure-13-3-n2.svg", "figure-14.svg", "figure-14.csv",

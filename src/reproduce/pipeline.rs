@@ -142,6 +142,11 @@ pub fn run(opts: &Options) -> Result<RunSummary, ReproduceError> {
             std::fs::write(dir.join(name), text).map_err(|e| ReproduceError::Failure(format!("{name}: {e}")))
         };
         w("reconstructed.yaml", &reconstructed_yaml)?;
+        for (name, fit) in [("table-5", &rec.fit_table_4), ("table-10", &rec.fit_table_9)] {
+            let t = fit_table(fit);
+            w(&format!("{name}.csv"), &t.to_csv())?;
+            w(&format!("{name}.md"), &t.to_markdown())?;
+        }
         for (name, text) in &forward.files {
             w(name, text)?;
         }
@@ -721,6 +726,23 @@ fn audit(p: &Published, rec: &Reconstruction, fwd: &ForwardOutcome, cases: &[Cas
 // Report
 // ---------------------------------------------------------------------------
 
+/// Tables 5 and 10: reference values, their rounding intervals and the reconstruction's fit.
+fn fit_table(f: &crate::reproduce::reconstruction::Fit) -> Table {
+    let mut t = Table::new(["mode", "quantity", "reference", "rounding interval", "reproduced", "residual (σ)", "inside"]);
+    for x in &f.values {
+        t.push_row([
+            x.mode.to_string(),
+            x.quantity.to_string(),
+            fmt_sig(x.reference, 5),
+            fmt_interval(x.interval[0], x.interval[1], 5),
+            fmt_sig(x.reproduced, 5),
+            format!("{:+.3}", x.residual_sigma),
+            if x.within_rounding { "✓".into() } else { "✗".into() },
+        ]);
+    }
+    t
+}
+
 fn report_context(
     rec: &Reconstruction,
     fwd: &ForwardOutcome,
@@ -730,21 +752,7 @@ fn report_context(
     timings: &[(String, f64)],
     quick: bool,
 ) -> Value {
-    let fit_table = |f: &crate::reproduce::reconstruction::Fit| {
-        let mut t = Table::new(["mode", "quantity", "reference", "rounding interval", "reproduced", "residual (σ)", "inside"]);
-        for x in &f.values {
-            t.push_row([
-                x.mode.to_string(),
-                x.quantity.to_string(),
-                fmt_sig(x.reference, 5),
-                fmt_interval(x.interval[0], x.interval[1], 5),
-                fmt_sig(x.reproduced, 5),
-                format!("{:+.3}", x.residual_sigma),
-                if x.within_rounding { "✓".into() } else { "✗".into() },
-            ]);
-        }
-        t.to_markdown()
-    };
+    let fit_table = |f| fit_table(f).to_markdown();
     let params = |f: &crate::reproduce::reconstruction::Fit| f.parameters.iter().map(|(n, v)| format!("{n} = {}", fmt_sig(*v, 5))).collect::<Vec<_>>().join(", ");
     let mut tables = BTreeMap::new();
     for (name, ids) in [("table_7", vec!["1A", "1B", "1C"]), ("table_8", vec!["2A", "2B", "2C"]), ("table_12", vec!["3", "3-N2"])] {
