@@ -4,9 +4,28 @@
 
 use std::path::Path;
 
+use crate::bayes::summary::ParameterSummary;
 use crate::calibration::CalibrationResult;
+use crate::report::table::{fmt_interval, fmt_sig};
 use crate::report::svg::{self, HistogramPlot, NamedValues, PairPlot, TracePlot};
 use crate::report::ReportError;
+
+/// Column headers of [`summary_cells`].
+pub const SUMMARY_HEADERS: [&str; 8] = ["mean", "sd", "sd/mean", "CI95", "MAP", "R-hat", "ESS bulk", "ESS tail"];
+
+/// One parameter's summary as table cells (the columns of [`SUMMARY_HEADERS`]).
+pub fn summary_cells(p: &ParameterSummary) -> Vec<String> {
+    vec![
+        fmt_sig(p.mean, 4),
+        fmt_sig(p.sd, 3),
+        fmt_sig(p.cv, 3),
+        fmt_interval(p.ci95[0], p.ci95[1], 4),
+        p.map.map_or("-".into(), |m| fmt_sig(m, 4)),
+        format!("{:.4}", p.rhat),
+        format!("{:.0}", p.ess_bulk),
+        format!("{:.0}", p.ess_tail),
+    ]
+}
 
 /// `chains.csv`: post-burn-in draws; `draw` is the index in the full chain.
 pub fn chains_csv(result: &CalibrationResult) -> String {

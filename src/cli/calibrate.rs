@@ -4,11 +4,11 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::calibration::output::write_calibration_files;
+use crate::calibration::output::{summary_cells, write_calibration_files, SUMMARY_HEADERS};
 use crate::calibration::{calibrate, CalibrateOptions};
 use crate::cli::{read_measured, write_out, CliError};
 use crate::report::render::write_dir_atomically;
-use crate::report::table::{fmt_interval, fmt_sig, Table};
+use crate::report::table::Table;
 
 #[derive(Debug, Args)]
 pub struct CalibrateArgs {
@@ -33,19 +33,9 @@ pub fn run(args: &CalibrateArgs, out: &mut dyn std::io::Write) -> Result<(), Cli
         let json = serde_json::to_string(&result.json()).expect("summary serialises");
         return write_out(out, &(json + "\n"));
     }
-    let mut t = Table::new(["parameter", "mean", "sd", "sd/mean", "CI95", "MAP", "R-hat", "ESS bulk", "ESS tail"]);
+    let mut t = Table::new(std::iter::once("parameter").chain(SUMMARY_HEADERS));
     for p in &result.summary.parameters {
-        t.push_row([
-            p.name.clone(),
-            fmt_sig(p.mean, 4),
-            fmt_sig(p.sd, 3),
-            fmt_sig(p.cv, 3),
-            fmt_interval(p.ci95[0], p.ci95[1], 4),
-            p.map.map_or("-".into(), |m| fmt_sig(m, 4)),
-            format!("{:.4}", p.rhat),
-            format!("{:.0}", p.ess_bulk),
-            format!("{:.0}", p.ess_tail),
-        ]);
+        t.push_row(std::iter::once(p.name.clone()).chain(summary_cells(p)));
     }
     let acc: Vec<String> = result.acceptance.iter().map(|a| format!("{a:.3}")).collect();
     let text = format!(

@@ -17,7 +17,7 @@ use serde::Serialize;
 use serde_json::{json, Value};
 
 use crate::beam::{self, BeamSpec, InternalVariable};
-use crate::calibration::output::write_calibration_files;
+use crate::calibration::output::{summary_cells, write_calibration_files, SUMMARY_HEADERS};
 use crate::calibration::{calibrate_posterior, BeamPosterior, CalibrateOptions, CalibrationResult, ModeObservation, ParameterSet, Target};
 use crate::report::render::{render_template, write_dir_atomically};
 use crate::report::svg::{self, Axis, Band, Heatmap, HistogramPlot, LinePlot, NamedValues, PairPlot, RefLine, Series, TracePlot};
@@ -192,6 +192,7 @@ fn reconstruction_json(rec: &Reconstruction) -> Value {
             "parameters": f.parameters.iter().map(|(n, v)| (n.clone(), json!(r6(*v)))).collect::<serde_json::Map<_, _>>(),
             "chi2": r6(f.chi2),
             "runner_up_chi2": f.runner_up_chi2.map(r6),
+            "weighting": f.weighting,
             "all_within_rounding": f.all_within_rounding(),
             "values": f.values.iter().map(|v| json!({
                 "mode": v.mode, "quantity": v.quantity, "reference": r6(v.reference),
@@ -207,6 +208,8 @@ fn reconstruction_json(rec: &Reconstruction) -> Value {
         },
         "table_4_fit": fit(&rec.fit_table_4),
         "table_9_fit": fit(&rec.fit_table_9),
+        "table_4_sigma_fit": fit(&rec.sigma_fit_table_4),
+        "table_9_sigma_fit": fit(&rec.sigma_fit_table_9),
     })
 }
 
@@ -399,23 +402,11 @@ fn case_json(c: &CaseOutcome) -> Value {
 
 /// Table rows of a group of cases (Tables 7, 8, 12).
 fn case_table(cases: &[&CaseOutcome]) -> Table {
-    let mut t = Table::new(["case", "parameter", "exact", "mean", "sd", "sd/mean", "CI95", "MAP", "R-hat", "ESS bulk", "ESS tail"]);
+    let mut t = Table::new(["case", "parameter", "exact"].into_iter().chain(SUMMARY_HEADERS));
     for c in cases {
         for (k, p) in c.result.summary.parameters.iter().enumerate() {
             let exact = if c.truth[k].is_finite() { fmt_sig(c.truth[k], 4) } else { "-".into() };
-            t.push_row([
-                c.spec.id.clone(),
-                p.name.clone(),
-                exact,
-                fmt_sig(p.mean, 4),
-                fmt_sig(p.sd, 3),
-                fmt_sig(p.cv, 3),
-                fmt_interval(p.ci95[0], p.ci95[1], 4),
-                p.map.map_or("-".into(), |m| fmt_sig(m, 4)),
-                format!("{:.3}", p.rhat),
-                format!("{:.0}", p.ess_bulk),
-                format!("{:.0}", p.ess_tail),
-            ]);
+            t.push_row([c.spec.id.clone(), p.name.clone(), exact].into_iter().chain(summary_cells(p)));
         }
     }
     t
@@ -609,7 +600,7 @@ fn audit(p: &Published, rec: &Reconstruction, fwd: &ForwardOutcome, cases: &[Cas
             format!("χ² = {:.3}, max |residual| = {:.3} σ, {} of {} inside their rounding intervals", fit.chi2, worst, fit.values.iter().filter(|x| x.within_rounding).count(), fit.values.len()),
             "every value inside the rounding interval of its printed Σ entry",
             fit.all_within_rounding(),
-            "no parameter set of this model class (with the fixed d, E, ρ) hits every rounding interval; the residuals show which value resists (see the reconstruction section)",
+            "neither the σ-weighted nor the rounding-weighted multi-start fit (fixed d, E, ρ) lands inside every rounding interval; the residuals show which value resists",
         );
     }
     let get = |id: &str| cases.iter().find(|c| c.spec.id == id);
@@ -788,6 +779,10 @@ fn report_context(
         "table_5_chi2": format!("{:.3}", rec.fit_table_4.chi2),
         "table_10_chi2": format!("{:.3}", rec.fit_table_9.chi2),
         "table_10_all_inside": rec.fit_table_9.all_within_rounding(),
+        "table_5_sigma_fit": fit_table(&rec.sigma_fit_table_4),
+        "table_10_sigma_fit": fit_table(&rec.sigma_fit_table_9),
+        "table_5_sigma_chi2": format!("{:.3}", rec.sigma_fit_table_4.chi2),
+        "table_10_sigma_chi2": format!("{:.3}", rec.sigma_fit_table_9.chi2),
         "table_5_all_inside": rec.fit_table_4.all_within_rounding(),
         "table_2": fwd.table2_md,
         "maps_delta": format!("{:.4}", fwd.delta),
