@@ -119,6 +119,10 @@ pub fn run(opts: &Options) -> Result<RunSummary, ReproduceError> {
     stage("figure_14", t);
 
     let t = Instant::now();
+    let evidence = evidence_stage(&cases, opts.quick);
+    stage("case_3_evidence", t);
+
+    let t = Instant::now();
     let verdicts = audit(&published, &rec, &forward, &cases, &frf);
     stage("audit", t);
     timings.push(("total_before_writing".into(), t_all.elapsed().as_secs_f64()));
@@ -130,11 +134,13 @@ pub fn run(opts: &Options) -> Result<RunSummary, ReproduceError> {
         "table_2": forward.table2_rows,
         "cases": case_json,
         "figure_14": frf.json,
+        "case_3_evidence": evidence,
         "audit": verdicts,
         "timings_s": timings.iter().map(|(k, v)| (k.clone(), json!(v))).collect::<serde_json::Map<_, _>>(),
     });
 
-    let context = report_context(&rec, &forward, &cases, &frf, &verdicts, &timings, opts.quick);
+    let mut context = report_context(&rec, &forward, &cases, &frf, &verdicts, &timings, opts.quick);
+    context["case_3_evidence"] = evidence.clone();
     let report = render_template(&templates, "report.md.tera", &context)?;
 
     write_dir_atomically(&opts.out, |dir: &Path| -> Result<(), ReproduceError> {
@@ -563,6 +569,30 @@ fn frf_stage(specs: &Specs, rec: &Reconstruction, cases: &[CaseOutcome], quick: 
         coverage_to_mode_4,
         mode_4_ghz,
     })
+}
+
+// ---------------------------------------------------------------------------
+// Case 3: evidence of the β-inflated N = 1 class against the N = 2 class
+// ---------------------------------------------------------------------------
+
+/// log evidence of each Case-3 model class by TMCMC (Ching & Chen 2007) on the
+/// same synthetic data; the log Bayes factor says what the second internal
+/// variable buys over absorbing the misfit into β. Null when a case is absent.
+fn evidence_stage(cases: &[CaseOutcome], quick: bool) -> Value {
+    let config = |seed: u64| crate::bayes::tmcmc::TmcmcConfig { n_samples: if quick { 300 } else { 1500 }, seed, ..Default::default() };
+    let one = |id: &str| -> Option<(f64, f64)> {
+        let c = cases.iter().find(|c| c.spec.id == id)?;
+        crate::bayes::tmcmc::tmcmc(&c.posterior, &config(c.spec.seed)).ok().map(|r| (r.log_evidence, r.log_evidence_se))
+    };
+    let (n1, n2) = rayon::join(|| one("3"), || one("3-N2"));
+    match (n1, n2) {
+        (Some((z1, s1)), Some((z2, s2))) => json!({
+            "log_evidence_n1_beta": z1, "log_evidence_n1_beta_se": s1,
+            "log_evidence_n2": z2, "log_evidence_n2_se": s2,
+            "log_bayes_factor_n2_vs_n1_beta": z2 - z1,
+        }),
+        _ => Value::Null,
+    }
 }
 
 // ---------------------------------------------------------------------------
