@@ -14,6 +14,48 @@ fn categories(n: usize) -> SegmentedCoord<plotters::coord::types::RangedCoordi32
     (0..n as i32 - 1).into_segmented()
 }
 
+type CategoryChart<'a, 'b> = ChartContext<
+    'a,
+    SVGBackend<'b>,
+    Cartesian2d<SegmentedCoord<plotters::coord::types::RangedCoordi32>, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// The frame both figures share: caption, a category x axis labelled by
+/// `labels` (one per segment), a numeric y axis over `y`, mesh drawn.
+fn category_chart<'a, 'b>(
+    root: &'a DrawingArea<SVGBackend<'b>, plotters::coord::Shift>,
+    title: &str,
+    y_label: &str,
+    labels: &[String],
+    y: std::ops::Range<f64>,
+) -> Result<CategoryChart<'a, 'b>> {
+    let n = labels.len();
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, (FONT, TITLE_SIZE))
+        .margin(12)
+        .x_label_area_size(55)
+        .y_label_area_size(80)
+        .build_cartesian_2d(categories(n), y)
+        .map_err(draw_err)?;
+    let label = |v: &SegmentValue<i32>| match v {
+        SegmentValue::CenterOf(i) => labels.get(*i as usize).cloned().unwrap_or_default(),
+        _ => String::new(),
+    };
+    chart
+        .configure_mesh()
+        .disable_x_mesh()
+        .light_line_style(WHITE.mix(0.0))
+        .y_desc(y_label)
+        .axis_desc_style((FONT, DESC_SIZE))
+        .label_style((FONT, TICK_SIZE))
+        .x_labels(n)
+        .x_label_formatter(&label)
+        .y_label_formatter(&tick_label)
+        .draw()
+        .map_err(draw_err)?;
+    Ok(chart)
+}
+
 /// Spec of [`bar_chart`]: one bar per category, its value printed above it
 /// (e.g. posterior probabilities of candidate model classes).
 #[derive(Debug, Clone, PartialEq)]
@@ -82,33 +124,7 @@ pub fn bar_chart(spec: &BarChart) -> Result<String> {
     {
         let root = SVGBackend::with_string(&mut svg, spec.size).into_drawing_area();
         root.fill(&WHITE).map_err(draw_err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(&spec.title, (FONT, TITLE_SIZE))
-            .margin(12)
-            .x_label_area_size(55)
-            .y_label_area_size(80)
-            .build_cartesian_2d(categories(n), y0..y1)
-            .map_err(draw_err)?;
-        let label = |v: &SegmentValue<i32>| match v {
-            SegmentValue::CenterOf(i) => spec
-                .categories
-                .get(*i as usize)
-                .cloned()
-                .unwrap_or_default(),
-            _ => String::new(),
-        };
-        chart
-            .configure_mesh()
-            .disable_x_mesh()
-            .light_line_style(WHITE.mix(0.0))
-            .y_desc(&spec.y_label)
-            .axis_desc_style((FONT, DESC_SIZE))
-            .label_style((FONT, TICK_SIZE))
-            .x_labels(n)
-            .x_label_formatter(&label)
-            .y_label_formatter(&tick_label)
-            .draw()
-            .map_err(draw_err)?;
+        let mut chart = category_chart(&root, &spec.title, &spec.y_label, &spec.categories, y0..y1)?;
         chart
             .draw_series(spec.values.iter().enumerate().map(|(i, &v)| {
                 let mut bar = Rectangle::new(
@@ -203,29 +219,7 @@ pub fn residual_plot(spec: &ResidualPlot) -> Result<String> {
     {
         let root = SVGBackend::with_string(&mut svg, spec.size).into_drawing_area();
         root.fill(&WHITE).map_err(draw_err)?;
-        let mut chart = ChartBuilder::on(&root)
-            .caption(&spec.title, (FONT, TITLE_SIZE))
-            .margin(12)
-            .x_label_area_size(55)
-            .y_label_area_size(80)
-            .build_cartesian_2d(categories(n), -extent..extent)
-            .map_err(draw_err)?;
-        let label = |v: &SegmentValue<i32>| match v {
-            SegmentValue::CenterOf(i) => spec.labels.get(*i as usize).cloned().unwrap_or_default(),
-            _ => String::new(),
-        };
-        chart
-            .configure_mesh()
-            .disable_x_mesh()
-            .light_line_style(WHITE.mix(0.0))
-            .y_desc(&spec.y_label)
-            .axis_desc_style((FONT, DESC_SIZE))
-            .label_style((FONT, TICK_SIZE))
-            .x_labels(n)
-            .x_label_formatter(&label)
-            .y_label_formatter(&tick_label)
-            .draw()
-            .map_err(draw_err)?;
+        let mut chart = category_chart(&root, &spec.title, &spec.y_label, &spec.labels, -extent..extent)?;
         let (left, right) = (SegmentValue::Exact(0), SegmentValue::Exact(n as i32));
         chart
             .draw_series(std::iter::once(Rectangle::new(
