@@ -1,9 +1,12 @@
 //! One forward evaluation (20 elements, 3 modes): fast exact path (b), the
 //! general path (c) with a support spring, and the state-space reference (a),
 //! for N = 1 and N = 2 internal variables. `cold` builds a fresh solver every
-//! call; `warm` reuses a `ModalSolver` while E is perturbed each call (the
-//! scaled pencil — and thus its cached eigenvalues — is unchanged, as in a
-//! calibration of E, ρ, C, Δ, Ω).
+//! call (mesh integrals, grid start pencil, everything); `chain` reuses a
+//! `ModalSolver` along a random walk of every parameter including e0a, with
+//! steps the size of a calibration's proposals (1 % of e0a, so the pencil
+//! eigenpairs are new every call: RQI from the cached grid pencil); `warm`
+//! perturbs only E (the pencil is bitwise unchanged, as in a calibration of
+//! E, ρ, C, Δ, Ω with e0a fixed).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use nanobeam::beam::{modal, modal_state_space, BeamSpec, InternalVariable, ModalSolver, Support};
@@ -31,6 +34,31 @@ fn bench(c: &mut Criterion) {
         let b = beam(n_iv);
         c.bench_function(&format!("fast_cold_N{n_iv}"), |bch| bch.iter(|| modal(black_box(&b), 3).unwrap()));
         let mut solver = ModalSolver::new();
+        let mut walk = b.clone();
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut uniform = move || {
+            // xorshift: the bench needs cheap reproducible noise, not quality
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        c.bench_function(&format!("fast_chain_N{n_iv}"), |bch| {
+            bch.iter(|| {
+                // reflecting random walk around the nominal beam, 1 % steps
+                let step = |x: f64, nominal: f64, u: f64| {
+                    let y = x * (1.0 + 0.02 * u);
+                    if (y / nominal - 1.0).abs() > 0.2 { x } else { y }
+                };
+                walk.nonlocal_e0a_nm = step(walk.nonlocal_e0a_nm, b.nonlocal_e0a_nm, uniform());
+                walk.youngs_modulus_pa = step(walk.youngs_modulus_pa, b.youngs_modulus_pa, uniform());
+                for (iv, iv0) in walk.internal_variables.iter_mut().zip(&b.internal_variables) {
+                    iv.delta = step(iv.delta, iv0.delta, uniform());
+                    iv.omega_rad_s = step(iv.omega_rad_s, iv0.omega_rad_s, uniform());
+                }
+                solver.modal(black_box(&walk), 3).unwrap()
+            })
+        });
         let mut k = 0u64;
         c.bench_function(&format!("fast_warm_N{n_iv}"), |bch| {
             bch.iter(|| {
@@ -42,6 +70,21 @@ fn bench(c: &mut Criterion) {
         });
         let mut bs = b.clone();
         bs.support_rotational_stiffness_n_m_rad = 1e-18;
+        let mut solver = ModalSolver::new();
+        let mut walk = bs.clone();
+        c.bench_function(&format!("general_spring_chain_N{n_iv}"), |bch| {
+            bch.iter(|| {
+                let step = |x: f64, nominal: f64, u: f64| {
+                    let y = x * (1.0 + 0.02 * u);
+                    if (y / nominal - 1.0).abs() > 0.2 { x } else { y }
+                };
+                walk.nonlocal_e0a_nm = step(walk.nonlocal_e0a_nm, bs.nonlocal_e0a_nm, uniform());
+                walk.support_rotational_stiffness_n_m_rad =
+                    step(walk.support_rotational_stiffness_n_m_rad, bs.support_rotational_stiffness_n_m_rad, uniform());
+                walk.youngs_modulus_pa = step(walk.youngs_modulus_pa, bs.youngs_modulus_pa, uniform());
+                solver.modal(black_box(&walk), 3).unwrap()
+            })
+        });
         c.bench_function(&format!("general_spring_N{n_iv}"), |bch| bch.iter(|| modal(black_box(&bs), 3).unwrap()));
         c.bench_function(&format!("state_space_N{n_iv}"), |bch| bch.iter(|| modal_state_space(black_box(&b), 3).unwrap()));
     }

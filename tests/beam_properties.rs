@@ -321,7 +321,7 @@ proptest! {
         let b = spec_of(&d);
         let mut solver = ModalSolver::new();
         let fast = solver.modal(&b, 3).unwrap();
-        let expected = if decouples(&b) { SolverPath::Decoupled } else { SolverPath::DetNewton };
+        let expected = if decouples(&b) { SolverPath::Decoupled } else { SolverPath::CoupledRqi };
         prop_assert_eq!(solver.last_path(), Some(expected));
         let reference = modal_state_space(&b, 3).unwrap();
         // real-pole family assignment in (a) is exact only when the model decouples

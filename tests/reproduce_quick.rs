@@ -56,7 +56,8 @@ fn quick_reproduction_produces_everything_and_matches_golden() {
         assert!(v.pass || !v.note.is_empty(), "unexplained ✗ for {}", v.id);
     }
 
-    // The reconstruction is deterministic (seeded multi-start, values rounded to 6 digits).
+    // The reconstruction is deterministic (seeded multi-start; fitted values rounded to 5
+    // significant digits, exact ones to 6: see `r5` in src/reproduce/pipeline.rs).
     let rec = std::fs::read_to_string(out.join("reconstructed.yaml")).unwrap();
     insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
         insta::assert_snapshot!("reconstructed_yaml", rec);

@@ -82,6 +82,37 @@ fn eval(s: Complex64, c: f64, b: f64, ivs: &[(f64, f64)]) -> (Complex64, Complex
     (p.v, p.d)
 }
 
+/// p'(ŝ)/p(ŝ) without forming p: with f(ŝ) = ŝ² + ĉŝ + 1 + b̂ Σ Δᵢ ŝ/(ŝ + Ω̂ᵢ)
+/// (the family equation) and p = f·Π(ŝ + Ω̂ᵢ),
+///   p'/p = f'/f + Σ 1/(ŝ + Ω̂ᵢ),  f' = 2ŝ + ĉ + b̂ Σ Δᵢ Ω̂ᵢ/(ŝ + Ω̂ᵢ)².
+/// One complex reciprocal per internal variable instead of the dual-number
+/// products of [`eval`] (3× cheaper; Aberth needs only this ratio). Near a
+/// relaxation root f is a difference of large terms, but its absolute error
+/// ~eps·|Δᵢŝ/(ŝ+Ω̂ᵢ)| over |f'| ~ |ΔᵢΩ̂ᵢ/(ŝ+Ω̂ᵢ)²| moves the root by only
+/// ~eps·|ŝ + Ω̂ᵢ|: no accuracy is lost. `None` when ŝ hits −Ω̂ᵢ exactly or p
+/// vanishes (the caller then uses [`eval`]).
+fn log_derivative(s: Complex64, c: f64, b: f64, ivs: &[(f64, f64)]) -> Option<Complex64> {
+    let mut f = s * s + c * s + 1.0;
+    let mut df = 2.0 * s + c;
+    let mut sum_r = Complex64::new(0.0, 0.0);
+    for &(d, om) in ivs {
+        let r = (s + om).inv();
+        f += b * d * s * r;
+        df += b * d * om * r * r;
+        sum_r += r;
+    }
+    let w = df / f + sum_r;
+    w.is_finite().then_some(w)
+}
+
+/// p'/p at ŝ, or `None` at an exact root (p = 0).
+fn log_derivative_or_eval(s: Complex64, c: f64, b: f64, ivs: &[(f64, f64)]) -> Option<Complex64> {
+    log_derivative(s, c, b, ivs).or_else(|| {
+        let (p, dp) = eval(s, c, b, ivs);
+        (p != Complex64::new(0.0, 0.0)).then(|| dp / p)
+    })
+}
+
 fn aberth(c: f64, b: f64, ivs: &[(f64, f64)]) -> Result<Vec<Complex64>, BeamError> {
     let deg = ivs.len() + 2;
     // Starts near the expected roots (oscillatory pair near ±i, relaxation roots
@@ -95,27 +126,25 @@ fn aberth(c: f64, b: f64, ivs: &[(f64, f64)]) -> Result<Vec<Complex64>, BeamErro
     }
     let mut done = false;
     for _ in 0..500 {
-        let mut max_rel = 0.0f64;
+        // squared relative step (norm_sqr: no hypot in the hot loop)
+        let mut max_rel2 = 0.0f64;
         for k in 0..deg {
-            let (p, dp) = eval(z[k], c, b, ivs);
-            if p == Complex64::new(0.0, 0.0) {
-                continue;
-            }
-            let ratio = p / dp;
+            let Some(w) = log_derivative_or_eval(z[k], c, b, ivs) else { continue };
             let mut sum = Complex64::new(0.0, 0.0);
             for j in 0..deg {
                 if j != k {
-                    sum += 1.0 / (z[k] - z[j]);
+                    sum += (z[k] - z[j]).inv();
                 }
             }
-            let step = ratio / (1.0 - ratio * sum);
+            // Aberth: step = (p/p') / (1 − (p/p')·Σ) = 1 / (p'/p − Σ)
+            let step = (w - sum).inv();
             if !step.is_finite() {
                 return Err(BeamError::numerical("Aberth iteration produced a non-finite step"));
             }
             z[k] -= step;
-            max_rel = max_rel.max(step.norm() / z[k].norm().max(f64::MIN_POSITIVE));
+            max_rel2 = max_rel2.max(step.norm_sqr() / z[k].norm_sqr().max(f64::MIN_POSITIVE));
         }
-        if max_rel <= 1e-15 {
+        if max_rel2 <= 1e-30 {
             done = true;
             break;
         }
@@ -123,8 +152,8 @@ fn aberth(c: f64, b: f64, ivs: &[(f64, f64)]) -> Result<Vec<Complex64>, BeamErro
     if !done {
         // Aberth stalls only at (near-)multiple roots; the residual test decides.
         for &zk in &z {
-            let (p, dp) = eval(zk, c, b, ivs);
-            if !((p / dp).norm() <= 1e-7 * zk.norm()) {
+            let ratio = log_derivative_or_eval(zk, c, b, ivs).map_or(Complex64::new(0.0, 0.0), |w| w.inv());
+            if !(ratio.norm() <= 1e-7 * zk.norm()) {
                 return Err(BeamError::numerical("Aberth iteration did not converge"));
             }
         }

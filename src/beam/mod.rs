@@ -4,7 +4,7 @@
 //! Map: `spec` (YAML contract) → `element` (A3–A7) → `model` (assembly,
 //! supports, extensions, nondimensional scaling) → poles by `state_space`
 //! (A15, reference) or `modal` (exact decoupled families via `eigen` +
-//! `family`, or Newton on det T(s) when the extensions couple the modes) →
+//! `family`, or Rayleigh-quotient iteration on T(s) when the extensions couple the modes) →
 //! `frf` (direct banded solves).
 
 pub(crate) mod band;

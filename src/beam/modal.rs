@@ -15,9 +15,12 @@
 //! of degree N+2 (the extra factors (s+Ωᵢ)ⁿ cancel against the denominators;
 //! a variable with Δᵢ = 0 contributes only the uncoupled pole −Ωᵢ, which is
 //! unobservable and left out of the modal result). Only the lowest λⱼ are
-//! needed: `eigen.rs` finds them with banded Newton–Maehly iterations.
+//! needed: `eigen.rs` finds them (Rayleigh-quotient iteration from a cached
+//! nearby pencil, certified by an inertia count; Newton–Maehly from scratch
+//! otherwise).
 //! A point mass with C > 0 breaks D ∝ M; a support spring breaks K_spring ∝ K
-//! (it is not relaxed by G). Then `general_path` solves det T(s) = 0 directly.
+//! (it is not relaxed by G). Then `general_path` solves T(s)x = 0 pole by pole
+//! (nonlinear Rayleigh-quotient iteration).
 //!
 //! # What is reported
 //! Modes are the complex-conjugate pairs (the Im > 0 member), sorted by |s|;
@@ -29,19 +32,14 @@
 use num_complex::Complex64;
 use serde::{Deserialize, Serialize};
 
-use crate::beam::band::BandLu;
+use crate::beam::band::{ldl_factor_for_inverse_iteration, ldl_solve, BandLu, ShiftedLdl, SymBand, KD};
 use crate::beam::dual::Dual;
-use crate::beam::eigen::{eigenvector, lowest_eigenvalues};
+use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
 use crate::beam::family::{family_roots, REAL_TOL};
-use crate::beam::model::{ScaledModel, UnitMesh};
+use crate::beam::model::{PencilParams, ScaledModel, UnitMesh};
 use crate::beam::spec::BeamSpec;
 use crate::beam::{state_space, BeamError};
 use crate::error::InputError;
-
-/// Newton tolerance before the Rayleigh-quotient refinement: after a step of
-/// 1e-6 relative the quadratic phase leaves ~1e-12, and inverse iteration at
-/// that shift plus the Rayleigh quotient (error ∝ vector error²) reach round-off.
-const NEWTON_TOL: f64 = 1e-6;
 
 /// One oscillatory mode.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -65,18 +63,25 @@ pub struct ModalResult {
 }
 
 /// Reusable solver: caches the unit mesh integrals (they depend only on the
-/// element count and the supports) and the factorisation workspace, so a call
-/// with new E, ρ, d, e0a, C, Δ, Ω only rescales and re-solves.
+/// element count and the supports) and the pencil eigenpairs, so a call with
+/// new parameters mostly rescales and re-solves small problems.
 ///
-/// It also remembers the last eigenvalues λ̃ of the scaled pencil (K̃, M̃): they
-/// depend only on the mesh, e0a/L and the point mass (μ̃ = m/ρAL, x/L) — not on
-/// E, ρ, d (beyond μ̃), C, Δ, Ω — so a calibration that varies those reuses
-/// them exactly (bitwise key) and pays only for the family polynomials.
+/// The lowest eigenpairs of the undamped relaxed pencil (K̃ + K̃_spring, M̃)
+/// depend only on [`PencilParams`] (ẽ, point mass, spring), not on E, ρ, d, C,
+/// Δ, Ω; they are found (see `EigenCache`) by
+/// 1. exact reuse when the parameters are bitwise those of the last call;
+/// 2. otherwise Rayleigh-quotient iteration from the eigenpairs of the
+///    nearest grid pencil ([`PencilParams::snapped`], cached), certified by
+///    an inertia count;
+/// 3. otherwise (or if 2 fails) Newton–Maehly from scratch.
+///
+/// Every result is a function of the call's input alone — the caches change
+/// how fast it comes, never its bits — so a solver shared by the chains of a
+/// thread keeps outputs independent of the thread count.
 #[derive(Debug, Default, Clone)]
 pub struct ModalSolver {
     mesh: Option<UnitMesh>,
-    work: Vec<Dual<f64>>,
-    cache: Option<(PencilKey, Vec<f64>)>,
+    eigen: EigenCache,
     last_path: Option<SolverPath>,
 }
 
@@ -85,18 +90,136 @@ pub struct ModalSolver {
 pub enum SolverPath {
     /// (b) exact decoupling into family polynomials.
     Decoupled,
-    /// (c) Newton on det T(s) (coupling extensions).
-    DetNewton,
+    /// (c) coupling extensions: nonlinear Rayleigh-quotient iteration on T(s)
+    /// from each family's one-term approximation.
+    CoupledRqi,
     /// (a) the state-space reference, used because (b)/(c) failed numerically.
     StateSpaceFallback,
 }
 
-/// Bitwise identity of the scaled pencil (K̃, M̃) for a given mesh.
+/// Grid start pencils kept (most recent last). A calibration visits a few
+/// cells; 16 covers a chain's neighbourhood at a negligible search cost.
+const GRID_CACHE: usize = 16;
+
+/// Eigenpair caches of one mesh (see [`ModalSolver`]).
+#[derive(Debug, Default, Clone)]
+struct EigenCache {
+    work: Vec<Dual<f64>>,
+    ldl: ShiftedLdl,
+    exact: Option<([u64; 4], Vec<EigenPair>)>,
+    grid: Vec<(PencilParams, Vec<GridVector>)>,
+    /// How the last [`EigenCache::lowest`] call got its answer (for tests).
+    last_method: Option<EigenMethod>,
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-struct PencilKey {
-    e_tilde: u64,
-    mu: u64,
-    x: u64,
+enum EigenMethod {
+    Reused,
+    Refined,
+    Scratch,
+}
+
+/// An eigenvector of a grid pencil with the parameter-free pieces of its
+/// products, so that its RQI start on any pencil of the mesh costs O(n):
+/// M̃x = M̃₀x + ẽ²M̃₁x + μ̃N(Nᵀx), xᵀM̃x = xᵀM̃₀x + ẽ²xᵀM̃₁x + μ̃(Nᵀx)²,
+/// xᵀ(K̃ + K̃_spring)x = xᵀK̃x + k̃_r Σ_spring xᵢ².
+#[derive(Debug, Clone)]
+struct GridVector {
+    vector: Vec<f64>,
+    m0x: Vec<f64>,
+    m1x: Vec<f64>,
+    k_form: f64,
+    m0_form: f64,
+    m1_form: f64,
+    spring_sq: f64,
+}
+
+impl GridVector {
+    fn new(mesh: &UnitMesh, vector: Vec<f64>) -> Self {
+        let (mut m0x, mut m1x) = (Vec::new(), Vec::new());
+        mesh.m0.mul_vec_into(&vector, &mut m0x);
+        mesh.m1.mul_vec_into(&vector, &mut m1x);
+        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+        GridVector {
+            k_form: mesh.stiffness_form(&vector),
+            m0_form: dot(&vector, &m0x),
+            m1_form: dot(&vector, &m1x),
+            spring_sq: mesh.spring_dofs.iter().map(|&i| vector[i] * vector[i]).sum(),
+            vector,
+            m0x,
+            m1x,
+        }
+    }
+
+    fn start(&self, params: &PencilParams, point_mass: Option<&(f64, Vec<f64>)>) -> RqiStart {
+        let e2 = params.e_tilde * params.e_tilde;
+        let mut mx: Vec<f64> = self.m0x.iter().zip(&self.m1x).map(|(a, b)| a + e2 * b).collect();
+        let mut m_form = self.m0_form + e2 * self.m1_form;
+        if let Some((mu, nv)) = point_mass {
+            let w: f64 = nv.iter().zip(&self.vector).map(|(a, b)| a * b).sum();
+            mx.iter_mut().zip(nv).for_each(|(y, a)| *y += mu * w * a);
+            m_form += mu * w * w;
+        }
+        let rho = (self.k_form + params.spring * self.spring_sq) / m_form;
+        RqiStart { vector: self.vector.clone(), mx, rho }
+    }
+}
+
+impl EigenCache {
+    /// The `count` lowest eigenpairs of (k, m), the pencil of `params`.
+    fn lowest(
+        &mut self,
+        mesh: &UnitMesh,
+        params: &PencilParams,
+        k: &SymBand,
+        m: &SymBand,
+        point_mass: Option<&(f64, Vec<f64>)>,
+        count: usize,
+    ) -> Result<&[EigenPair], BeamError> {
+        let key = params.bits();
+        // exact reuse only for the same count: certification depends on it,
+        // and a different count must give what a fresh solve would.
+        if !matches!(&self.exact, Some((kk, p)) if *kk == key && p.len() == count) {
+            let rq = |x: &[f64]| mesh.pencil_stiffness(params.spring, x);
+            let refined = self
+                .grid_starts(mesh, params.snapped(), count)
+                .and_then(|i| {
+                    let starts = self.grid[i].1[..count].iter().map(|g| g.start(params, point_mass)).collect();
+                    refine_eigenpairs(k, m, starts, &rq, &mut self.ldl)
+                });
+            let pairs = match refined {
+                Some(p) => {
+                    self.last_method = Some(EigenMethod::Refined);
+                    p
+                }
+                None => {
+                    self.last_method = Some(EigenMethod::Scratch);
+                    lowest_eigenpairs(k, m, count, &mut self.work, &rq)?
+                }
+            };
+            self.exact = Some((key, pairs));
+        } else {
+            self.last_method = Some(EigenMethod::Reused);
+        }
+        Ok(&self.exact.as_ref().expect("just set").1)
+    }
+
+    /// Index of the grid pencil `g` with at least `count` eigenpairs, computed
+    /// from scratch on a miss (the first `count` of a longer list are the same
+    /// numbers: Newton–Maehly finds them in order); `None` if that fails.
+    fn grid_starts(&mut self, mesh: &UnitMesh, g: PencilParams, count: usize) -> Option<usize> {
+        if let Some(i) = self.grid.iter().position(|(p, e)| *p == g && e.len() >= count) {
+            return Some(i);
+        }
+        let (kg, mg) = mesh.pencil(&g);
+        let pairs = lowest_eigenpairs(&kg, &mg, count, &mut self.work, &|x| mesh.pencil_stiffness(g.spring, x)).ok()?;
+        self.grid.retain(|(p, _)| *p != g);
+        if self.grid.len() == GRID_CACHE {
+            self.grid.remove(0);
+        }
+        self.grid.push((g, pairs.into_iter().map(|p| GridVector::new(mesh, p.vector)).collect()));
+        Some(self.grid.len() - 1)
+    }
 }
 
 impl ModalSolver {
@@ -104,50 +227,35 @@ impl ModalSolver {
         Self::default()
     }
 
-
     /// The path used by the last successful or attempted call.
     pub fn last_path(&self) -> Option<SolverPath> {
         self.last_path
     }
 
     /// The fastest exact path: decoupled families when the proof above
-    /// applies, otherwise Newton on det T(s) (falling back to the state space).
+    /// applies, otherwise RQI on T(s) (falling back to the state space).
     pub fn modal(&mut self, beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
         beam.validate()?;
         let stale = !matches!(&self.mesh, Some(m) if m.elements == beam.elements && m.support == beam.support);
         if stale {
             self.mesh = Some(UnitMesh::new(beam.elements, beam.support));
+            self.eigen = EigenCache::default();
         }
-        if stale {
-            self.cache = None;
-        }
-        let Self { mesh, work, cache, last_path } = self;
+        let Self { mesh, eigen, last_path } = self;
         let model = ScaledModel::new(beam, mesh.as_ref().expect("mesh just set"));
         check_mode_count(n_modes, model.n())?;
-        if model.decouples() {
-            let key = PencilKey {
-                e_tilde: model.e_tilde.to_bits(),
-                mu: model.point_mass.as_ref().map_or(0, |p| p.0.to_bits()),
-                x: beam.point_mass.as_ref().map_or(0, |p| (p.x_nm / beam.length_nm).to_bits()),
-            };
-            *last_path = Some(SolverPath::Decoupled);
-            match decoupled_path(&model, n_modes, work, key, cache) {
-                Err(BeamError::Numerical(_)) => {
-                    *last_path = Some(SolverPath::StateSpaceFallback);
-                    state_space_modal(&model, n_modes)
-                }
-                other => other,
-            }
+        let (path, result) = if model.decouples() {
+            (SolverPath::Decoupled, decoupled_path(&model, n_modes, eigen))
         } else {
-            *last_path = Some(SolverPath::DetNewton);
-            match general_path(&model, n_modes, work) {
-                Ok(r) => Ok(r),
-                Err(BeamError::Numerical(_)) => {
-                    *last_path = Some(SolverPath::StateSpaceFallback);
-                    state_space_modal(&model, n_modes)
-                }
-                Err(e) => Err(e),
+            (SolverPath::CoupledRqi, general_path(&model, n_modes, eigen))
+        };
+        *last_path = Some(path);
+        match result {
+            Err(BeamError::Numerical(_)) => {
+                *last_path = Some(SolverPath::StateSpaceFallback);
+                state_space_modal(&model, n_modes)
             }
+            other => other,
         }
     }
 }
@@ -189,7 +297,7 @@ fn assemble(families: &[Vec<Complex64>], n_modes: usize, omega_ref: f64) -> Opti
     if pairs.len() < n_modes {
         return None;
     }
-    pairs.sort_by(|a, b| a.norm().total_cmp(&b.norm()));
+    pairs.sort_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()));
     let modes = pairs
         .iter()
         .take(n_modes)
@@ -210,28 +318,14 @@ fn too_few_modes(n_modes: usize, found: usize) -> BeamError {
 }
 
 /// Path (b): exact decoupling.
-fn decoupled_path(
-    model: &ScaledModel,
-    n_modes: usize,
-    work: &mut Vec<Dual<f64>>,
-    key: PencilKey,
-    cache: &mut Option<(PencilKey, Vec<f64>)>,
-) -> Result<ModalResult, BeamError> {
+fn decoupled_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -> Result<ModalResult, BeamError> {
     let n = model.n();
+    let params = model.pencil_params();
     let mut count = n_modes;
     loop {
-        let lambdas = match cache {
-            Some((k, l)) if *k == key && l.len() >= count => l[..count].to_vec(),
-            _ => {
-                let l = lowest_eigenvalues(model.k, &model.m, count, NEWTON_TOL, work, &mut |l| {
-                    Ok(rayleigh(model, model.k, l)?.0)
-                })?;
-                *cache = Some((key, l.clone()));
-                l
-            }
-        };
+        let pairs = eigen.lowest(model.mesh, &params, model.k, &model.m, model.point_mass.as_ref(), count)?;
         let families =
-            lambdas.iter().map(|&l| family_roots(0.0, l, model.c, &model.ivs)).collect::<Result<Vec<_>, _>>()?;
+            pairs.iter().map(|p| family_roots(0.0, p.lambda, model.c, &model.ivs)).collect::<Result<Vec<_>, _>>()?;
         if let Some(r) = assemble(&families, n_modes, model.omega_ref) {
             return Ok(r);
         }
@@ -243,32 +337,17 @@ fn decoupled_path(
 }
 
 /// One-term modal approximation of family j of a coupled model: with φ the
-/// M-normalised eigenvector of (K + K_spring, M) for λ, the family equation
-/// s² + c_φ s + a + b G(s) = 0 with b = φᵀKφ, a = λ − b = φᵀK_springφ,
-/// c_φ = c̃·φᵀM_beamφ. Exact when the model decouples.
+/// eigenvector of (K + K_spring, M) for λ, the family equation
+/// s² + c_φ s + a + b G(s) = 0 with b = φᵀKφ/φᵀMφ, a = λ − b = φᵀK_springφ/φᵀMφ,
+/// c_φ = c̃·φᵀM_beamφ/φᵀMφ. Exact when the model decouples.
 fn family_approximations(
     model: &ScaledModel,
     count: usize,
-    work: &mut Vec<Dual<f64>>,
+    eigen: &mut EigenCache,
 ) -> Result<Vec<((f64, f64, f64), Vec<f64>)>, BeamError> {
     let kt = model.k_total();
-    let lambdas = lowest_eigenvalues(&kt, &model.m, count, NEWTON_TOL, work, &mut |l| Ok(rayleigh(model, &kt, l)?.0))?;
-    lambdas
-        .iter()
-        .map(|&l| {
-            let phi = eigenvector(&kt, &model.m, l)?;
-            Ok((rayleigh_of(model, &phi).1, phi))
-        })
-        .collect()
-}
-
-/// Inverse iteration at σ, then the Rayleigh quotient from element energies:
-/// λ = (xᵀK̃x + xᵀK̃_spring x)/xᵀM̃x (error quadratic in the eigenvector error).
-/// Also returns the one-term family coefficients (a, b, c) = (xᵀK̃_s x, xᵀK̃x,
-/// c̃·xᵀM̃_beam x)/xᵀM̃x.
-fn rayleigh(model: &ScaledModel, k_total: &crate::beam::band::SymBand, sigma: f64) -> Result<(f64, (f64, f64, f64)), BeamError> {
-    let phi = eigenvector(k_total, &model.m, sigma)?;
-    Ok(rayleigh_of(model, &phi))
+    let pairs = eigen.lowest(model.mesh, &model.pencil_params(), &kt, &model.m, model.point_mass.as_ref(), count)?;
+    Ok(pairs.iter().map(|p| (rayleigh_of(model, &p.vector).1, p.vector.clone())).collect())
 }
 
 fn rayleigh_of(model: &ScaledModel, phi: &[f64]) -> (f64, (f64, f64, f64)) {
@@ -276,15 +355,15 @@ fn rayleigh_of(model: &ScaledModel, phi: &[f64]) -> (f64, (f64, f64, f64)) {
     ((k + ks) / m, (ks / m, k / m, model.c * mb / m))
 }
 
-/// Path (c): Newton on det T(s̃) = 0, T̃(s̃) = s̃²M̃ + s̃c̃M̃_beam + K̃_spring + G(s̃)K̃,
-/// one banded complex LU in dual numbers per step (d log det T/ds̃ = tr(T⁻¹T')),
-/// Maehly-deflated against the poles already found, started from the roots of
-/// the one-term approximations. Any failure → the caller falls back to (a).
-fn general_path(model: &ScaledModel, n_modes: usize, work: &mut Vec<Dual<f64>>) -> Result<ModalResult, BeamError> {
+/// Path (c): the poles of T̃(s̃) = s̃²M̃ + s̃c̃M̃_beam + K̃_spring + G(s̃)K̃ one by
+/// one, each by nonlinear Rayleigh-quotient iteration from the one-term
+/// approximation of its family (root and eigenvector of (K̃ + K̃_spring, M̃)).
+/// Any failure → the caller falls back to (a).
+fn general_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -> Result<ModalResult, BeamError> {
     let n = model.n();
     let mut count = n_modes;
     loop {
-        let approx = family_approximations(model, count, work)?;
+        let approx = family_approximations(model, count, eigen)?;
         let mut found: Vec<Complex64> = Vec::new();
         let mut families = Vec::with_capacity(count);
         for ((a, b, c), phi) in &approx {
@@ -292,14 +371,18 @@ fn general_path(model: &ScaledModel, n_modes: usize, work: &mut Vec<Dual<f64>>) 
             let mut fam = Vec::with_capacity(starts.len());
             for s0 in starts.into_iter().filter(|s| s.im >= 0.0) {
                 // Real poles cluster (one per family within [−Ωᵢ, −Ωᵢ/(1+Δᵢ)]) next
-                // to the n-fold poles of det T at −Ωᵢ, where det-Newton crawls;
+                // next to the n-fold poles of det T at −Ωᵢ, where methods on det T crawl;
                 // nonlinear Rayleigh-quotient iteration from the family's vector
                 // φ picks the family's own root instead.
-                let s = if s0.im == 0.0 { nonlinear_rqi(model, s0, phi)? } else { newton_det(model, s0, &found)? };
+                let s = if s0.im == 0.0 { nonlinear_rqi(model, s0, phi)? } else { complex_rqi(model, s0, phi)? };
                 // a start from the one-term model is within a few % of its pole;
-                // a jump of more than half its size means another pole was hit.
+                // a jump of more than half its size means another pole was hit,
+                // and so does landing on a pole found already.
                 if (s - s0).norm() > 0.5 * s0.norm() {
-                    return Err(BeamError::numerical("det-Newton left its start's neighbourhood"));
+                    return Err(BeamError::numerical("RQI left its start's neighbourhood"));
+                }
+                if found.iter().any(|f| (s - f).norm() <= 1e-8 * s.norm()) {
+                    return Err(BeamError::numerical("two starts converged to the same pole"));
                 }
                 if s0.im == 0.0 {
                     found.push(s);
@@ -327,59 +410,102 @@ fn general_path(model: &ScaledModel, n_modes: usize, work: &mut Vec<Dual<f64>>) 
     }
 }
 
-/// Newton–Maehly on det T̃(s̃): s̃ ← s̃ − 1/(tr(T⁻¹T') − Σ_found 1/(s̃ − f)),
-/// quadratic at simple roots, run to 1e-13 relative or to its noise floor
-/// (det T is evaluated with ~eps·‖K‖ absolute pivot errors, ≈1e-10 relative in s̃);
-/// then polished by Newton on the Rayleigh functional xᵀT(s̃)x with x = T(s̃)⁻¹b
-/// evaluated from element energies (error quadratic in the vector error).
-fn newton_det(model: &ScaledModel, start: Complex64, found: &[Complex64]) -> Result<Complex64, BeamError> {
+/// The outer stop of [`complex_rqi`]: the same argument as `RQI_TOL` in
+/// `eigen.rs` — a move ≤ 1e-6·|s| means the vector was within ~1e-3 before the
+/// step, and the cubic rate leaves an error ≲ 1e-18·|s| after it.
+const COMPLEX_RQI_TOL: f64 = 1e-6;
+const COMPLEX_RQI_MAX_STEPS: usize = 8;
+
+/// Complex nonlinear Rayleigh-quotient iteration for an oscillatory pole:
+/// x ← T(s)⁻¹T'(s)x, then s ← the root next to s of the Rayleigh functional
+/// xᵀT(s)x = 0 (element-energy forms, so no cancellation of assembled
+/// entries). T is complex symmetric, so with the transpose (not the
+/// conjugate) the left eigenvector is the right one and the iteration
+/// converges cubically, as RQI does for real symmetric pencils. The solves
+/// use the unpivoted band LDLᵀ: its result is checked by the convergence of s
+/// (and by the caller's neighbourhood tests), with the state space behind it.
+fn complex_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Complex64, BeamError> {
+    let n = model.n();
+    let mut x: Vec<Complex64> = phi.iter().map(|&v| Complex64::new(v, 0.0)).collect();
+    let mut s = rayleigh_functional_root(model, &x, s0)?;
+    let mut t = Vec::with_capacity(model.k.data.len());
+    let (mut re, mut im, mut tmp) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..COMPLEX_RQI_MAX_STEPS {
+        let (g, dg) = model.relaxation(s);
+        // T(s) in band layout
+        t.clear();
+        t.extend(model.m.data.iter().zip(&model.m_beam.data).zip(&model.k.data).map(|((&m, &mb), &k)| {
+            s * s * m + s * (model.c * mb) + g * k
+        }));
+        if model.has_spring() {
+            for &i in &model.spring_dofs {
+                t[i * (KD + 1)] += model.spring;
+            }
+        }
+        let tiny = Complex64::new(f64::EPSILON * (model.k.data[0] + s.norm_sqr() * model.m.data[0]), 0.0);
+        if !ldl_factor_for_inverse_iteration(&mut t, n, tiny) {
+            return Err(BeamError::numerical("T(s) factorisation broke down in RQI"));
+        }
+        // y = T'(s) x = (2s M̃ + c̃ M̃_beam + G'(s) K̃) x, from real products of Re x and Im x
+        let mut y = vec![Complex64::new(0.0, 0.0); n];
+        re.clear();
+        re.extend(x.iter().map(|v| v.re));
+        im.clear();
+        im.extend(x.iter().map(|v| v.im));
+        for (mat, coef) in [(&model.m, 2.0 * s), (&model.m_beam, Complex64::new(model.c, 0.0)), (model.k, dg)] {
+            mat.mul_vec_into(&re, &mut tmp);
+            y.iter_mut().zip(&tmp).for_each(|(yi, v)| *yi += coef * v);
+            mat.mul_vec_into(&im, &mut tmp);
+            y.iter_mut().zip(&tmp).for_each(|(yi, v)| *yi += coef * Complex64::new(0.0, *v));
+        }
+        ldl_solve(&t, n, &mut y);
+        let scale = y.iter().fold(0.0f64, |a, v| a.max(v.norm_sqr())).sqrt();
+        if !(scale.is_finite() && scale > 0.0) {
+            return Err(BeamError::numerical("RQI on T(s) broke down"));
+        }
+        y.iter_mut().for_each(|v| *v /= scale);
+        x = y;
+        let next = rayleigh_functional_root(model, &x, s)?;
+        let moved = (next - s).norm();
+        s = next;
+        if moved <= COMPLEX_RQI_TOL * s.norm() {
+            return Ok(s);
+        }
+    }
+    Err(BeamError::numerical("complex RQI did not converge"))
+}
+
+/// The root next to `start` of the Rayleigh functional
+/// f(s) = xᵀT(s)x = s²m + s c̃ m_b + k_s + G(s)k (scalar Newton), with the
+/// forms from element energies.
+fn rayleigh_functional_root(model: &ScaledModel, x: &[Complex64], start: Complex64) -> Result<Complex64, BeamError> {
+    let (k, m, mb, ks) = model.forms(x);
     let mut s = start;
-    let mut prev = f64::INFINITY;
-    let mut converged = false;
-    for _ in 0..80 {
-        // an exactly singular T(s) in floating point means s is a root
-        let Some(dlog) = dlog_det_t(model, s) else {
-            converged = true;
-            break;
-        };
-        let deflated = dlog - found.iter().map(|&f| 1.0 / (s - f)).sum::<Complex64>();
-        let step = -1.0 / deflated;
+    for _ in 0..50 {
+        let (g, dg) = model.relaxation(s);
+        let f = s * s * m + s * model.c * mb + ks + g * k;
+        let df = 2.0 * s * m + model.c * mb + dg * k;
+        let step = f / df;
         if !step.is_finite() {
-            return Err(BeamError::numerical("det-Newton produced a non-finite step"));
+            return Err(BeamError::numerical("non-finite Rayleigh-functional step"));
         }
-        if step.norm() <= 1e-7 * s.norm() && step.norm() > 0.5 * prev {
-            converged = true;
-            break;
-        }
-        s += step;
-        prev = step.norm();
-        if step.norm() <= 1e-13 * s.norm() {
-            converged = true;
-            break;
+        s -= step;
+        // quadratic convergence: a step at round-off level (4 eps) ends it
+        if step.norm_sqr() <= 16.0 * f64::EPSILON * f64::EPSILON * s.norm_sqr() {
+            return Ok(s);
         }
     }
-    if !converged {
-        return Err(BeamError::numerical("det-Newton did not converge"));
-    }
-    let before = s;
-    for _ in 0..2 {
-        s = rayleigh_functional_step(model, s)?;
-    }
-    if (s - before).norm() > 1e-6 * before.norm() {
-        return Err(BeamError::numerical("Rayleigh-functional polish moved too far"));
-    }
-    Ok(if start.im == 0.0 { Complex64::new(s.re, 0.0) } else { s })
+    Err(BeamError::numerical("Rayleigh functional: Newton did not converge"))
 }
 
 /// Nonlinear Rayleigh-quotient iteration for a real pole: s ← root of
 /// xᵀT(s)x = 0 (scalar Newton, element-energy forms), x ← T(s)⁻¹T'(s)x.
 fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Complex64, BeamError> {
-    let mut x: Vec<Complex64> = phi.iter().map(|&v| Complex64::new(v, 0.0)).collect();
+    let mut x: Vec<f64> = phi.to_vec();
     let mut s = s0.re;
     let spring = if model.has_spring() { model.spring } else { 0.0 };
     for _ in 0..50 {
         let (k, m, mb, ks) = model.forms(&x);
-        let (k, m, mb, ks) = (k.re, m.re, mb.re, ks.re);
         let mut moved = 0.0;
         for _ in 0..3 {
             let (g, dg) = model.relaxation(Complex64::new(s, 0.0));
@@ -401,8 +527,7 @@ fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comp
             s * s * model.m.get(i, j) + s * model.c * model.m_beam.get(i, j) + ks + g.re * model.k.get(i, j)
         });
         let Some(lu) = lu else { return Ok(Complex64::new(s, 0.0)) };
-        let xr: Vec<f64> = x.iter().map(|v| v.re).collect();
-        let (mx, mbx, kx) = (model.m.mul_vec(&xr), model.m_beam.mul_vec(&xr), model.k.mul_vec(&xr));
+        let (mx, mbx, kx) = (model.m.mul_vec(&x), model.m_beam.mul_vec(&x), model.k.mul_vec(&x));
         let mut y: Vec<f64> =
             (0..model.n()).map(|i| 2.0 * s * mx[i] + model.c * mbx[i] + dg.re * kx[i]).collect();
         lu.solve(&mut y);
@@ -410,55 +535,9 @@ fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comp
         if !(norm.is_finite() && norm > 0.0) {
             return Err(BeamError::numerical("nonlinear RQI broke down"));
         }
-        x = y.iter().map(|v| Complex64::new(v / norm, 0.0)).collect();
+        x = y.iter().map(|v| v / norm).collect();
     }
     Err(BeamError::numerical("nonlinear RQI did not converge"))
-}
-
-/// One inverse iteration x = T(s̃)⁻¹ M̃·1 and one Newton step on xᵀT(s̃)x = 0.
-fn rayleigh_functional_step(model: &ScaledModel, s: Complex64) -> Result<Complex64, BeamError> {
-    let (g, dg) = model.relaxation(s);
-    let spring = if model.has_spring() { model.spring } else { 0.0 };
-    let t = |i: usize, j: usize| {
-        let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
-        s * s * model.m.get(i, j) + s * (model.c * model.m_beam.get(i, j)) + ks + g * model.k.get(i, j)
-    };
-    let tiny = Complex64::new(f64::EPSILON * (model.k.get(0, 0) + s.norm_sqr() * model.m.get(0, 0)), 0.0);
-    let lu = BandLu::factor_for_inverse_iteration(model.n(), t, tiny)
-        .ok_or_else(|| BeamError::numerical("T(s) singular in the Rayleigh-functional polish"))?;
-    let ones = vec![1.0; model.n()];
-    let mut x: Vec<Complex64> = model.m.mul_vec(&ones).into_iter().map(|v| Complex64::new(v, 0.0)).collect();
-    lu.solve(&mut x);
-    let scale = x.iter().map(|v| v.norm()).fold(0.0, f64::max);
-    if !(scale.is_finite() && scale > 0.0) {
-        return Err(BeamError::numerical("inverse iteration on T(s) broke down"));
-    }
-    for v in x.iter_mut() {
-        *v /= scale;
-    }
-    let (k, m, mb, ks) = model.forms(&x);
-    let f = s * s * m + s * model.c * mb + ks + g * k;
-    let df = 2.0 * s * m + model.c * mb + dg * k;
-    let next = s - f / df;
-    if !next.is_finite() {
-        return Err(BeamError::numerical("non-finite Rayleigh-functional step"));
-    }
-    Ok(next)
-}
-
-/// d/ds̃ log det T̃(s̃) via a dual-number banded LU.
-fn dlog_det_t(model: &ScaledModel, s: Complex64) -> Option<Complex64> {
-    let (g, dg) = model.relaxation(s);
-    let c = model.c;
-    let spring = if model.has_spring() { model.spring } else { 0.0 };
-    let lu = BandLu::factor(model.n(), |i, j| {
-        let m = model.m.get(i, j);
-        let mb = model.m_beam.get(i, j);
-        let k = model.k.get(i, j);
-        let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
-        Dual::new(s * s * m + s * (c * mb) + ks + g * k, 2.0 * s * m + c * mb + dg * k)
-    })?;
-    Some(lu.dlog_det())
 }
 
 /// Path (a) turned into modal parameters. Real poles are assigned to the
@@ -535,4 +614,86 @@ fn dense_family_approximations(model: &ScaledModel) -> Result<Vec<(f64, f64, f64
         .collect();
     out.sort_by(|x, y| (x.0 + x.1).total_cmp(&(y.0 + y.1)));
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::beam::spec::{InternalVariable, PointMass, Support};
+
+    fn beam(support: Support, e0a_nm: f64, spring: f64, mass: Option<(f64, f64)>) -> BeamSpec {
+        BeamSpec {
+            length_nm: 8.0,
+            diameter_nm: 1.0,
+            youngs_modulus_pa: 1e12,
+            density_kg_m3: 2300.0,
+            support,
+            elements: 20,
+            nonlocal_e0a_nm: e0a_nm,
+            viscous_damping_n_s_m2: 0.0,
+            internal_variables: vec![InternalVariable { delta: 0.3, omega_rad_s: 4e11 }],
+            support_rotational_stiffness_n_m_rad: spring,
+            point_mass: mass.map(|(mass_kg, x_nm)| PointMass { mass_kg, x_nm }),
+        }
+    }
+
+    /// Every combination the calibrations use: supports × ẽ (including 0 and
+    /// grid-cell edges) × point mass × spring.
+    fn cases() -> Vec<BeamSpec> {
+        let mut out = Vec::new();
+        for support in Support::ALL {
+            for e0a in [0.0, 0.4, 1.2171, 1.9] {
+                for spring in [0.0, 3e-19] {
+                    for mass in [None, Some((3e-26, 2.9))] {
+                        out.push(beam(support, e0a, spring, mass));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn rqi_refinement_is_used_and_matches_a_scratch_solve() {
+        for b in cases() {
+            let mut solver = ModalSolver::new();
+            solver.modal(&b, 3).unwrap();
+            let ModalSolver { mesh, eigen, .. } = &mut solver;
+            let mesh = mesh.as_ref().unwrap();
+            let model = ScaledModel::new(&b, mesh);
+            let kt = model.k_total();
+            let params = model.pencil_params();
+            // a fresh cache misses the exact key and must refine from its grid pencil
+            eigen.exact = None;
+            let refined = eigen.lowest(mesh, &params, &kt, &model.m, model.point_mass.as_ref(), 4).unwrap().to_vec();
+            assert_eq!(eigen.last_method, Some(EigenMethod::Refined), "{b:?}");
+            let scratch =
+                lowest_eigenpairs(&kt, &model.m, 4, &mut Vec::new(), &|x| mesh.pencil_stiffness(params.spring, x)).unwrap();
+            for (r, s) in refined.iter().zip(&scratch) {
+                // both are Rayleigh quotients of vectors converged far below
+                // 1e-6 (error quadratic in it); what remains is the rounding of
+                // the quotient itself, ~1e-14 (see UnitMesh::stiffness_form):
+                // 1e-12 leaves a 100× margin.
+                assert!((r.lambda - s.lambda).abs() <= 1e-12 * s.lambda, "{b:?}: {} vs {}", r.lambda, s.lambda);
+            }
+        }
+    }
+
+    #[test]
+    fn results_do_not_depend_on_what_the_solver_saw_before() {
+        let all = cases();
+        let mut shared = ModalSolver::new();
+        for (i, target) in all.iter().enumerate() {
+            // a history of other beams of the same mesh, nearby e0a included
+            for other in all.iter().filter(|o| o.support == target.support).take(1 + i % 5) {
+                let mut near = other.clone();
+                near.nonlocal_e0a_nm = target.nonlocal_e0a_nm * 1.003;
+                shared.modal(&near, 3).unwrap();
+                shared.modal(other, 3).unwrap();
+            }
+            let seen = shared.modal(target, 3).unwrap();
+            let fresh = ModalSolver::new().modal(target, 3).unwrap();
+            assert_eq!(seen, fresh, "history changed the bits for {target:?}");
+        }
+    }
 }

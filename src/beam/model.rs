@@ -47,6 +47,8 @@ pub struct UnitMesh {
     pub spring_dofs: Vec<usize>,
     /// (weight, N, N', N'') at the 4 Gauss points of one element (uniform mesh).
     gauss: [(f64, [f64; 4], [f64; 4], [f64; 4]); 4],
+    /// N''(0) and N''(h̃) of one element (w'' is linear on an element).
+    curvature_ends: [[f64; 4]; 2],
 }
 
 const GX: [f64; 4] = [-0.861_136_311_594_052_6, -0.339_981_043_584_856_3, 0.339_981_043_584_856_3, 0.861_136_311_594_052_6];
@@ -95,7 +97,8 @@ impl UnitMesh {
             let xl = 0.5 * h * (1.0 + GX[g]);
             (0.5 * h * GW[g], element::shape(h, xl), element::shape_d(h, xl), element::shape_dd(h, xl))
         });
-        Self { elements, support, dof_map, k, m0, m1, spring_dofs, gauss }
+        let curvature_ends = [element::shape_dd(h, 0.0), element::shape_dd(h, h)];
+        Self { elements, support, dof_map, k, m0, m1, spring_dofs, gauss, curvature_ends }
     }
 
     pub fn n(&self) -> usize {
@@ -137,6 +140,28 @@ impl UnitMesh {
             }
         }
         out
+    }
+
+    /// xᵀK̃x = ∫₀¹ (w'')² dx̃ element by element in closed form: w'' is linear
+    /// on an element, so with a, b its end values ∫ (w'')² = h̃(a² + ab + b²)/3.
+    /// Same accuracy argument as [`Self::energy_forms`] (no cancellation
+    /// between assembled entries; a² + ab + b² ≥ (a² + b²)/2 has none either),
+    /// at a tenth of its cost: this is the numerator of every Rayleigh quotient.
+    pub fn stiffness_form(&self, x: &[f64]) -> f64 {
+        let h = 1.0 / self.elements as f64;
+        let [n0, n1] = &self.curvature_ends;
+        let mut sum = 0.0;
+        for e in 0..self.elements {
+            let (mut a, mut b) = (0.0, 0.0);
+            for k in 0..4 {
+                if let Some(i) = self.dof_map[2 * e + k] {
+                    a += n0[k] * x[i];
+                    b += n1[k] * x[i];
+                }
+            }
+            sum += a * a + a * b + b * b;
+        }
+        sum * h / 3.0
     }
 
     /// Interpolation vector N(x̃) in reduced DOFs (w = Nᵀq).
@@ -182,6 +207,86 @@ impl UnitMesh {
     }
 }
 
+/// What the undamped relaxed pencil (K̃ + K̃_spring, M̃) depends on, for a
+/// given mesh: not E, ρ, d, C, Δ, Ω (they only scale time and enter the
+/// family polynomials).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PencilParams {
+    /// ẽ = e0a/L.
+    pub e_tilde: f64,
+    /// (μ̃, x̃) of the point mass, if any.
+    pub point_mass: Option<(f64, f64)>,
+    /// k̃_r on the spring DOFs (0 = none).
+    pub spring: f64,
+}
+
+/// Grid of [`PencilParams::snapped`]: steps in ẽ², ln μ̃, x̃ and ln k̃_r.
+/// Fine enough that the eigenvectors of a grid pencil are within ~1e-3 of
+/// those of any pencil in its cell (one or two RQI steps), coarse enough that
+/// a calibration visits a handful of cells.
+const GRID_E2: f64 = 2e-4;
+const GRID_LN: f64 = 0.05;
+const GRID_X: f64 = 0.005;
+
+impl PencilParams {
+    /// Bitwise identity.
+    pub fn bits(&self) -> [u64; 4] {
+        let (mu, x) = self.point_mass.unwrap_or((0.0, 0.0));
+        [self.e_tilde.to_bits(), mu.to_bits(), x.to_bits(), self.spring.to_bits()]
+    }
+
+    /// The nearest grid point: a pencil whose eigenpairs serve as RQI starts
+    /// for every pencil in its cell. A function of `self` alone, so a solve
+    /// that starts from it is a pure function of its input (bitwise
+    /// reproducible whatever else the solver has seen).
+    pub fn snapped(&self) -> Self {
+        let ln_snap = |v: f64| ((v.ln() / GRID_LN).round() * GRID_LN).exp();
+        let e2 = (self.e_tilde * self.e_tilde / GRID_E2).round() * GRID_E2;
+        PencilParams {
+            e_tilde: e2.sqrt(),
+            point_mass: self.point_mass.map(|(mu, x)| (ln_snap(mu), ((x / GRID_X).round() * GRID_X).clamp(0.0, 1.0))),
+            spring: if self.spring > 0.0 { ln_snap(self.spring) } else { 0.0 },
+        }
+    }
+}
+
+impl UnitMesh {
+    /// (K̃ + K̃_spring, M̃) for these parameters.
+    pub fn pencil(&self, p: &PencilParams) -> (SymBand, SymBand) {
+        let mut k = self.k.clone();
+        if p.spring > 0.0 {
+            for &i in &self.spring_dofs {
+                k.add(i, i, p.spring);
+            }
+        }
+        let mut m = self.m0.plus_scaled(p.e_tilde * p.e_tilde, &self.m1);
+        if let Some((mu, x)) = p.point_mass {
+            add_point_mass(&mut m, mu, &self.shape_vector(x));
+        }
+        (k, m)
+    }
+
+    /// xᵀ(K̃ + K̃_spring)x with the beam part from [`Self::stiffness_form`]:
+    /// the numerator of the pencil's Rayleigh quotients (the denominator
+    /// xᵀM̃x has no such cancellation: M̃ ≻ 0 with a modest condition number).
+    pub fn pencil_stiffness(&self, spring: f64, x: &[f64]) -> f64 {
+        let ks: f64 = if spring > 0.0 { self.spring_dofs.iter().map(|&i| spring * x[i] * x[i]).sum() } else { 0.0 };
+        self.stiffness_form(x) + ks
+    }
+}
+
+/// M̃ += μ̃ N Nᵀ (a point mass with interpolation vector N).
+fn add_point_mass(m: &mut SymBand, mu: f64, nv: &[f64]) {
+    let nz: Vec<usize> = (0..nv.len()).filter(|&i| nv[i] != 0.0).collect();
+    for &i in &nz {
+        for &j in &nz {
+            if j <= i {
+                m.add(i, j, mu * nv[i] * nv[j]);
+            }
+        }
+    }
+}
+
 /// The scaled model of one beam: everything the pole and FRF solvers need.
 #[derive(Debug, Clone)]
 pub struct ScaledModel<'a> {
@@ -203,6 +308,8 @@ pub struct ScaledModel<'a> {
     /// All internal variables, including Δᵢ = 0 (state-space dimension).
     pub ivs_all: Vec<(f64, f64)>,
     pub has_point_mass: bool,
+    /// x̃ of the point mass (0 without one).
+    pub point_mass_x: f64,
     pub omega_ref: f64,
     /// L³/(EI) in m/N: converts T̃⁻¹ to SI receptance.
     pub compliance: f64,
@@ -222,14 +329,7 @@ impl<'a> ScaledModel<'a> {
         if let Some(pm) = &beam.point_mass {
             let mu = pm.mass_kg / (rho_a * l);
             let nv = mesh.shape_vector(pm.x_nm / beam.length_nm);
-            let nz: Vec<usize> = (0..nv.len()).filter(|&i| nv[i] != 0.0).collect();
-            for &i in &nz {
-                for &j in &nz {
-                    if j <= i {
-                        m.add(i, j, mu * nv[i] * nv[j]);
-                    }
-                }
-            }
+            add_point_mass(&mut m, mu, &nv);
             point_mass = Some((mu, nv));
         }
         let spring = beam.support_rotational_stiffness_n_m_rad * l / ei;
@@ -247,6 +347,7 @@ impl<'a> ScaledModel<'a> {
             ivs: ivs_all.iter().copied().filter(|&(d, _)| d > 0.0).collect(),
             ivs_all,
             has_point_mass: beam.point_mass.is_some(),
+            point_mass_x: beam.point_mass.as_ref().map_or(0.0, |p| p.x_nm / beam.length_nm),
             omega_ref,
             compliance: l * l * l / ei,
             e_tilde,
@@ -255,6 +356,15 @@ impl<'a> ScaledModel<'a> {
 
     pub fn n(&self) -> usize {
         self.k.n
+    }
+
+    /// The parameters of this model's undamped relaxed pencil.
+    pub fn pencil_params(&self) -> PencilParams {
+        PencilParams {
+            e_tilde: self.e_tilde,
+            point_mass: self.point_mass.as_ref().map(|(mu, _)| (*mu, self.point_mass_x)),
+            spring: if self.has_spring() { self.spring } else { 0.0 },
+        }
     }
 
     pub fn has_spring(&self) -> bool {
