@@ -4,7 +4,6 @@
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use nanobeam::calibration::MeasuredData;
 use nanobeam::diagnose::{diagnose, synthetic, DiagnoseSettings, ModelClass};
 
 fn label(c: Option<ModelClass>) -> &'static str {
@@ -55,13 +54,4 @@ fn hidden_effects_are_named_and_clean_data_raise_no_alarm() {
     // ≥ 95 % of the effect cases named correctly, no false alarm.
     assert!(correct * 100 >= 95 * total, "only {correct}/{total} causes right");
     assert_eq!(false_alarms, 0);
-}
-
-#[test]
-fn paper_case3_is_extra_relaxation() {
-    let data = MeasuredData::from_file(synthetic::paper_case3()).unwrap();
-    let d = diagnose(&data, &DiagnoseSettings::quick()).unwrap();
-    println!("Case 3: cause {} lnB {:.1}, baseline-β lnB {:.1}", d.cause, d.gain.log_bayes_factor, d.baseline.log_bayes_factor);
-    assert!(d.misfit_detected);
-    assert_eq!(d.cause, "extra-relaxation");
 }

@@ -65,6 +65,11 @@ pub struct TmcmcConfig {
     pub target_acceptance: f64,
     /// Safety stop: error if p has not reached 1 after this many stages.
     pub max_stages: usize,
+    /// When set, the number of MH steps of the next stage adapts to the last
+    /// acceptance rate a (Betz, Papaioannou & Straub 2016): the smallest L with
+    /// (1 − a)^L ≤ 0.01 (a sample stays put with probability ≤ 1 %), clamped
+    /// to [`mh_steps`, `max_mh_steps`]. `None`: always `mh_steps`.
+    pub max_mh_steps: Option<usize>,
     /// Seed of all random streams.
     pub seed: u64,
 }
@@ -79,6 +84,7 @@ impl Default for TmcmcConfig {
             adapt_beta: true,
             target_acceptance: 0.25,
             max_stages: 200,
+            max_mh_steps: None,
             seed: 0,
         }
     }
@@ -92,6 +98,11 @@ impl TmcmcConfig {
         }
         if self.mh_steps < 1 {
             return Err(InputError::new("tmcmc.mh_steps", self.mh_steps, ">= 1"));
+        }
+        if let Some(max) = self.max_mh_steps {
+            if max < self.mh_steps {
+                return Err(InputError::new("tmcmc.max_mh_steps", max, format!(">= mh_steps = {}", self.mh_steps)));
+            }
         }
         if self.max_stages < 1 {
             return Err(InputError::new("tmcmc.max_stages", self.max_stages, ">= 1"));
@@ -210,6 +221,7 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
     let mut se2 = 0.0;
     let mut beta = config.beta;
 
+    let mut steps = config.mh_steps;
     let mut stage = 0usize;
     while p < 1.0 {
         if stage >= config.max_stages {
@@ -255,7 +267,6 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
             .collect();
 
         // MH moves, in parallel, one stream per sample.
-        let steps = config.mh_steps;
         let moved: Vec<(Vec<f64>, f64, f64, usize)> = idx
             .par_iter()
             .enumerate()
@@ -306,6 +317,10 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
         betas.push(beta);
         if config.adapt_beta {
             beta *= (rate - config.target_acceptance).exp();
+        }
+        if let Some(max) = config.max_mh_steps {
+            let wanted = if rate > 0.0 && rate < 1.0 { (0.01f64.ln() / (1.0 - rate).ln()).ceil() as usize } else { config.mh_steps };
+            steps = wanted.clamp(config.mh_steps, max);
         }
         p = p_next;
         stages.push(p);

@@ -29,6 +29,8 @@
 //! (families 1..m, m the smallest count that yields the requested number of
 //! pairs; m = n_modes unless a family is overdamped).
 
+use std::collections::HashMap;
+
 use num_complex::Complex64;
 use serde::{Deserialize, Serialize};
 
@@ -97,9 +99,11 @@ pub enum SolverPath {
     StateSpaceFallback,
 }
 
-/// Grid start pencils kept (most recent last). A calibration visits a few
-/// cells; 16 covers a chain's neighbourhood at a negligible search cost.
-const GRID_CACHE: usize = 16;
+/// Grid start pencils kept per solver (≈ 6 kB each for 6 modes of a
+/// 20-element mesh). A calibration chain visits a few cells; a TMCMC run of
+/// a 3-parameter pencil class (point mass: ẽ, μ̃, x̃) visits thousands while
+/// its population still spreads over the prior, then settles in a few.
+const GRID_CACHE: usize = 1024;
 
 /// Eigenpair caches of one mesh (see [`ModalSolver`]).
 #[derive(Debug, Default, Clone)]
@@ -107,7 +111,8 @@ struct EigenCache {
     work: Vec<Dual<f64>>,
     ldl: ShiftedLdl,
     exact: Option<([u64; 4], Vec<EigenPair>)>,
-    grid: Vec<(PencilParams, Vec<GridVector>)>,
+    /// Grid pencil eigenvectors keyed by [`PencilParams::bits`] of the grid point.
+    grid: HashMap<[u64; 4], Vec<GridVector>>,
     /// How the last [`EigenCache::lowest`] call got its answer (for tests).
     last_method: Option<EigenMethod>,
 }
@@ -181,12 +186,10 @@ impl EigenCache {
         // and a different count must give what a fresh solve would.
         if !matches!(&self.exact, Some((kk, p)) if *kk == key && p.len() == count) {
             let rq = |x: &[f64]| mesh.pencil_stiffness(params.spring, x);
-            let refined = self
+            let starts: Option<Vec<RqiStart>> = self
                 .grid_starts(mesh, params.snapped(), count)
-                .and_then(|i| {
-                    let starts = self.grid[i].1[..count].iter().map(|g| g.start(params, point_mass)).collect();
-                    refine_eigenpairs(k, m, starts, &rq, &mut self.ldl)
-                });
+                .map(|grid| grid.iter().map(|g| g.start(params, point_mass)).collect());
+            let refined = starts.and_then(|starts| refine_eigenpairs(k, m, starts, &rq, &mut self.ldl));
             let pairs = match refined {
                 Some(p) => {
                     self.last_method = Some(EigenMethod::Refined);
@@ -204,21 +207,23 @@ impl EigenCache {
         Ok(&self.exact.as_ref().expect("just set").1)
     }
 
-    /// Index of the grid pencil `g` with at least `count` eigenpairs, computed
-    /// from scratch on a miss (the first `count` of a longer list are the same
-    /// numbers: Newton–Maehly finds them in order); `None` if that fails.
-    fn grid_starts(&mut self, mesh: &UnitMesh, g: PencilParams, count: usize) -> Option<usize> {
-        if let Some(i) = self.grid.iter().position(|(p, e)| *p == g && e.len() >= count) {
-            return Some(i);
+    /// The eigenvectors of the grid pencil `g`, at least `count` of them,
+    /// computed from scratch on a miss (the first `count` of a longer list are
+    /// the same numbers: Newton–Maehly finds them in order); `None` if that fails.
+    fn grid_starts(&mut self, mesh: &UnitMesh, g: PencilParams, count: usize) -> Option<&[GridVector]> {
+        let key = g.bits();
+        let hit = matches!(self.grid.get(&key), Some(e) if e.len() >= count);
+        if !hit {
+            let (kg, mg) = mesh.pencil(&g);
+            let pairs =
+                lowest_eigenpairs(&kg, &mg, count, &mut self.work, &|x| mesh.pencil_stiffness(g.spring, x)).ok()?;
+            if self.grid.len() >= GRID_CACHE {
+                // wholesale reset: the cache only changes speed, never results
+                self.grid.clear();
+            }
+            self.grid.insert(key, pairs.into_iter().map(|p| GridVector::new(mesh, p.vector)).collect());
         }
-        let (kg, mg) = mesh.pencil(&g);
-        let pairs = lowest_eigenpairs(&kg, &mg, count, &mut self.work, &|x| mesh.pencil_stiffness(g.spring, x)).ok()?;
-        self.grid.retain(|(p, _)| *p != g);
-        if self.grid.len() == GRID_CACHE {
-            self.grid.remove(0);
-        }
-        self.grid.push((g, pairs.into_iter().map(|p| GridVector::new(mesh, p.vector)).collect()));
-        Some(self.grid.len() - 1)
+        self.grid.get(&key).map(|e| &e[..count])
     }
 }
 

@@ -23,7 +23,6 @@ use crate::bayes::prior::Prior;
 use crate::beam::BeamSpec;
 use crate::calibration::{Parameter, ParameterSet, Target};
 
-use super::forward;
 
 /// A model class compared by its evidence.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -94,7 +93,7 @@ impl NominalScales {
         elastic.internal_variables.clear();
         elastic.support_rotational_stiffness_n_m_rad = 0.0;
         elastic.point_mass = None;
-        let modes = forward::predict(&elastic, max_mode)?;
+        let modes = super::posterior::predict(&elastic, max_mode)?;
         Ok(Self {
             omega_1_rad_s: modes[0].omega_rad_s,
             omega_max_rad_s: modes[max_mode - 1].omega_rad_s,

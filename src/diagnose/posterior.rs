@@ -14,7 +14,7 @@ use crate::beam::BeamSpec;
 use crate::calibration::{ModeObservation, Target};
 
 use super::classes::ClassParameters;
-use super::forward::{self, ModalPair};
+use crate::calibration::posterior::modal_cached;
 
 /// One scalar observable: mode r's ω or ζ.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -59,6 +59,22 @@ pub fn predicted(obs: &Observable, modes: &[ModalPair]) -> f64 {
     }
 }
 
+/// One mode's predicted modal pair, eqs. (34)–(35).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModalPair {
+    pub omega_rad_s: f64,
+    pub zeta: f64,
+}
+
+/// The first `n_modes` modal pairs of `beam` by `beam::modal` (the exact fast
+/// path, or RQI on T(s) when a spring or a damped point mass couples the
+/// modes), through this thread's reusable solver. `Err` when the model cannot
+/// produce them (overdamped mode, invalid parameters).
+pub fn predict(beam: &BeamSpec, n_modes: usize) -> Result<Vec<ModalPair>, String> {
+    let r = modal_cached(beam, n_modes).map_err(|e| e.to_string())?;
+    Ok(r.modes.iter().map(|m| ModalPair { omega_rad_s: m.omega_rad_s, zeta: m.zeta }).collect())
+}
+
 /// The posterior of a class given fitted observables.
 #[derive(Debug, Clone)]
 pub struct ClassPosterior {
@@ -93,7 +109,7 @@ impl ClassPosterior {
 
     /// Model predictions at u for modes 1..=n_modes.
     pub fn predict(&self, u: &[f64]) -> Result<Vec<ModalPair>, String> {
-        forward::predict(&self.beam_at(u), self.n_modes)
+        predict(&self.beam_at(u), self.n_modes)
     }
 
     /// Gaussian log likelihood of `fitted` given predictions and β².

@@ -21,8 +21,8 @@ use crate::calibration::measured::MeasuredFile;
 use crate::calibration::{MeasuredData, ModeObservation, ParameterSet, SamplerSpec};
 
 use super::classes::{class_parameters, ModelClass, NominalScales};
-use super::evidence::map_estimate;
-use super::forward::{predict, ModalPair};
+use super::posterior::{predict, ModalPair};
+use crate::bayes::map::map_estimate;
 use super::posterior::{observables, predicted, ClassPosterior};
 
 /// Minimum misfit, in measurement sds, the hidden effect must leave in the best base fit.
@@ -170,9 +170,9 @@ fn base_fit_max_z(y0: &[ModalPair], truth: &BeamSpec, n_modes: usize, s: &Nomina
         .iter()
         .take(3)
         .map(|(_, u)| map_estimate(&post, u, &sd, 600))
-        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .max_by(|a, b| a.log_posterior.total_cmp(&b.log_posterior))
         .expect("starts");
-    let Ok(fit) = post.predict(&best.0) else { return f64::INFINITY };
+    let Ok(fit) = post.predict(&best.theta) else { return f64::INFINITY };
     obs.iter().map(|o| ((o.value - predicted(o, &fit)) / o.sd).abs()).fold(0.0, f64::max)
 }
 
@@ -192,26 +192,4 @@ fn finish(seed: u64, truth: BeamSpec, y0: Vec<ModalPair>, effect: Option<ModelCl
         sampler: Some(SamplerSpec { seed, ..SamplerSpec::default() }),
     };
     SyntheticCase { file, truth: effect, truth_beam: truth, base_fit_max_z: z }
-}
-
-/// The paper's Case 3 (§4.3): data from an N̄ = 2 beam, 3 modes, 0.3 % / 3 %
-/// noise. Plausible values (the reproduction reconstructs the exact set):
-/// ω ≈ 2π·(133, 456, 848) GHz, ζ ≈ (0.095, 0.085, 0.089); sds from
-/// Σωω = diag(0.16, 1.87, 6.47) GHz², Σζζ = diag(8.12, 6.49, 7.11)·1e-6.
-pub fn paper_case3() -> MeasuredFile {
-    let two_pi = 2.0 * std::f64::consts::PI;
-    let f_ghz = [133.0, 456.0, 848.0];
-    let var_f: [f64; 3] = [0.16, 1.87, 6.47];
-    let zeta = [0.095, 0.085, 0.089];
-    let var_z: [f64; 3] = [8.12e-6, 6.49e-6, 7.11e-6];
-    let modes = (0..3)
-        .map(|r| ModeObservation {
-            mode: r + 1,
-            omega_rad_s: two_pi * f_ghz[r] * 1e9,
-            omega_sd_rad_s: two_pi * var_f[r].sqrt() * 1e9,
-            zeta: zeta[r],
-            zeta_sd: var_z[r].sqrt(),
-        })
-        .collect();
-    MeasuredFile { beam: nominal_beam(), modes, held_out_modes: vec![], parameters: None, sampler: None }
 }

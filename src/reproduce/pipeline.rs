@@ -123,6 +123,10 @@ pub fn run(opts: &Options) -> Result<RunSummary, ReproduceError> {
     stage("case_3_evidence", t);
 
     let t = Instant::now();
+    let diagnosis = diagnosis_stage(&cases, &rec, opts.quick)?;
+    stage("case_3_diagnosis", t);
+
+    let t = Instant::now();
     let verdicts = audit(&published, &rec, &forward, &cases, &frf);
     stage("audit", t);
     timings.push(("total_before_writing".into(), t_all.elapsed().as_secs_f64()));
@@ -135,12 +139,14 @@ pub fn run(opts: &Options) -> Result<RunSummary, ReproduceError> {
         "cases": case_json,
         "figure_14": frf.json,
         "case_3_evidence": evidence,
+        "case_3_diagnosis": diagnosis,
         "audit": verdicts,
         "timings_s": timings.iter().map(|(k, v)| (k.clone(), json!(v))).collect::<serde_json::Map<_, _>>(),
     });
 
     let mut context = report_context(&rec, &forward, &cases, &frf, &verdicts, &timings, opts.quick);
     context["case_3_evidence"] = evidence.clone();
+    context["case_3_diagnosis"] = diagnosis.clone();
     let report = render_template(&templates, "report.md.tera", &context)?;
 
     write_dir_atomically(&opts.out, |dir: &Path| -> Result<(), ReproduceError> {
@@ -610,6 +616,39 @@ fn evidence_stage(cases: &[CaseOutcome], quick: bool) -> Value {
         }),
         _ => Value::Null,
     }
+}
+
+/// `nanobeam diagnose` on the Case-3 data (the same noisy observations the
+/// β-inflated calibration saw; base model = the paper's N = 1 beam with the
+/// Table-1 geometry): which cause it names and by how much.
+fn diagnosis_stage(cases: &[CaseOutcome], rec: &Reconstruction, quick: bool) -> Result<Value, ReproduceError> {
+    use crate::diagnose::{diagnose, DiagnoseSettings};
+    let Some(c) = cases.iter().find(|c| c.spec.id == "3") else { return Ok(Value::Null) };
+    let mut beam = rec.table_1.clone();
+    beam.diameter_nm = c.spec.inverse_diameter_nm;
+    beam.internal_variables = vec![];
+    let file = crate::calibration::measured::MeasuredFile {
+        beam,
+        modes: c.observations.clone(),
+        held_out_modes: vec![],
+        parameters: None,
+        sampler: None,
+    };
+    let data = crate::calibration::measured::MeasuredData::from_file(file)
+        .map_err(|e| ReproduceError::Failure(format!("case 3 as measured data: {e}")))?;
+    let settings = DiagnoseSettings { seed: Some(c.spec.seed), ..if quick { DiagnoseSettings::quick() } else { DiagnoseSettings::default() } };
+    let d = diagnose(&data, &settings).map_err(|e| ReproduceError::Failure(format!("case 3 diagnosis: {e}")))?;
+    let probability = |name: &str| d.candidates.iter().find(|k| k.extension == name).map(|k| k.probability);
+    Ok(json!({
+        "misfit_detected": d.misfit_detected,
+        "cause": d.cause,
+        "log_bayes_factor": d.gain.log_bayes_factor,
+        "baseline_beta_log_bayes_factor": d.baseline.log_bayes_factor,
+        "cause_probability": probability(&d.cause),
+        "rms_z_before": d.gain.rms_z_before,
+        "rms_z_after": d.gain.rms_z_after,
+        "candidates": d.candidates.iter().map(|k| json!({"extension": k.extension, "log_bayes_factor": k.log_bayes_factor, "probability": k.probability})).collect::<Vec<_>>(),
+    }))
 }
 
 // ---------------------------------------------------------------------------

@@ -136,7 +136,12 @@ fn fit(
     };
     let post = BeamPosterior::from_parts(base, &weighted, params.clone());
     let scales: Vec<f64> = params.params.iter().map(|p| p.proposal_sd).collect();
-    let optima = multi_start_optimum(&post, &scales, points, 8, seed);
+    let mut optima = multi_start_optimum(&post, &scales, points, 8, seed);
+    for m in &mut optima {
+        // before the distinctness test below: a label-switched copy of the
+        // best optimum is the same optimum
+        canonical_internal_order(&params.names(), &mut m.theta);
+    }
     let best = optima.first().expect("at least one feasible start").clone();
     let chi2_of = |lp: f64, theta: &[f64]| -2.0 * (lp - post.log_prior(theta)) - norm_const(post.sd());
     let runner_up_chi2 = optima
@@ -178,6 +183,20 @@ fn fit(
     // χ² always in the paper's σ units, whatever the weighting of the search.
     let chi2 = values.iter().map(|v| v.residual_sigma * v.residual_sigma).sum();
     (beam, Fit { parameters, values, chi2, runner_up_chi2, weighting })
+}
+
+/// The two internal variables of an N̄ = 2 fit are exchangeable (the model
+/// depends on the set {(Δ₁, Ω₁), (Δ₂, Ω₂)}), so which label the optimizer
+/// lands on is an accident of its path. Reports use one order: the faster
+/// relaxation (larger Ω) first.
+fn canonical_internal_order(names: &[String], theta: &mut [f64]) {
+    let at = |n: &str| names.iter().position(|m| m == n);
+    if let (Some(d1), Some(o1), Some(d2), Some(o2)) = (at("delta"), at("omega_rad_s"), at("delta_2"), at("omega_2_rad_s")) {
+        if theta[o2] > theta[o1] {
+            theta.swap(o1, o2);
+            theta.swap(d1, d2);
+        }
+    }
 }
 
 /// Σ ln(2π σ²) of the Gaussian normalising constant, to turn −2 log L into χ².
