@@ -1,7 +1,9 @@
 //! One forward evaluation (20 elements, 3 modes): fast exact path (b), the
 //! general path (c) with a support spring, and the state-space reference (a),
 //! for N = 1 and N = 2 internal variables. `cold` builds a fresh solver every
-//! call (mesh integrals, grid start pencil, everything); `chain` reuses a
+//! call (mesh integrals, grid start pencil, everything: the first call of a
+//! process); `modal_repeat` calls the free `modal` (per-thread solver) on
+//! the same beam; `chain` reuses a
 //! `ModalSolver` along a random walk of every parameter including e0a, with
 //! steps the size of a calibration's proposals (1 % of e0a, so the pencil
 //! eigenpairs are new every call: RQI from the cached grid pencil); `warm`
@@ -32,7 +34,8 @@ fn beam(n_iv: usize) -> BeamSpec {
 fn bench(c: &mut Criterion) {
     for n_iv in [1, 2] {
         let b = beam(n_iv);
-        c.bench_function(&format!("fast_cold_N{n_iv}"), |bch| bch.iter(|| modal(black_box(&b), 3).unwrap()));
+        c.bench_function(&format!("fast_cold_N{n_iv}"), |bch| bch.iter(|| ModalSolver::new().modal(black_box(&b), 3).unwrap()));
+        c.bench_function(&format!("modal_repeat_N{n_iv}"), |bch| bch.iter(|| modal(black_box(&b), 3).unwrap()));
         let mut solver = ModalSolver::new();
         let mut walk = b.clone();
         let mut state = 0x2545_f491_4f6c_dd1du64;
@@ -85,7 +88,7 @@ fn bench(c: &mut Criterion) {
                 solver.modal(black_box(&walk), 3).unwrap()
             })
         });
-        c.bench_function(&format!("general_spring_N{n_iv}"), |bch| bch.iter(|| modal(black_box(&bs), 3).unwrap()));
+        c.bench_function(&format!("general_spring_N{n_iv}"), |bch| bch.iter(|| ModalSolver::new().modal(black_box(&bs), 3).unwrap()));
         c.bench_function(&format!("state_space_N{n_iv}"), |bch| bch.iter(|| modal_state_space(black_box(&b), 3).unwrap()));
     }
 }

@@ -265,9 +265,22 @@ impl ModalSolver {
     }
 }
 
-/// Modal parameters by the fastest exact path (see [`ModalSolver`]).
+thread_local! {
+    /// One reusable solver per thread for [`modal`]: its caches (mesh
+    /// integrals, pencil eigenpairs) change how fast a result comes, never its
+    /// bits, so sharing it across calls and chains of a thread keeps outputs
+    /// independent of the thread schedule.
+    static THREAD_SOLVER: std::cell::RefCell<ModalSolver> = std::cell::RefCell::new(ModalSolver::new());
+}
+
+/// Modal parameters by the fastest exact path (see [`ModalSolver`]), through
+/// this thread's reusable solver (a fresh one if that is busy, e.g. on a
+/// re-entrant call).
 pub fn modal(beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
-    ModalSolver::new().modal(beam, n_modes)
+    THREAD_SOLVER.with(|s| match s.try_borrow_mut() {
+        Ok(mut solver) => solver.modal(beam, n_modes),
+        Err(_) => ModalSolver::new().modal(beam, n_modes),
+    })
 }
 
 /// Modal parameters from the eigenvalues of the state matrix (A15) (reference).

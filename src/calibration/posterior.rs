@@ -79,22 +79,9 @@ impl BeamPosterior {
     }
 }
 
-thread_local! {
-    /// One reusable modal solver per worker thread: it caches the mesh
-    /// integrals and pencil eigenpairs, and its results are a function of the
-    /// call's input alone (see `beam::ModalSolver`), so they are identical
-    /// with or without the cache, whatever the thread schedule.
-    static SOLVER: std::cell::RefCell<beam::ModalSolver> = std::cell::RefCell::new(beam::ModalSolver::new());
-}
-
-/// `beam::modal` through this thread's reusable solver.
-pub fn modal_cached(beam: &BeamSpec, n_modes: usize) -> Result<beam::ModalResult, beam::BeamError> {
-    SOLVER.with(|s| s.borrow_mut().modal(beam, n_modes))
-}
-
 /// [ω…, ζ…] for the given 1-based modes of `beam`.
 pub fn predict_modes(beam: &BeamSpec, modes: &[usize], n_modes: usize) -> Option<Vec<f64>> {
-    let result = modal_cached(beam, n_modes).ok()?;
+    let result = beam::modal(beam, n_modes).ok()?;
     let mut y = vec![0.0; 2 * modes.len()];
     for (k, &m) in modes.iter().enumerate() {
         let mode = result.modes.get(m - 1)?;

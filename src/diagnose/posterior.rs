@@ -14,7 +14,6 @@ use crate::beam::BeamSpec;
 use crate::calibration::{ModeObservation, Target};
 
 use super::classes::ClassParameters;
-use crate::calibration::posterior::modal_cached;
 
 /// One scalar observable: mode r's ω or ζ.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -71,7 +70,7 @@ pub struct ModalPair {
 /// modes), through this thread's reusable solver. `Err` when the model cannot
 /// produce them (overdamped mode, invalid parameters).
 pub fn predict(beam: &BeamSpec, n_modes: usize) -> Result<Vec<ModalPair>, String> {
-    let r = modal_cached(beam, n_modes).map_err(|e| e.to_string())?;
+    let r = crate::beam::modal(beam, n_modes).map_err(|e| e.to_string())?;
     Ok(r.modes.iter().map(|m| ModalPair { omega_rad_s: m.omega_rad_s, zeta: m.zeta }).collect())
 }
 
