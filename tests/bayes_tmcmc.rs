@@ -262,19 +262,11 @@ fn mean_sd(v: &[f64]) -> (f64, f64) {
 const SEEDS: u64 = 20;
 
 fn runs(post: &dyn Posterior, n: usize) -> Vec<TmcmcResult> {
-    (0..SEEDS)
-        .map(|seed| {
-            tmcmc(
-                post,
-                &TmcmcConfig {
-                    n_samples: n,
-                    seed,
-                    ..Default::default()
-                },
-            )
-            .unwrap()
-        })
-        .collect()
+    runs_with(post, &TmcmcConfig { n_samples: n, ..Default::default() })
+}
+
+fn runs_with(post: &dyn Posterior, config: &TmcmcConfig) -> Vec<TmcmcResult> {
+    (0..SEEDS).map(|seed| tmcmc(post, &TmcmcConfig { seed, ..config.clone() }).unwrap()).collect()
 }
 
 /// The seed average of `values` is within 4·s/√K of `exact` and each value within 5·s (module docs).
@@ -295,7 +287,12 @@ fn assert_unbiased(what: &str, values: &[f64], exact: f64) {
 }
 
 fn check_gaussian(name: &str, g: &dyn Posterior, exact_log_z: f64, mean: &[f64], var: &[f64]) {
-    let rs = runs(g, 1000);
+    check_gaussian_with(name, g, exact_log_z, mean, var, &TmcmcConfig { n_samples: 1000, ..Default::default() });
+}
+
+fn check_gaussian_with(name: &str, g: &dyn Posterior, exact_log_z: f64, mean: &[f64], var: &[f64], config: &TmcmcConfig) {
+    assert_eq!(config.n_samples, 1000, "the moment checks below divide by 1000");
+    let rs = runs_with(g, config);
     let r0 = &rs[0];
     eprintln!(
         "{name}: stages {:?}\n  acceptance {:?}\n  se (delta) {}",
@@ -347,6 +344,24 @@ fn tmcmc_conjugate_gaussian_3d_evidence_and_moments() {
     let (mu, cov) = g.posterior_mean_cov();
     let var: Vec<f64> = (0..3).map(|i| cov[(i, i)]).collect();
     check_gaussian("3-D", &g, g.exact_log_evidence(), mu.as_slice(), &var);
+}
+
+/// The settings `diagnose` uses: Gelman–Roberts–Gilks scale 2.38/√d steered
+/// to 0.234 acceptance, chain length adapted per stage up to 5× the base.
+#[test]
+fn tmcmc_adaptive_chain_length_stays_unbiased() {
+    let g = gaussian_3d();
+    let (mu, cov) = g.posterior_mean_cov();
+    let var: Vec<f64> = (0..3).map(|i| cov[(i, i)]).collect();
+    let config = TmcmcConfig {
+        n_samples: 1000,
+        mh_steps: 2,
+        max_mh_steps: Some(10),
+        beta: 2.38 / 3f64.sqrt(),
+        target_acceptance: 0.234,
+        ..Default::default()
+    };
+    check_gaussian_with("3-D adaptive length", &g, g.exact_log_evidence(), mu.as_slice(), &var, &config);
 }
 
 #[test]
@@ -473,6 +488,10 @@ fn tmcmc_rejects_bad_config() {
         },
     ) {
         Err(TmcmcError::Config(e)) => assert_eq!(e.field, "tmcmc.beta"),
+        other => panic!("expected config error, got {other:?}"),
+    }
+    match tmcmc(&g, &TmcmcConfig { mh_steps: 4, max_mh_steps: Some(3), ..Default::default() }) {
+        Err(TmcmcError::Config(e)) => assert_eq!(e.field, "tmcmc.max_mh_steps"),
         other => panic!("expected config error, got {other:?}"),
     }
 }
