@@ -31,6 +31,13 @@ fn beam(n_iv: usize) -> BeamSpec {
     }
 }
 
+/// One step of a reflecting random walk around `nominal`: ±1 % (u ∈ [−½, ½]),
+/// refused beyond ±20 % of the nominal value.
+fn step(x: f64, nominal: f64, u: f64) -> f64 {
+    let y = x * (1.0 + 0.02 * u);
+    if (y / nominal - 1.0).abs() > 0.2 { x } else { y }
+}
+
 fn bench(c: &mut Criterion) {
     for n_iv in [1, 2] {
         let b = beam(n_iv);
@@ -48,11 +55,6 @@ fn bench(c: &mut Criterion) {
         };
         c.bench_function(&format!("fast_chain_N{n_iv}"), |bch| {
             bch.iter(|| {
-                // reflecting random walk around the nominal beam, 1 % steps
-                let step = |x: f64, nominal: f64, u: f64| {
-                    let y = x * (1.0 + 0.02 * u);
-                    if (y / nominal - 1.0).abs() > 0.2 { x } else { y }
-                };
                 walk.nonlocal_e0a_nm = step(walk.nonlocal_e0a_nm, b.nonlocal_e0a_nm, uniform());
                 walk.youngs_modulus_pa = step(walk.youngs_modulus_pa, b.youngs_modulus_pa, uniform());
                 for (iv, iv0) in walk.internal_variables.iter_mut().zip(&b.internal_variables) {
@@ -77,10 +79,6 @@ fn bench(c: &mut Criterion) {
         let mut walk = bs.clone();
         c.bench_function(&format!("general_spring_chain_N{n_iv}"), |bch| {
             bch.iter(|| {
-                let step = |x: f64, nominal: f64, u: f64| {
-                    let y = x * (1.0 + 0.02 * u);
-                    if (y / nominal - 1.0).abs() > 0.2 { x } else { y }
-                };
                 walk.nonlocal_e0a_nm = step(walk.nonlocal_e0a_nm, bs.nonlocal_e0a_nm, uniform());
                 walk.support_rotational_stiffness_n_m_rad =
                     step(walk.support_rotational_stiffness_n_m_rad, bs.support_rotational_stiffness_n_m_rad, uniform());

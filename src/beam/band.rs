@@ -458,17 +458,23 @@ mod tests {
         assert!(r.norm() < 1e-12, "residual {}", r.norm());
     }
 
+    /// A small SPD tridiagonal "mass": diagonal 1 + 0.1 i, off-diagonal 0.05.
+    fn test_mass(n: usize) -> SymBand {
+        let mut m = SymBand::zeros(n);
+        for i in 0..n {
+            m.add(i, i, 1.0 + 0.1 * i as f64);
+            if i > 0 {
+                m.add(i, i - 1, 0.05);
+            }
+        }
+        m
+    }
+
     #[test]
     fn shifted_ldl_solves_counts_and_multiplies_like_dense() {
         for n in [2, 4, 13] {
             let k = random_band(n, 5);
-            let mut m = SymBand::zeros(n);
-            for i in 0..n {
-                m.add(i, i, 1.0 + 0.1 * i as f64);
-                if i > 0 {
-                    m.add(i, i - 1, 0.05);
-                }
-            }
+            let m = test_mass(n);
             let x: Vec<f64> = (0..n).map(|i| (i as f64 + 0.5).sin()).collect();
             let dense_mx = m.to_dense() * nalgebra::DVector::from_column_slice(&x);
             let mut mx = Vec::new();
@@ -496,13 +502,7 @@ mod tests {
     fn inertia_and_log_det_derivative() {
         let n = 9;
         let k = random_band(n, 11);
-        let mut m = SymBand::zeros(n);
-        for i in 0..n {
-            m.add(i, i, 1.0 + 0.1 * i as f64);
-            if i > 0 {
-                m.add(i, i - 1, 0.05);
-            }
-        }
+        let m = test_mass(n);
         let sigma = 0.7;
         let mut w = Vec::new();
         let (neg, dlog) = k.ldl_inertia(&m, sigma, &mut w).unwrap();
