@@ -137,10 +137,11 @@ fn fit(
     let post = BeamPosterior::from_parts(base, &weighted, params.clone());
     let scales: Vec<f64> = params.params.iter().map(|p| p.proposal_sd).collect();
     let mut optima = multi_start_optimum(&post, &scales, points, 8, seed);
+    let names = params.names();
     for m in &mut optima {
         // before the distinctness test below: a label-switched copy of the
         // best optimum is the same optimum
-        canonical_internal_order(&params.names(), &mut m.theta);
+        canonical_internal_order(&names, &mut m.theta);
     }
     let best = optima.first().expect("at least one feasible start").clone();
     let chi2_of = |lp: f64, theta: &[f64]| -2.0 * (lp - post.log_prior(theta)) - norm_const(post.sd());
@@ -179,7 +180,7 @@ fn fit(
         });
     }
     let beam = post.beam_at(&best.theta);
-    let parameters = params.names().into_iter().zip(best.theta.iter().copied()).collect();
+    let parameters = names.into_iter().zip(best.theta.iter().copied()).collect();
     // χ² always in the paper's σ units, whatever the weighting of the search.
     let chi2 = values.iter().map(|v| v.residual_sigma * v.residual_sigma).sum();
     (beam, Fit { parameters, values, chi2, runner_up_chi2, weighting })
