@@ -23,8 +23,10 @@ fn beam(n_iv: usize) -> BeamSpec {
         elements: 20,
         nonlocal_e0a_nm: 0.5,
         viscous_damping_n_s_m2: 1e-5,
-        internal_variables: [InternalVariable { delta: 0.1, omega_rad_s: 1e11 }, InternalVariable { delta: 0.05, omega_rad_s: 3e12 }]
-            [..n_iv]
+        internal_variables: [
+            InternalVariable { delta: 0.1, omega_rad_s: 1e11 },
+            InternalVariable { delta: 0.05, omega_rad_s: 3e12 },
+        ][..n_iv]
             .to_vec(),
         support_rotational_stiffness_n_m_rad: 0.0,
         point_mass: None,
@@ -35,13 +37,19 @@ fn beam(n_iv: usize) -> BeamSpec {
 /// refused beyond ±20 % of the nominal value.
 fn step(x: f64, nominal: f64, u: f64) -> f64 {
     let y = x * (1.0 + 0.02 * u);
-    if (y / nominal - 1.0).abs() > 0.2 { x } else { y }
+    if (y / nominal - 1.0).abs() > 0.2 {
+        x
+    } else {
+        y
+    }
 }
 
 fn bench(c: &mut Criterion) {
     for n_iv in [1, 2] {
         let b = beam(n_iv);
-        c.bench_function(&format!("fast_cold_N{n_iv}"), |bch| bch.iter(|| ModalSolver::new().modal(black_box(&b), 3).unwrap()));
+        c.bench_function(&format!("fast_cold_N{n_iv}"), |bch| {
+            bch.iter(|| ModalSolver::new().modal(black_box(&b), 3).unwrap())
+        });
         c.bench_function(&format!("modal_repeat_N{n_iv}"), |bch| bch.iter(|| modal(black_box(&b), 3).unwrap()));
         let mut solver = ModalSolver::new();
         let mut walk = b.clone();
@@ -86,8 +94,12 @@ fn bench(c: &mut Criterion) {
                 solver.modal(black_box(&walk), 3).unwrap()
             })
         });
-        c.bench_function(&format!("general_spring_N{n_iv}"), |bch| bch.iter(|| ModalSolver::new().modal(black_box(&bs), 3).unwrap()));
-        c.bench_function(&format!("state_space_N{n_iv}"), |bch| bch.iter(|| modal_state_space(black_box(&b), 3).unwrap()));
+        c.bench_function(&format!("general_spring_N{n_iv}"), |bch| {
+            bch.iter(|| ModalSolver::new().modal(black_box(&bs), 3).unwrap())
+        });
+        c.bench_function(&format!("state_space_N{n_iv}"), |bch| {
+            bch.iter(|| modal_state_space(black_box(&b), 3).unwrap())
+        });
     }
 }
 

@@ -36,7 +36,14 @@ fn bench_dram(c: &mut Criterion) {
     group.throughput(Throughput::Elements(steps as u64 - 1));
     group.sample_size(20);
     for (label, n0) in [("adaptive_from_4000", 4000), ("non_adaptive", steps)] {
-        let settings = DramSettings { draws: steps, burn_in: 0, nonadapt_n0: n0, adapt_start: n0, cov_skip: n0.min(3000), ..DramSettings::default() };
+        let settings = DramSettings {
+            draws: steps,
+            burn_in: 0,
+            nonadapt_n0: n0,
+            adapt_start: n0,
+            cov_skip: n0.min(3000),
+            ..DramSettings::default()
+        };
         group.bench_function(label, |b| {
             b.iter(|| run_chain(&Gaussian3, &settings, &[0.5, 0.5, 0.5], &[0.0; 3], &mut chain_rng(1, 0), None))
         });

@@ -5,8 +5,8 @@
 //! the sampling distribution of the estimators (comments beside each).
 
 use nanobeam::bayes::diagnostics::{
-    autocorrelation, classic_rhat, ess, ess_bulk, ess_tail, integrated_autocorrelation_time,
-    quantile_sorted, rank_normalize, rhat, split_chains,
+    autocorrelation, classic_rhat, ess, ess_bulk, ess_tail, integrated_autocorrelation_time, quantile_sorted,
+    rank_normalize, rhat, split_chains,
 };
 use nanobeam::bayes::summary::summarize;
 use rand::SeedableRng;
@@ -64,19 +64,8 @@ fn rank_normalisation_averages_ties() {
 
 #[test]
 fn split_drops_the_middle_draw_of_odd_chains() {
-    let s = split_chains(&[
-        vec![1.0, 2.0, 3.0, 4.0, 5.0],
-        vec![6.0, 7.0, 8.0, 9.0, 10.0],
-    ]);
-    assert_eq!(
-        s,
-        vec![
-            vec![1.0, 2.0],
-            vec![6.0, 7.0],
-            vec![4.0, 5.0],
-            vec![9.0, 10.0]
-        ]
-    );
+    let s = split_chains(&[vec![1.0, 2.0, 3.0, 4.0, 5.0], vec![6.0, 7.0, 8.0, 9.0, 10.0]]);
+    assert_eq!(s, vec![vec![1.0, 2.0], vec![6.0, 7.0], vec![4.0, 5.0], vec![9.0, 10.0]]);
 }
 
 /// R̂ of chains of length 2 from the definition: chain variance (ddof 1) of a
@@ -85,11 +74,7 @@ fn rhat_of_pairs(pairs: &[(f64, f64)]) -> f64 {
     let m = pairs.len() as f64;
     let means: Vec<f64> = pairs.iter().map(|(a, b)| (a + b) / 2.0).collect();
     let grand = means.iter().sum::<f64>() / m;
-    let w = pairs
-        .iter()
-        .map(|(a, b)| (a - b).powi(2) / 2.0)
-        .sum::<f64>()
-        / m;
+    let w = pairs.iter().map(|(a, b)| (a - b).powi(2) / 2.0).sum::<f64>() / m;
     let b = 2.0 * means.iter().map(|x| (x - grand).powi(2)).sum::<f64>() / (m - 1.0);
     ((b / w + 1.0) / 2.0).sqrt()
 }
@@ -99,27 +84,14 @@ fn rank_rhat_tiny_example_by_hand() {
     // Chains A = [1,2,3,4], B = [5,6,7,8]. Split: {1,2}, {5,6}, {3,4}, {7,8};
     // 8 distinct values → ranks = values, z_k = Φ⁻¹((k − 3/8)/8.25).
     let z = |r: f64| phi_inv((r - 0.375) / 8.25);
-    let bulk = rhat_of_pairs(&[
-        (z(1.0), z(2.0)),
-        (z(5.0), z(6.0)),
-        (z(3.0), z(4.0)),
-        (z(7.0), z(8.0)),
-    ]);
+    let bulk = rhat_of_pairs(&[(z(1.0), z(2.0)), (z(5.0), z(6.0)), (z(3.0), z(4.0)), (z(7.0), z(8.0))]);
     // Folded about the median 4.5: A → [3.5, 2.5, 1.5, 0.5], B → [0.5, 1.5, 2.5, 3.5].
     // Split: {3.5, 2.5}, {0.5, 1.5}, {1.5, 0.5}, {2.5, 3.5}; every value appears twice,
     // so average ranks are 0.5 → 1.5, 1.5 → 3.5, 2.5 → 5.5, 3.5 → 7.5.
-    let tail = rhat_of_pairs(&[
-        (z(7.5), z(5.5)),
-        (z(1.5), z(3.5)),
-        (z(3.5), z(1.5)),
-        (z(5.5), z(7.5)),
-    ]);
+    let tail = rhat_of_pairs(&[(z(7.5), z(5.5)), (z(1.5), z(3.5)), (z(3.5), z(1.5)), (z(5.5), z(7.5))]);
     let expected = bulk.max(tail);
     let got = rhat(&[vec![1.0, 2.0, 3.0, 4.0], vec![5.0, 6.0, 7.0, 8.0]]);
-    assert!(
-        (got - expected).abs() < 1e-12,
-        "{got} vs {expected} (bulk {bulk}, tail {tail})"
-    );
+    assert!((got - expected).abs() < 1e-12, "{got} vs {expected} (bulk {bulk}, tail {tail})");
     assert!(got > 2.0, "two non-overlapping chains: R̂ = {got}");
 }
 
@@ -128,9 +100,7 @@ fn ess_tiny_examples_by_hand() {
     // (1) Antithetic x = [1,−1,1,−1,1,−1,1,−1]: ĉ0 = 1, ĉ1 = −7/8; W = 8/7, var⁺ = 1,
     // ρ̂1 = 1 − (8/7 + 7/8) = −57/56; ρ̂0 + ρ̂1 < 0 so the Geyer loop never runs,
     // t_max = −1, τ̂ = −1 + ρ̂0 = 0 → capped at 1/log10(8): ESS = 8·log10(8).
-    let alt: Vec<f64> = (0..8)
-        .map(|i| if i % 2 == 0 { 1.0 } else { -1.0 })
-        .collect();
+    let alt: Vec<f64> = (0..8).map(|i| if i % 2 == 0 { 1.0 } else { -1.0 }).collect();
     assert!((ess(&[alt]) - 8.0 * 8f64.log10()).abs() < 1e-12);
 
     // (2) x = [0,0,0,0,1,1,1,1]: ĉ_t = (8 − 3t)/32 for t ≤ 4; W = 2/7, var⁺ = 1/4,
@@ -181,11 +151,7 @@ fn iid_normal_chains_converge() {
     let n = (n_draw / 2) as f64;
     let q = ChiSquared::new(7.0).unwrap().inverse_cdf(1.0 - 1e-6) / 7.0;
     let r = rhat(&chains);
-    eprintln!(
-        "iid: R̂ = {r}, band [{}, {}]",
-        ((n - 1.0) / n).sqrt(),
-        ((n - 1.0 + q) / n).sqrt()
-    );
+    eprintln!("iid: R̂ = {r}, band [{}, {}]", ((n - 1.0) / n).sqrt(), ((n - 1.0 + q) / n).sqrt());
     assert!(r >= ((n - 1.0) / n).sqrt() && r <= ((n - 1.0 + q) / n).sqrt());
     assert!(r < 1.01);
     // ESS: τ̂ − 1 = 2Σρ̂_t over the lags Geyer keeps. For iid draws each ρ̂_t has
@@ -193,16 +159,9 @@ fn iid_normal_chains_converge() {
     // K = 15 pairs are kept w.p. ≈ 2⁻¹⁵; with ≤ 2K + 1 = 31 lags, 4σ gives
     // |τ̂ − 1| ≤ 2·4·√31/√S = δ, and ESS/S ∈ [1/(1 + δ), 1/(1 − δ)].
     let delta = 8.0 * 31f64.sqrt() / s.sqrt();
-    for (what, e) in [
-        ("bulk", ess_bulk(&chains)),
-        ("tail", ess_tail(&chains)),
-        ("plain", ess(&chains)),
-    ] {
+    for (what, e) in [("bulk", ess_bulk(&chains)), ("tail", ess_tail(&chains)), ("plain", ess(&chains))] {
         eprintln!("iid: ESS {what} = {e} of {s} (band ±{delta:.3} in τ)");
-        assert!(
-            e >= s / (1.0 + delta) && e <= s / (1.0 - delta),
-            "{what} ESS {e}"
-        );
+        assert!(e >= s / (1.0 + delta) && e <= s / (1.0 - delta), "{what} ESS {e}");
     }
 }
 
@@ -221,12 +180,7 @@ fn ar1_ess_matches_theory() {
         let tol = 4.0 * (2.0 * (2.0 * window + 1.0) / s).sqrt();
         let expected = s / tau;
         let t0 = std::time::Instant::now();
-        let (plain, bulk, tail, r) = (
-            ess(&chains),
-            ess_bulk(&chains),
-            ess_tail(&chains),
-            rhat(&chains),
-        );
+        let (plain, bulk, tail, r) = (ess(&chains), ess_bulk(&chains), ess_tail(&chains), rhat(&chains));
         eprintln!(
             "AR(1) φ = {phi}: expected {expected:.0}, ess {plain:.0}, bulk {bulk:.0}, tail {tail:.0}, R̂ {r:.5} ({:?} for all four)",
             t0.elapsed()
@@ -235,10 +189,7 @@ fn ar1_ess_matches_theory() {
         // has the same target; tail ESS (indicator chains) has a different one and is
         // only checked below.
         for (what, e) in [("plain", plain), ("bulk", bulk)] {
-            assert!(
-                (e / expected - 1.0).abs() <= tol,
-                "φ = {phi}: {what} ESS {e} vs {expected} (tol {tol})"
-            );
+            assert!((e / expected - 1.0).abs() <= tol, "φ = {phi}: {what} ESS {e} vs {expected} (tol {tol})");
         }
         // The indicator of a Gaussian AR(1) chain is at most as autocorrelated as
         // the chain: |corr(f(x_0), g(x_k))| ≤ |ρ_k| = |φ|^k (the maximal correlation
@@ -246,10 +197,7 @@ fn ar1_ess_matches_theory() {
         // (1 + |φ|)/(1 − |φ|) and its ESS at least S(1 − |φ|)/(1 + |φ|), up to the
         // same estimation tolerance.
         let tail_floor = s * (1.0 - phi.abs()) / (1.0 + phi.abs());
-        assert!(
-            tail >= tail_floor * (1.0 - tol),
-            "φ = {phi}: tail ESS {tail} vs floor {tail_floor}"
-        );
+        assert!(tail >= tail_floor * (1.0 - tol), "φ = {phi}: tail ESS {tail} vs floor {tail_floor}");
         assert!(r < 1.01, "stationary chains: R̂ {r}");
     }
 }
@@ -282,13 +230,8 @@ fn autocorrelation_of_ar1_follows_phi_power_k() {
     #[allow(clippy::needless_range_loop)] // k is the lag in the formula, not just an index
     for k in 1..=5 {
         let p2k = phi.powi(2 * k as i32);
-        let var =
-            ((1.0 + phi * phi) * (1.0 - p2k) / (1.0 - phi * phi) - 2.0 * k as f64 * p2k) / n as f64;
-        assert!(
-            (rho[k] - phi.powi(k as i32)).abs() <= 4.0 * var.sqrt(),
-            "lag {k}: {}",
-            rho[k]
-        );
+        let var = ((1.0 + phi * phi) * (1.0 - p2k) / (1.0 - phi * phi) - 2.0 * k as f64 * p2k) / n as f64;
+        assert!((rho[k] - phi.powi(k as i32)).abs() <= 4.0 * var.sqrt(), "lag {k}: {}", rho[k]);
     }
 }
 
@@ -352,10 +295,7 @@ fn summary_by_hand_and_json_keys() {
         .collect()
     };
     let chains = vec![draws(1..6), draws(6..11)];
-    let names: Vec<String> = ["a_nm", "b_nm", "c_nm2"]
-        .iter()
-        .map(|s| s.to_string())
-        .collect();
+    let names: Vec<String> = ["a_nm", "b_nm", "c_nm2"].iter().map(|s| s.to_string()).collect();
     let s = summarize(&names, &chains).with_map(&[5.0, -7.0, 25.0]);
     let a = &s.parameters[0];
     // mean 5.5; var(1..10, ddof 1) = 10·11/12 = 55/6; type-7 quantiles over
@@ -383,17 +323,9 @@ fn summary_by_hand_and_json_keys() {
     assert!(a.rhat > 1.5);
 
     let json = serde_json::to_value(&s.parameters[0]).unwrap();
-    let mut keys: Vec<&str> = json
-        .as_object()
-        .unwrap()
-        .keys()
-        .map(|k| k.as_str())
-        .collect();
+    let mut keys: Vec<&str> = json.as_object().unwrap().keys().map(|k| k.as_str()).collect();
     keys.sort();
-    assert_eq!(
-        keys,
-        ["ci95", "cov", "ess_bulk", "ess_tail", "map", "mean", "name", "rhat", "sd"]
-    );
+    assert_eq!(keys, ["ci95", "cov", "ess_bulk", "ess_tail", "map", "mean", "name", "rhat", "sd"]);
     assert_eq!(json["map"], 5.0);
     assert_eq!(json["ci95"].as_array().unwrap().len(), 2);
 }
@@ -408,12 +340,7 @@ fn summary_is_invariant_to_parameter_scale() {
     let mk = |scale: f64| -> Vec<Vec<Vec<f64>>> {
         base.iter()
             .zip(&other)
-            .map(|(c, o)| {
-                c.iter()
-                    .zip(o)
-                    .map(|(x, y)| vec![scale * (3.0 + x), 0.5 + 0.1 * (x + y)])
-                    .collect()
-            })
+            .map(|(c, o)| c.iter().zip(o).map(|(x, y)| vec![scale * (3.0 + x), 0.5 + 0.1 * (x + y)]).collect())
             .collect()
     };
     let names = vec!["omega_rad_s".to_string(), "delta".to_string()];
@@ -424,9 +351,7 @@ fn summary_is_invariant_to_parameter_scale() {
     assert!(rel(p2.mean, 1e12 * p1.mean) < 1e-14);
     assert!(rel(p2.sd, 1e12 * p1.sd) < 1e-12);
     assert!(rel(p2.cv, p1.cv) < 1e-12);
-    assert!(
-        rel(p2.ci95[0], 1e12 * p1.ci95[0]) < 1e-14 && rel(p2.ci95[1], 1e12 * p1.ci95[1]) < 1e-14
-    );
+    assert!(rel(p2.ci95[0], 1e12 * p1.ci95[0]) < 1e-14 && rel(p2.ci95[1], 1e12 * p1.ci95[1]) < 1e-14);
     assert!(rel(p2.rhat, p1.rhat) < 1e-12 && rel(p2.ess_bulk, p1.ess_bulk) < 1e-12);
     assert!(rel(p2.ess_tail, p1.ess_tail) < 1e-12);
     assert!((s2.correlation[0][1] - s1.correlation[0][1]).abs() < 1e-12);

@@ -219,7 +219,8 @@ fn flat_likelihood_returns_the_prior() {
 
 #[test]
 fn deterministic_for_any_thread_count_and_distinct_across_chains() {
-    let target = Target { lo: vec![-5.0; 2], hi: vec![5.0; 2], log_lik: |x: &[f64]| -0.5 * (x[0] * x[0] + x[1] * x[1]) };
+    let target =
+        Target { lo: vec![-5.0; 2], hi: vec![5.0; 2], log_lik: |x: &[f64]| -0.5 * (x[0] * x[0] + x[1] * x[1]) };
     let starts = vec![vec![0.0, 0.0]; 3];
     let s = DramSettings { draws: 6_000, burn_in: 1_000, ..DramSettings::default() };
     let run = |threads: usize| {

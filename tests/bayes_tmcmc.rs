@@ -30,15 +30,7 @@ use statrs::function::gamma::ln_gamma;
 use std::f64::consts::PI;
 
 fn log_det_spd(m: &DMatrix<f64>) -> f64 {
-    2.0 * m
-        .clone()
-        .cholesky()
-        .expect("SPD")
-        .l()
-        .diagonal()
-        .iter()
-        .map(|x| x.ln())
-        .sum::<f64>()
+    2.0 * m.clone().cholesky().expect("SPD").l().diagonal().iter().map(|x| x.ln()).sum::<f64>()
 }
 
 /// Gaussian prior × Gaussian likelihood kernel (module docs).
@@ -58,16 +50,7 @@ impl Gaussian {
         let s0_chol = s0.clone().cholesky().unwrap().l();
         let s0_inv = s0.clone().try_inverse().unwrap();
         let s0_logdet = log_det_spd(&s0);
-        Self {
-            m0: DVector::from_vec(m0),
-            s0,
-            s0_chol,
-            s0_inv,
-            s0_logdet,
-            a: DVector::from_vec(a),
-            prec,
-            c,
-        }
+        Self { m0: DVector::from_vec(m0), s0, s0_chol, s0_inv, s0_logdet, a: DVector::from_vec(a), prec, c }
     }
     fn d(&self) -> usize {
         self.m0.len()
@@ -117,11 +100,7 @@ struct Scaled<P> {
 
 impl<P: Posterior> Scaled<P> {
     fn to_u(&self, t: &[f64]) -> Vec<f64> {
-        t.iter()
-            .zip(&self.shift)
-            .zip(&self.scale)
-            .map(|((t, m), d)| (t - m) / d)
-            .collect()
+        t.iter().zip(&self.shift).zip(&self.scale).map(|((t, m), d)| (t - m) / d).collect()
     }
 }
 
@@ -137,11 +116,7 @@ impl<P: Posterior> Posterior for Scaled<P> {
     }
     fn sample_prior(&self, rng: &mut dyn RngCore) -> Vec<f64> {
         let u = self.inner.sample_prior(rng);
-        u.iter()
-            .zip(&self.shift)
-            .zip(&self.scale)
-            .map(|((u, m), d)| m + d * u)
-            .collect()
+        u.iter().zip(&self.shift).zip(&self.scale).map(|((u, m), d)| m + d * u).collect()
     }
 }
 
@@ -156,8 +131,7 @@ struct GammaKernel {
 impl GammaKernel {
     fn exact_log_evidence(&self) -> f64 {
         let g = Gamma::new(self.k + 1.0, self.b).unwrap();
-        -self.width.ln() + ln_gamma(self.k + 1.0) - (self.k + 1.0) * self.b.ln()
-            + g.cdf(self.width).ln()
+        -self.width.ln() + ln_gamma(self.k + 1.0) - (self.k + 1.0) * self.b.ln() + g.cdf(self.width).ln()
     }
 }
 
@@ -224,13 +198,7 @@ impl Posterior for TruncatedNormal {
 fn gaussian_1d() -> Gaussian {
     // Prior N(0, 1); likelihood width 0.01 centred at 1.5 (1.5 prior sd away):
     // posterior sd ≈ 0.01, so ~6 tempering stages are needed at CoV target 1.
-    Gaussian::new(
-        vec![0.0],
-        DMatrix::from_element(1, 1, 1.0),
-        vec![1.5],
-        DMatrix::from_element(1, 1, 1e4),
-        -3.0,
-    )
+    Gaussian::new(vec![0.0], DMatrix::from_element(1, 1, 1.0), vec![1.5], DMatrix::from_element(1, 1, 1e4), -3.0)
 }
 
 /// 3-D: prior N(m0, diag(1, 4, 0.25)); likelihood with correlated precision,
@@ -246,11 +214,7 @@ fn gaussian_3d() -> Gaussian {
 
 /// `gaussian_3d` in units of wildly different magnitude (Ω ~ 1e12, Δ ~ 0.5, 1e-3).
 fn gaussian_3d_badly_scaled() -> Scaled<Gaussian> {
-    Scaled {
-        inner: gaussian_3d(),
-        shift: vec![3e12, 0.5, 0.01],
-        scale: vec![1e12, 0.5, 1e-3],
-    }
+    Scaled { inner: gaussian_3d(), shift: vec![3e12, 0.5, 0.01], scale: vec![1e12, 0.5, 1e-3] }
 }
 
 fn mean_sd(v: &[f64]) -> (f64, f64) {
@@ -274,15 +238,9 @@ fn assert_unbiased(what: &str, values: &[f64], exact: f64) {
     let (m, s) = mean_sd(values);
     let k = values.len() as f64;
     eprintln!("{what}: exact {exact:.6e}, mean {m:.6e}, sd over seeds {s:.3e}");
-    assert!(
-        (m - exact).abs() <= 4.0 * s / k.sqrt(),
-        "{what}: mean {m} vs exact {exact} (sd {s})"
-    );
+    assert!((m - exact).abs() <= 4.0 * s / k.sqrt(), "{what}: mean {m} vs exact {exact} (sd {s})");
     for v in values {
-        assert!(
-            (v - exact).abs() <= 5.0 * s,
-            "{what}: run {v} vs exact {exact} (sd {s})"
-        );
+        assert!((v - exact).abs() <= 5.0 * s, "{what}: run {v} vs exact {exact} (sd {s})");
     }
 }
 
@@ -290,18 +248,19 @@ fn check_gaussian(name: &str, g: &dyn Posterior, exact_log_z: f64, mean: &[f64],
     check_gaussian_with(name, g, exact_log_z, mean, var, &TmcmcConfig { n_samples: 1000, ..Default::default() });
 }
 
-fn check_gaussian_with(name: &str, g: &dyn Posterior, exact_log_z: f64, mean: &[f64], var: &[f64], config: &TmcmcConfig) {
+fn check_gaussian_with(
+    name: &str,
+    g: &dyn Posterior,
+    exact_log_z: f64,
+    mean: &[f64],
+    var: &[f64],
+    config: &TmcmcConfig,
+) {
     assert_eq!(config.n_samples, 1000, "the moment checks below divide by 1000");
     let rs = runs_with(g, config);
     let r0 = &rs[0];
-    eprintln!(
-        "{name}: stages {:?}\n  acceptance {:?}\n  se (delta) {}",
-        r0.stages, r0.acceptance, r0.log_evidence_se
-    );
-    assert!(
-        r0.stages.len() >= 4,
-        "{name}: the likelihood is informative, several stages expected"
-    );
+    eprintln!("{name}: stages {:?}\n  acceptance {:?}\n  se (delta) {}", r0.stages, r0.acceptance, r0.log_evidence_se);
+    assert!(r0.stages.len() >= 4, "{name}: the likelihood is informative, several stages expected");
     assert_eq!(*r0.stages.last().unwrap(), 1.0);
     assert!(r0.stages.windows(2).all(|w| w[1] > w[0]));
     let logz: Vec<f64> = rs.iter().map(|r| r.log_evidence).collect();
@@ -311,16 +270,9 @@ fn check_gaussian_with(name: &str, g: &dyn Posterior, exact_log_z: f64, mean: &[
     // between 1/4 of and 2× the empirical sd (the sd over 20 seeds is itself
     // uncertain by ≈ 1/√38 ≈ 16 %, so 2× is a > 5σ margin on that side).
     let (_, s) = mean_sd(&logz);
-    assert!(
-        r0.log_evidence_se > 0.25 * s && r0.log_evidence_se < 2.0 * s,
-        "se {} vs sd {s}",
-        r0.log_evidence_se
-    );
+    assert!(r0.log_evidence_se > 0.25 * s && r0.log_evidence_se < 2.0 * s, "se {} vs sd {s}", r0.log_evidence_se);
     for (i, (&mu, &v)) in mean.iter().zip(var).enumerate() {
-        let means: Vec<f64> = rs
-            .iter()
-            .map(|r| r.samples.iter().map(|t| t[i]).sum::<f64>() / 1000.0)
-            .collect();
+        let means: Vec<f64> = rs.iter().map(|r| r.samples.iter().map(|t| t[i]).sum::<f64>() / 1000.0).collect();
         assert_unbiased(&format!("{name} posterior mean[{i}]"), &means, mu);
         let vars: Vec<f64> = rs
             .iter()
@@ -370,23 +322,13 @@ fn tmcmc_badly_scaled_coordinates() {
     let (mu_u, cov_u) = g.inner.posterior_mean_cov();
     let mean: Vec<f64> = (0..3).map(|i| g.shift[i] + g.scale[i] * mu_u[i]).collect();
     let var: Vec<f64> = (0..3).map(|i| g.scale[i].powi(2) * cov_u[(i, i)]).collect();
-    check_gaussian(
-        "3-D badly scaled",
-        &g,
-        g.inner.exact_log_evidence(),
-        &mean,
-        &var,
-    );
+    check_gaussian("3-D badly scaled", &g, g.inner.exact_log_evidence(), &mean, &var);
     // Scale invariance: the algorithm only sees the coordinates through affine-
     // invariant operations (weighted covariance → D·chol(R)), so the same seed on
     // the unscaled model gives the same log evidence up to round-off (≈ 1e-15
     // relative per operation; 1e-9 leaves room for ~1e4 operations, while a
     // single different MH decision would change log p̂ by ≫ 1e-9).
-    let cfg = TmcmcConfig {
-        n_samples: 500,
-        seed: 3,
-        ..Default::default()
-    };
+    let cfg = TmcmcConfig { n_samples: 500, seed: 3, ..Default::default() };
     let scaled = tmcmc(&g, &cfg).unwrap();
     let plain = tmcmc(&g.inner, &cfg).unwrap();
     assert_eq!(scaled.stages.len(), plain.stages.len());
@@ -401,34 +343,18 @@ fn tmcmc_badly_scaled_coordinates() {
 #[test]
 fn tmcmc_uniform_prior_with_truncation() {
     // Likelihood centred 1σ inside the lower bound: 16 % of its mass is cut off.
-    let m = TruncatedNormal {
-        a: 0.02,
-        sigma: 0.02,
-    };
+    let m = TruncatedNormal { a: 0.02, sigma: 0.02 };
     let rs = runs(&m, 1000);
     let logz: Vec<f64> = rs.iter().map(|r| r.log_evidence).collect();
-    assert_unbiased(
-        "truncated normal log evidence",
-        &logz,
-        m.exact_log_evidence(),
-    );
-    let means: Vec<f64> = rs
-        .iter()
-        .map(|r| r.samples.iter().map(|t| t[0]).sum::<f64>() / 1000.0)
-        .collect();
+    assert_unbiased("truncated normal log evidence", &logz, m.exact_log_evidence());
+    let means: Vec<f64> = rs.iter().map(|r| r.samples.iter().map(|t| t[0]).sum::<f64>() / 1000.0).collect();
     assert_unbiased("truncated normal posterior mean", &means, m.exact_mean());
-    assert!(rs
-        .iter()
-        .all(|r| r.samples.iter().all(|t| (0.0..=1.0).contains(&t[0]))));
+    assert!(rs.iter().all(|r| r.samples.iter().all(|t| (0.0..=1.0).contains(&t[0]))));
 }
 
 #[test]
 fn tmcmc_non_gaussian_gamma_kernel() {
-    let m = GammaKernel {
-        k: 5.0,
-        b: 2.0,
-        width: 10.0,
-    };
+    let m = GammaKernel { k: 5.0, b: 2.0, width: 10.0 };
     let rs = runs(&m, 1000);
     let logz: Vec<f64> = rs.iter().map(|r| r.log_evidence).collect();
     assert_unbiased("gamma kernel log evidence", &logz, m.exact_log_evidence());
@@ -437,56 +363,27 @@ fn tmcmc_non_gaussian_gamma_kernel() {
 #[test]
 fn tmcmc_is_identical_for_any_thread_count() {
     let g = gaussian_3d_badly_scaled();
-    let cfg = TmcmcConfig {
-        n_samples: 500,
-        seed: 7,
-        ..Default::default()
-    };
+    let cfg = TmcmcConfig { n_samples: 500, seed: 7, ..Default::default() };
     let run = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
         pool.install(|| serde_json::to_string(&tmcmc(&g, &cfg).unwrap()).unwrap())
     };
     let one = run(1);
     assert_eq!(one, run(3));
     assert_eq!(one, run(2));
     // A different seed changes the result (the seed is actually used).
-    let other = serde_json::to_string(
-        &tmcmc(
-            &g,
-            &TmcmcConfig {
-                seed: 8,
-                ..cfg.clone()
-            },
-        )
-        .unwrap(),
-    )
-    .unwrap();
+    let other = serde_json::to_string(&tmcmc(&g, &TmcmcConfig { seed: 8, ..cfg.clone() }).unwrap()).unwrap();
     assert_ne!(one, other);
 }
 
 #[test]
 fn tmcmc_rejects_bad_config() {
     let g = gaussian_1d();
-    match tmcmc(
-        &g,
-        &TmcmcConfig {
-            n_samples: 1,
-            ..Default::default()
-        },
-    ) {
+    match tmcmc(&g, &TmcmcConfig { n_samples: 1, ..Default::default() }) {
         Err(TmcmcError::Config(e)) => assert_eq!(e.field, "tmcmc.n_samples"),
         other => panic!("expected config error, got {other:?}"),
     }
-    match tmcmc(
-        &g,
-        &TmcmcConfig {
-            beta: -1.0,
-            ..Default::default()
-        },
-    ) {
+    match tmcmc(&g, &TmcmcConfig { beta: -1.0, ..Default::default() }) {
         Err(TmcmcError::Config(e)) => assert_eq!(e.field, "tmcmc.beta"),
         other => panic!("expected config error, got {other:?}"),
     }
@@ -535,10 +432,7 @@ fn laplace_badly_scaled_coordinates() {
     let scales: Vec<f64> = (0..3).map(|i| g.scale[i] * cov_u[(i, i)].sqrt()).collect();
     let lap = laplace_log_evidence(&g, &map, &scales).unwrap();
     let exact = g.inner.exact_log_evidence();
-    eprintln!(
-        "Laplace badly scaled: {} vs exact {exact}",
-        lap.log_evidence
-    );
+    eprintln!("Laplace badly scaled: {} vs exact {exact}", lap.log_evidence);
     // Same FD analysis as the unscaled model; θ* itself carries relative round-off
     // ε·|θ|/(h·s) ≈ 2.2e-16·3e12/(1e-4·2e10) ≈ 3e-10 in standardised units: negligible.
     assert!((lap.log_evidence - exact).abs() < LAPLACE_FD_TOL);
@@ -551,23 +445,12 @@ fn laplace_gamma_kernel_error_matches_stirling() {
     // 1/(12k) − 1/(360k³) < ln Γ(k+1) − [k ln k − k + ½ ln(2πk)] < 1/(12k), so
     // exact − Laplace − ln P(G ≤ w) lies in that interval (± FD error ≤ 1e-6:
     // |f| ≈ 3, h = 1e-4 → entry round-off 3e-7, truncation (h²/12)·f'''' ≈ 6e-10).
-    let m = GammaKernel {
-        k: 5.0,
-        b: 2.0,
-        width: 10.0,
-    };
+    let m = GammaKernel { k: 5.0, b: 2.0, width: 10.0 };
     let lap = laplace_log_evidence(&m, &[m.k / m.b], &[1.0]).unwrap();
     let g = Gamma::new(m.k + 1.0, m.b).unwrap();
     let gap = m.exact_log_evidence() - lap.log_evidence - g.cdf(m.width).ln();
-    let (hi, lo) = (
-        1.0 / (12.0 * m.k),
-        1.0 / (12.0 * m.k) - 1.0 / (360.0 * m.k.powi(3)),
-    );
-    eprintln!(
-        "Gamma kernel: Laplace {} exact {} gap {gap} in ({lo}, {hi})",
-        lap.log_evidence,
-        m.exact_log_evidence()
-    );
+    let (hi, lo) = (1.0 / (12.0 * m.k), 1.0 / (12.0 * m.k) - 1.0 / (360.0 * m.k.powi(3)));
+    eprintln!("Gamma kernel: Laplace {} exact {} gap {gap} in ({lo}, {hi})", lap.log_evidence, m.exact_log_evidence());
     assert!(gap > lo - 1e-6 && gap < hi + 1e-6);
 }
 
@@ -597,16 +480,7 @@ fn laplace_flags_non_positive_definite_hessian_and_boundary() {
         other => panic!("expected NotPositiveDefinite, got {other:?}"),
     }
     // MAP on the boundary of a uniform prior: a FD point falls outside the support.
-    let m = TruncatedNormal {
-        a: -0.5,
-        sigma: 0.1,
-    };
-    assert!(matches!(
-        laplace_log_evidence(&m, &[0.0], &[0.1]),
-        Err(LaplaceError::NonFinite { index: 0 })
-    ));
-    assert!(matches!(
-        laplace_log_evidence(&m, &[0.5], &[0.0]),
-        Err(LaplaceError::BadScale { index: 0, .. })
-    ));
+    let m = TruncatedNormal { a: -0.5, sigma: 0.1 };
+    assert!(matches!(laplace_log_evidence(&m, &[0.0], &[0.1]), Err(LaplaceError::NonFinite { index: 0 })));
+    assert!(matches!(laplace_log_evidence(&m, &[0.5], &[0.0]), Err(LaplaceError::BadScale { index: 0, .. })));
 }

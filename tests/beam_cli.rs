@@ -52,8 +52,20 @@ fn frf_json_has_the_documented_shape() {
     let dir = tempfile::tempdir().unwrap();
     let p = write(&dir, "b.yaml", GOOD);
     let out = run(&[
-        "frf", p.to_str().unwrap(), "--input-x-nm", "2", "--output-x-nm", "4", "--from-rad-s", "1e11", "--to-rad-s",
-        "1e13", "--points", "5", "--log", "--json",
+        "frf",
+        p.to_str().unwrap(),
+        "--input-x-nm",
+        "2",
+        "--output-x-nm",
+        "4",
+        "--from-rad-s",
+        "1e11",
+        "--to-rad-s",
+        "1e13",
+        "--points",
+        "5",
+        "--log",
+        "--json",
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
@@ -104,15 +116,35 @@ fn bad_input_exits_2_with_one_line() {
     // out-of-range position in frf
     let p = write(&dir, "ok.yaml", GOOD);
     let out = run(&[
-        "frf", p.to_str().unwrap(), "--input-x-nm", "9", "--output-x-nm", "4", "--from-rad-s", "1", "--to-rad-s", "2",
-        "--points", "2",
+        "frf",
+        p.to_str().unwrap(),
+        "--input-x-nm",
+        "9",
+        "--output-x-nm",
+        "4",
+        "--from-rad-s",
+        "1",
+        "--to-rad-s",
+        "2",
+        "--points",
+        "2",
     ]);
     let err = String::from_utf8(out.stderr).unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(err.starts_with("invalid input_x_nm = 9") && err.lines().count() == 1, "{err}");
     let out = run(&[
-        "frf", p.to_str().unwrap(), "--input-x-nm", "1", "--output-x-nm", "4", "--from-rad-s", "-1", "--to-rad-s", "2",
-        "--points", "2",
+        "frf",
+        p.to_str().unwrap(),
+        "--input-x-nm",
+        "1",
+        "--output-x-nm",
+        "4",
+        "--from-rad-s",
+        "-1",
+        "--to-rad-s",
+        "2",
+        "--points",
+        "2",
     ]);
     assert_eq!(out.status.code(), Some(2));
 }

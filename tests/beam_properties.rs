@@ -97,7 +97,10 @@ fn local_limit_matches_euler_bernoulli_with_h4_convergence() {
                     let exact = bl * bl * omega_ref(&b);
                     let rel = w[n - 1] / exact - 1.0;
                     let bound = (bl / ne as f64).powi(4) / 720.0;
-                    assert!(rel > -1e-12 && rel < bound, "{support:?} ne={ne} mode {n}: rel err {rel:e} bound {bound:e}");
+                    assert!(
+                        rel > -1e-12 && rel < bound,
+                        "{support:?} ne={ne} mode {n}: rel err {rel:e} bound {bound:e}"
+                    );
                     rel
                 })
                 .collect();
@@ -106,7 +109,13 @@ fn local_limit_matches_euler_bernoulli_with_h4_convergence() {
         for n in 0..3 {
             for k in 0..2 {
                 let p = (errs[k][n] / errs[k + 1][n]).log2();
-                assert!((3.5..=4.5).contains(&p), "{support:?} mode {} order {p} ({:e} -> {:e})", n + 1, errs[k][n], errs[k + 1][n]);
+                assert!(
+                    (3.5..=4.5).contains(&p),
+                    "{support:?} mode {} order {p} ({:e} -> {:e})",
+                    n + 1,
+                    errs[k][n],
+                    errs[k + 1][n]
+                );
             }
         }
     }

@@ -111,13 +111,22 @@ fn bad_input_exits_2_names_the_field_and_leaves_dir_untouched() {
     let good = measured_yaml(5, "");
     let first_mode = good.lines().find(|l| l.contains("mode: 1")).unwrap().to_string();
     let cases: Vec<(String, &str)> = vec![
-        (good.clone() + "parameters: { delta: { prior: { dist: uniform, lower: 1.0, upper: 0.5 } } }\n", "parameters.delta.prior.upper"),
-        (good.clone() + "parameters: { youngs_modulus: { prior: { dist: uniform, lower: 0, upper: 1 } } }\n", "parameters"),
+        (
+            good.clone() + "parameters: { delta: { prior: { dist: uniform, lower: 1.0, upper: 0.5 } } }\n",
+            "parameters.delta.prior.upper",
+        ),
+        (
+            good.clone() + "parameters: { youngs_modulus: { prior: { dist: uniform, lower: 0, upper: 1 } } }\n",
+            "parameters",
+        ),
         (good.clone() + "sampler: { draws_per_chain: 0 }\n", "sampler.draws_per_chain"),
         (good.replacen("zeta_sd: ", "zeta_sd: -", 1), "modes[0].zeta_sd"),
         (good.replace("modes:\n", &format!("modes:\n{first_mode}\n")), "modes[1].mode"),
         (good.clone() + "colour: blue\n", "colour"),
-        (good.clone() + "parameters: { diameter_nm: { prior: { dist: normal, mean: 1.0, sd: -0.1 } } }\n", "parameters.diameter_nm.prior.sd"),
+        (
+            good.clone() + "parameters: { diameter_nm: { prior: { dist: normal, mean: 1.0, sd: -0.1 } } }\n",
+            "parameters.diameter_nm.prior.sd",
+        ),
     ];
     for (i, (text, field)) in cases.iter().enumerate() {
         let file = write(dir.path(), &format!("bad{i}.yaml"), text);

@@ -27,7 +27,8 @@ fn bad_fields_are_named() {
     assert_eq!(e.field, "modes[2].zeta_sd");
     let e = MeasuredData::from_yaml(&yaml_with(&format!("{M1}{M2}{M2}"))).unwrap_err();
     assert_eq!(e.field, "modes[2].mode");
-    let pm = yaml_with(&format!("{M1}{M2}{M3}")).replace("elements: 20 }", "elements: 20, point_mass: { mass_kg: 1e-24, x_nm: 9.0 } }");
+    let pm = yaml_with(&format!("{M1}{M2}{M3}"))
+        .replace("elements: 20 }", "elements: 20, point_mass: { mass_kg: 1e-24, x_nm: 9.0 } }");
     let e = MeasuredData::from_yaml(&pm).unwrap_err();
     assert_eq!(e.field, "beam.point_mass.x_nm");
 }
@@ -56,7 +57,8 @@ fn report_directory_is_written_and_json_is_shaped() {
     for f in ["report.md", "diagnosis.json", "residuals.svg", "probabilities.svg", "posterior.svg"] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
-    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("diagnosis.json")).unwrap()).unwrap();
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("diagnosis.json")).unwrap()).unwrap();
     for key in ["misfit_detected", "misfit", "candidates", "cause", "gain"] {
         assert!(v.get(key).is_some(), "{key} missing");
     }

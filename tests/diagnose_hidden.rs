@@ -15,7 +15,8 @@ fn hidden_effects_are_named_and_clean_data_raise_no_alarm() {
     let settings = DiagnoseSettings::quick();
     let t0 = Instant::now();
     // 20 effect seeds (5 per cause, the effect's shape and size drawn by seed) + 5 clean seeds
-    let mut cases: Vec<(u64, Option<ModelClass>)> = (0..20u64).map(|i| (100 + i, Some(ModelClass::CAUSES[(i % 4) as usize]))).collect();
+    let mut cases: Vec<(u64, Option<ModelClass>)> =
+        (0..20u64).map(|i| (100 + i, Some(ModelClass::CAUSES[(i % 4) as usize]))).collect();
     cases.extend((0..5u64).map(|i| (200 + i, None)));
     let mut confusion: BTreeMap<(&str, String), usize> = BTreeMap::new();
     let (mut correct, mut total, mut false_alarms) = (0, 0, 0);
@@ -50,7 +51,10 @@ fn hidden_effects_are_named_and_clean_data_raise_no_alarm() {
         }
         println!();
     }
-    println!("correct {correct}/{total}, false alarms on clean data {false_alarms}/5, {:.1} s", t0.elapsed().as_secs_f64());
+    println!(
+        "correct {correct}/{total}, false alarms on clean data {false_alarms}/5, {:.1} s",
+        t0.elapsed().as_secs_f64()
+    );
     // ≥ 95 % of the effect cases named correctly, no false alarm.
     assert!(correct * 100 >= 95 * total, "only {correct}/{total} causes right");
     assert_eq!(false_alarms, 0);

@@ -8,25 +8,14 @@ use std::collections::BTreeMap;
 /// that every opened element is closed (a well-formedness proxy without an
 /// XML parser among the dependencies).
 fn assert_well_formed(svg: &str) {
-    assert!(
-        svg.starts_with("<svg"),
-        "does not start with <svg: {}",
-        &svg[..svg.len().min(80)]
-    );
-    assert!(
-        svg.trim_end().ends_with("</svg>"),
-        "does not end with </svg>"
-    );
+    assert!(svg.starts_with("<svg"), "does not start with <svg: {}", &svg[..svg.len().min(80)]);
+    assert!(svg.trim_end().ends_with("</svg>"), "does not end with </svg>");
     let mut balance: BTreeMap<String, i64> = BTreeMap::new();
     let mut rest = svg;
     while let Some(start) = rest.find('<') {
         let end = rest[start..].find('>').expect("unterminated tag") + start;
         let tag = &rest[start + 1..end];
-        let name: String = tag
-            .trim_start_matches('/')
-            .chars()
-            .take_while(|c| c.is_alphanumeric())
-            .collect();
+        let name: String = tag.trim_start_matches('/').chars().take_while(|c| c.is_alphanumeric()).collect();
         assert!(!name.is_empty(), "empty tag name in <{tag}>");
         if tag.starts_with('/') {
             *balance.entry(name).or_default() -= 1;
@@ -55,11 +44,7 @@ fn frf_like() -> LinePlot {
             Series::new("reference", x.clone(), y.clone()),
             Series::new("mean", x.clone(), y.iter().map(|v| v * 0.9).collect()),
         ],
-        realizations: vec![Series::new(
-            "",
-            x.clone(),
-            y.iter().map(|v| v * 1.1).collect(),
-        )],
+        realizations: vec![Series::new("", x.clone(), y.iter().map(|v| v * 1.1).collect())],
         band: Some(Band {
             name: "99 % envelope".into(),
             x: x.clone(),
@@ -77,9 +62,7 @@ fn chains() -> Vec<NamedValues> {
         .map(|c| {
             NamedValues::new(
                 format!("Case 1{}", ['A', 'B', 'C'][c]),
-                (0..5000)
-                    .map(|i| 1.0 + 0.1 * c as f64 + 0.05 * ((i as f64) * 0.37 + c as f64).sin())
-                    .collect(),
+                (0..5000).map(|i| 1.0 + 0.1 * c as f64 + 0.05 * ((i as f64) * 0.37 + c as f64).sin()).collect(),
             )
         })
         .collect()
@@ -92,13 +75,7 @@ fn all_figures() -> Vec<(&'static str, String)> {
         y_axis: Axis::log("Ω (rad/s)"),
         x: (0..10).map(|i| 0.2 * i as f64).collect(),
         y: (0..8).map(|j| 1e10 * 10f64.powf(j as f64 * 0.4)).collect(),
-        z: (0..8)
-            .map(|j| {
-                (0..10)
-                    .map(|i| 1.0 - 0.02 * i as f64 - 0.01 * j as f64)
-                    .collect()
-            })
-            .collect(),
+        z: (0..8).map(|j| (0..10).map(|i| 1.0 - 0.02 * i as f64 - 0.01 * j as f64).collect()).collect(),
         z_label: "ω1/ω1' (-)".into(),
         ..Default::default()
     };
@@ -154,9 +131,7 @@ fn all_figures() -> Vec<(&'static str, String)> {
             "residual",
             residual_plot(&ResidualPlot {
                 title: "residuals".into(),
-                labels: ["ω1", "ω2", "ω3", "ζ1", "ζ2", "ζ3"]
-                    .map(String::from)
-                    .to_vec(),
+                labels: ["ω1", "ω2", "ω3", "ζ1", "ζ2", "ζ3"].map(String::from).to_vec(),
                 groups: vec![
                     NamedValues::new("before", vec![0.5, -3.0, 1.0, 4.0, -0.2, 0.1]),
                     NamedValues::new("after", vec![0.1, -0.5, 0.3, 0.9, -0.2, 0.0]),
@@ -188,32 +163,13 @@ fn figures_are_byte_identical_across_runs_and_threads() {
 #[test]
 fn line_plot_draws_legend_entries_and_every_element_kind() {
     let svg = line_plot(&frf_like()).unwrap();
-    for label in [
-        "reference",
-        "mean",
-        "99 % envelope",
-        "frequency (GHz)",
-        "|H| (nm/N)",
-        "FRF",
-    ] {
+    for label in ["reference", "mean", "99 % envelope", "frequency (GHz)", "|H| (nm/N)", "FRF"] {
         assert!(svg.contains(label), "missing text {label}");
     }
     // Removing the band, the realizations and the reference lines must remove drawn elements.
-    let bare = line_plot(&LinePlot {
-        band: None,
-        realizations: vec![],
-        ref_lines: vec![],
-        ..frf_like()
-    })
-    .unwrap();
-    assert!(
-        count(&svg, "<polygon") > count(&bare, "<polygon"),
-        "band not drawn as a polygon"
-    );
-    assert!(
-        count(&svg, "<polyline") > count(&bare, "<polyline"),
-        "realizations / dashed lines not drawn"
-    );
+    let bare = line_plot(&LinePlot { band: None, realizations: vec![], ref_lines: vec![], ..frf_like() }).unwrap();
+    assert!(count(&svg, "<polygon") > count(&bare, "<polygon"), "band not drawn as a polygon");
+    assert!(count(&svg, "<polyline") > count(&bare, "<polyline"), "realizations / dashed lines not drawn");
     assert!(svg.contains("#BEBEBE"), "realization grey missing");
 }
 
@@ -230,18 +186,12 @@ fn log_axis_skips_non_positive_values_and_rejects_all_non_positive() {
         y_axis: Axis::log("y"),
         ..Default::default()
     };
-    assert!(matches!(
-        line_plot(&bad),
-        Err(ReportError::InvalidData { .. })
-    ));
+    assert!(matches!(line_plot(&bad), Err(ReportError::InvalidData { .. })));
 }
 
 #[test]
 fn mismatched_lengths_name_the_series() {
-    let spec = LinePlot {
-        series: vec![Series::new("omega_1", vec![1.0, 2.0], vec![1.0])],
-        ..Default::default()
-    };
+    let spec = LinePlot { series: vec![Series::new("omega_1", vec![1.0, 2.0], vec![1.0])], ..Default::default() };
     let err = line_plot(&spec).unwrap_err().to_string();
     assert!(err.contains("omega_1"), "{err}");
     let r = ResidualPlot {
@@ -250,11 +200,7 @@ fn mismatched_lengths_name_the_series() {
         ..Default::default()
     };
     assert!(residual_plot(&r).unwrap_err().to_string().contains("after"));
-    let b = BarChart {
-        categories: vec!["a".into()],
-        values: vec![],
-        ..Default::default()
-    };
+    let b = BarChart { categories: vec!["a".into()], values: vec![], ..Default::default() };
     assert!(bar_chart(&b).is_err());
     let p = PairPlot {
         names: vec!["a".into(), "b".into()],
@@ -271,9 +217,7 @@ fn heatmap_draws_every_cell_with_the_scale_endpoints() {
         x: (0..nx).map(|i| i as f64).collect(),
         y: (0..ny).map(|j| 10f64.powi(j)).collect(),
         y_axis: Axis::log("Ω (rad/s)"),
-        z: (0..ny)
-            .map(|j| (0..nx).map(|i| (i + nx * j as usize) as f64).collect())
-            .collect(),
+        z: (0..ny).map(|j| (0..nx).map(|i| (i + nx * j as usize) as f64).collect()).collect(),
         ..Default::default()
     };
     let svg = heatmap(&hm).unwrap();
@@ -283,28 +227,16 @@ fn heatmap_draws_every_cell_with_the_scale_endpoints() {
     let hex = |c: plotters::style::RGBColor| format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2);
     assert!(svg.contains(&hex(viridis(0.0))), "minimum colour missing");
     assert!(svg.contains(&hex(viridis(1.0))), "maximum colour missing");
-    let bad = Heatmap {
-        z: vec![vec![1.0; nx]; ny as usize - 1],
-        ..hm.clone()
-    };
+    let bad = Heatmap { z: vec![vec![1.0; nx]; ny as usize - 1], ..hm.clone() };
     assert!(heatmap(&bad).is_err());
-    let unsorted = Heatmap {
-        x: (0..nx).rev().map(|i| i as f64).collect(),
-        ..hm
-    };
+    let unsorted = Heatmap { x: (0..nx).rev().map(|i| i as f64).collect(), ..hm };
     assert!(heatmap(&unsorted).is_err());
 }
 
 #[test]
 fn viridis_endpoints_and_monotone_lightness() {
-    assert_eq!(
-        (viridis(0.0).0, viridis(0.0).1, viridis(0.0).2),
-        (68, 1, 84)
-    );
-    assert_eq!(
-        (viridis(1.0).0, viridis(1.0).1, viridis(1.0).2),
-        (253, 231, 37)
-    );
+    assert_eq!((viridis(0.0).0, viridis(0.0).1, viridis(0.0).2), (68, 1, 84));
+    assert_eq!((viridis(1.0).0, viridis(1.0).1, viridis(1.0).2), (253, 231, 37));
     assert_eq!(viridis(-5.0), viridis(0.0));
     assert_eq!(viridis(7.0), viridis(1.0));
     // viridis is designed with monotonically increasing lightness; green is a good proxy.
@@ -315,18 +247,9 @@ fn viridis_endpoints_and_monotone_lightness() {
 #[test]
 fn trace_plot_thins_long_chains_to_the_cap() {
     let long = NamedValues::new("c", (0..100_000).map(|i| (i as f64).sin()).collect());
-    let svg = trace_plot(&TracePlot {
-        chains: vec![long],
-        max_points: 1000,
-        ..Default::default()
-    })
-    .unwrap();
+    let svg = trace_plot(&TracePlot { chains: vec![long], max_points: 1000, ..Default::default() }).unwrap();
     // The chain is the polyline with the most points; its point count is capped.
-    let max_pts = svg
-        .split("points=\"")
-        .skip(1)
-        .map(|s| s.split('"').next().unwrap().split_whitespace().count())
-        .max()
-        .unwrap();
+    let max_pts =
+        svg.split("points=\"").skip(1).map(|s| s.split('"').next().unwrap().split_whitespace().count()).max().unwrap();
     assert!((900..=1000).contains(&max_pts), "{max_pts} points drawn");
 }

@@ -5,8 +5,7 @@ use nanobeam::report::table::{csv_field, fmt_interval, fmt_sig, Table};
 #[test]
 fn markdown_has_header_separator_and_one_line_per_row_with_equal_columns() {
     let mut t = Table::new(["param", "mean", "CI95%"]);
-    t.push_row(["e0a (nm)", "1.01", "[0.98, 1.04]"])
-        .push_row(["a|b", "2"]); // short row, pipe
+    t.push_row(["e0a (nm)", "1.01", "[0.98, 1.04]"]).push_row(["a|b", "2"]); // short row, pipe
     let md = t.to_markdown();
     let lines: Vec<&str> = md.lines().collect();
     assert_eq!(lines.len(), 2 + t.rows.len());
@@ -74,10 +73,7 @@ fn csv_round_trips_through_a_minimal_rfc4180_reader() {
     let back = read(&t.to_csv());
     assert_eq!(back.len(), 3);
     for (i, r) in cells.iter().enumerate() {
-        assert_eq!(
-            back[i + 1],
-            r.iter().map(|s| s.to_string()).collect::<Vec<_>>()
-        );
+        assert_eq!(back[i + 1], r.iter().map(|s| s.to_string()).collect::<Vec<_>>());
     }
 }
 
@@ -100,25 +96,13 @@ fn fmt_sig_rounds_to_significant_digits_and_switches_notation() {
 
 #[test]
 fn fmt_sig_output_parses_back_within_half_a_unit_in_the_last_digit() {
-    for &x in &[
-        1.234_567e-7,
-        0.000_987_6,
-        0.5,
-        2.5173,
-        271.828,
-        12_345.678,
-        6.02e23,
-        -42.4242,
-    ] {
+    for &x in &[1.234_567e-7, 0.000_987_6, 0.5, 2.5173, 271.828, 12_345.678, 6.02e23, -42.4242] {
         for sig in 1..=6 {
             let s = fmt_sig(x, sig);
             let back: f64 = s.parse().unwrap();
             let ulp = 10f64.powi(x.abs().log10().floor() as i32 - sig as i32 + 1);
             // half a unit in the last kept digit, plus float slack for the exponent step
-            assert!(
-                (back - x).abs() <= 0.5 * ulp * (1.0 + 1e-9) + 1e-300,
-                "{x} {sig} -> {s}"
-            );
+            assert!((back - x).abs() <= 0.5 * ulp * (1.0 + 1e-9) + 1e-300, "{x} {sig} -> {s}");
         }
     }
 }

@@ -88,10 +88,37 @@ fn quick_reproduction_produces_everything_and_matches_golden() {
     let out = root.join("out");
     let summary = run(&Options { root: root.clone(), out: out.clone(), quick: true }).expect("quick reproduction runs");
     for f in [
-        "report.md", "results.json", "reconstructed.yaml", "table-2.csv", "table-2.md", "table-5.csv", "table-5.md", "table-10.csv", "table-10.md", "table-7.csv", "table-7.md", "table-8.csv",
-        "table-8.md", "table-12.csv", "table-12.md", "figure-1a.svg", "figure-1b.svg", "figure-2a.svg", "figure-3b.svg",
-        "figure-4a.svg", "figure-4b.svg", "figure-5a.svg", "figure-6b.svg", "figure-7-1a.svg", "figure-8a.svg", "figure-11b.svg",
-        "figure-12-2b.svg", "figure-13-3.svg", "figure-13-3-n2.svg", "figure-14.svg", "figure-14.csv",
+        "report.md",
+        "results.json",
+        "reconstructed.yaml",
+        "table-2.csv",
+        "table-2.md",
+        "table-5.csv",
+        "table-5.md",
+        "table-10.csv",
+        "table-10.md",
+        "table-7.csv",
+        "table-7.md",
+        "table-8.csv",
+        "table-8.md",
+        "table-12.csv",
+        "table-12.md",
+        "figure-1a.svg",
+        "figure-1b.svg",
+        "figure-2a.svg",
+        "figure-3b.svg",
+        "figure-4a.svg",
+        "figure-4b.svg",
+        "figure-5a.svg",
+        "figure-6b.svg",
+        "figure-7-1a.svg",
+        "figure-8a.svg",
+        "figure-11b.svg",
+        "figure-12-2b.svg",
+        "figure-13-3.svg",
+        "figure-13-3-n2.svg",
+        "figure-14.svg",
+        "figure-14.csv",
     ] {
         assert!(out.join(f).is_file(), "missing {f}");
     }
@@ -111,12 +138,17 @@ fn quick_reproduction_produces_everything_and_matches_golden() {
     // The reconstruction (seeded multi-start) must reproduce the committed
     // paper/reconstructed.yaml, which the rest of the project reads.
     let rec = std::fs::read_to_string(out.join("reconstructed.yaml")).unwrap();
-    let committed = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("paper/reconstructed.yaml")).unwrap();
+    let committed =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("paper/reconstructed.yaml")).unwrap();
     let (actual, golden): (serde_yaml::Value, serde_yaml::Value) =
         (serde_yaml::from_str(&rec).unwrap(), serde_yaml::from_str(&committed).unwrap());
     let mut diffs = Vec::new();
     compare_printed(&actual, &golden, "", &mut diffs);
-    assert!(diffs.is_empty(), "reconstruction differs from paper/reconstructed.yaml (regenerate it with `cargo xtask reproduce`):\n{}", diffs.join("\n"));
+    assert!(
+        diffs.is_empty(),
+        "reconstruction differs from paper/reconstructed.yaml (regenerate it with `cargo xtask reproduce`):\n{}",
+        diffs.join("\n")
+    );
 
     // Quick-mode case tables, rounded to what their Monte Carlo error supports.
     let mut lines = Vec::new();
@@ -124,7 +156,12 @@ fn quick_reproduction_produces_everything_and_matches_golden() {
         for p in c["parameters"].as_array().unwrap() {
             let mean = p["mean"].as_f64().unwrap();
             let mcse = p["mcse_mean"].as_f64().unwrap();
-            lines.push(format!("{} {}: mean {}", c["id"].as_str().unwrap(), p["name"].as_str().unwrap(), round_to_mc(mean, mcse)));
+            lines.push(format!(
+                "{} {}: mean {}",
+                c["id"].as_str().unwrap(),
+                p["name"].as_str().unwrap(),
+                round_to_mc(mean, mcse)
+            ));
         }
     }
     insta::with_settings!({ snapshot_path => "../golden", prepend_module_to_snapshot => false }, {
@@ -143,10 +180,16 @@ fn a_bad_spec_names_file_and_field_and_leaves_out_untouched() {
     for (bad, field) in [
         (text.clone() + "colour: blue\n", "colour"),
         (text.replacen("seed: 101\n", "", 1), "seed"),
-        (text.replace("lower: 0.0, upper: 1.0 }, proposal_sd: 0.01", "lower: -1.0, upper: 1.0 }, proposal_sd: 0.01"), "parameters.delta.prior.lower"),
+        (
+            text.replace("lower: 0.0, upper: 1.0 }, proposal_sd: 0.01", "lower: -1.0, upper: 1.0 }, proposal_sd: 0.01"),
+            "parameters.delta.prior.lower",
+        ),
     ] {
         std::fs::write(&case, bad).unwrap();
-        let err = run(&Options { root: root.clone(), out: out.clone(), quick: true }).err().expect("bad spec rejected").to_string();
+        let err = run(&Options { root: root.clone(), out: out.clone(), quick: true })
+            .err()
+            .expect("bad spec rejected")
+            .to_string();
         assert!(err.contains("case-1a.yaml") && err.contains(field), "{err}");
         assert_eq!(std::fs::read_dir(&out).unwrap().count(), 1, "DIR changed");
     }

@@ -2,18 +2,17 @@
 //! chain c draws from ChaCha8 stream c of the master seed, and results are
 //! gathered in chain order.
 
-use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
 use crate::bayes::dram::{run_chain, ChainOutput, DramSettings};
+use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::Posterior;
 
-/// The RNG of chain `chain` under master seed `seed`.
+/// The RNG of chain `chain` under master seed `seed`: the keyed stream
+/// `(seed, Chain, [chain, 0])` of [`crate::bayes::rng`].
 pub fn chain_rng(seed: u64, chain: usize) -> ChaCha8Rng {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    rng.set_stream(chain as u64);
-    rng
+    stream(seed, Purpose::Chain, [chain as u64, 0])
 }
 
 /// Runs one chain per start state; `on_progress` receives step increments.

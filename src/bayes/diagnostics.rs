@@ -56,10 +56,7 @@ pub fn rhat(chains: &[Vec<f64>]) -> f64 {
     let split = split_chains(chains);
     let bulk = classic_rhat(&rank_normalize(&split));
     let med = median(&pooled(chains));
-    let folded: Vec<Vec<f64>> = chains
-        .iter()
-        .map(|c| c.iter().map(|x| (x - med).abs()).collect())
-        .collect();
+    let folded: Vec<Vec<f64>> = chains.iter().map(|c| c.iter().map(|x| (x - med).abs()).collect()).collect();
     let tail = classic_rhat(&rank_normalize(&split_chains(&folded)));
     bulk.max(tail)
 }
@@ -90,10 +87,8 @@ pub fn ess_tail(chains: &[Vec<f64>]) -> f64 {
         .iter()
         .map(|&p| {
             let q = quantile_sorted(&all, p);
-            let ind: Vec<Vec<f64>> = chains
-                .iter()
-                .map(|c| c.iter().map(|&x| if x <= q { 1.0 } else { 0.0 }).collect())
-                .collect();
+            let ind: Vec<Vec<f64>> =
+                chains.iter().map(|c| c.iter().map(|&x| if x <= q { 1.0 } else { 0.0 }).collect()).collect();
             ess(&split_chains(&ind))
         })
         .fold(f64::INFINITY, f64::min)
@@ -112,12 +107,7 @@ pub fn ess(chains: &[Vec<f64>]) -> f64 {
     if n < 2 {
         return f64::NAN;
     }
-    let (lo, hi) = chains
-        .iter()
-        .flatten()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-            (a.min(x), b.max(x))
-        });
+    let (lo, hi) = chains.iter().flatten().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
     // ArviZ: `np.max - np.min < np.finfo(float).resolution` (1e-15) → constant.
     if hi - lo < 1e-15 {
         return total;
@@ -238,11 +228,7 @@ impl<'a> LazyAutocovariance<'a> {
                 c.iter().map(|x| x - mu).collect()
             })
             .collect();
-        Self {
-            chains,
-            centred,
-            fft: std::cell::OnceCell::new(),
-        }
+        Self { chains, centred, fft: std::cell::OnceCell::new() }
     }
 
     fn mean_at(&self, t: usize) -> f64 {
@@ -251,22 +237,13 @@ impl<'a> LazyAutocovariance<'a> {
             return self
                 .centred
                 .iter()
-                .map(|y| {
-                    y[..y.len() - t]
-                        .iter()
-                        .zip(&y[t..])
-                        .map(|(a, b)| a * b)
-                        .sum::<f64>()
-                        / y.len() as f64
-                })
+                .map(|y| y[..y.len() - t].iter().zip(&y[t..]).map(|(a, b)| a * b).sum::<f64>() / y.len() as f64)
                 .sum::<f64>()
                 / m;
         }
         let all = self.fft.get_or_init(|| {
             let per_chain: Vec<Vec<f64>> = self.chains.iter().map(|c| autocovariance(c)).collect();
-            (0..per_chain[0].len())
-                .map(|k| per_chain.iter().map(|a| a[k]).sum::<f64>() / m)
-                .collect()
+            (0..per_chain[0].len()).map(|k| per_chain.iter().map(|a| a[k]).sum::<f64>() / m).collect()
         });
         all[t]
     }
@@ -316,9 +293,7 @@ fn fft_in_place(a: &mut [Complex64], inverse: bool) {
         // Twiddles computed directly (not by repeated multiplication) to keep
         // round-off at O(ε log N).
         let half = len / 2;
-        let tw: Vec<Complex64> = (0..half)
-            .map(|k| Complex64::from_polar(1.0, ang * k as f64))
-            .collect();
+        let tw: Vec<Complex64> = (0..half).map(|k| Complex64::from_polar(1.0, ang * k as f64)).collect();
         for start in (0..n).step_by(len) {
             for k in 0..half {
                 let u = a[start + k];
@@ -408,9 +383,7 @@ pub fn classic_rhat(chains: &[Vec<f64>]) -> f64 {
 
 fn valid_draws_per_chain(chains: &[Vec<f64>]) -> Option<usize> {
     let n = chains.first()?.len();
-    let ok = chains
-        .iter()
-        .all(|c| c.len() == n && c.iter().all(|x| x.is_finite()));
+    let ok = chains.iter().all(|c| c.len() == n && c.iter().all(|x| x.is_finite()));
     ok.then_some(n)
 }
 
@@ -439,22 +412,13 @@ mod tests {
 
     #[test]
     fn fft_autocovariance_matches_direct_sum() {
-        let x: Vec<f64> = (0..37)
-            .map(|i| ((i * 7919) % 31) as f64 * 0.3 - (i as f64).sin())
-            .collect();
+        let x: Vec<f64> = (0..37).map(|i| ((i * 7919) % 31) as f64 * 0.3 - (i as f64).sin()).collect();
         let c = autocovariance(&x);
         let mu = mean(&x);
         for k in 0..x.len() {
-            let direct: f64 = (0..x.len() - k)
-                .map(|i| (x[i] - mu) * (x[i + k] - mu))
-                .sum::<f64>()
-                / x.len() as f64;
+            let direct: f64 = (0..x.len() - k).map(|i| (x[i] - mu) * (x[i + k] - mu)).sum::<f64>() / x.len() as f64;
             // FFT round-off: O(ε log2(size) Σx²/N) ≈ 1e-16·7·(c0 scale ≈ 10) → 1e-12 is ≥ 100× margin.
-            assert!(
-                (c[k] - direct).abs() < 1e-12,
-                "lag {k}: {} vs {direct}",
-                c[k]
-            );
+            assert!((c[k] - direct).abs() < 1e-12, "lag {k}: {} vs {direct}", c[k]);
         }
     }
 }

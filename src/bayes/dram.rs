@@ -72,7 +72,11 @@ impl DramSettings {
             return Err(InputError::new("sampler.burn_in", self.burn_in, format!("< draws = {}", self.draws)));
         }
         if self.cov_skip > self.adapt_start {
-            return Err(InputError::new("sampler.cov_skip", self.cov_skip, format!("<= adapt_start = {}", self.adapt_start)));
+            return Err(InputError::new(
+                "sampler.cov_skip",
+                self.cov_skip,
+                format!("<= adapt_start = {}", self.adapt_start),
+            ));
         }
         for (i, &g) in self.dr_gammas.iter().enumerate() {
             if !(g.is_finite() && g > 0.0 && g <= 1.0) {

@@ -50,14 +50,8 @@ pub struct LaplaceEvidence {
 /// Failures of [`laplace_log_evidence`].
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum LaplaceError {
-    #[error(
-        "Laplace: dimension mismatch (theta has {theta}, scales {scales}, posterior {posterior})"
-    )]
-    Dimension {
-        theta: usize,
-        scales: usize,
-        posterior: usize,
-    },
+    #[error("Laplace: dimension mismatch (theta has {theta}, scales {scales}, posterior {posterior})")]
+    Dimension { theta: usize, scales: usize, posterior: usize },
     #[error("Laplace: scale of parameter {index} is {value}; must be > 0 and finite")]
     BadScale { index: usize, value: f64 },
     #[error("Laplace: log posterior is not finite at a finite-difference point near θ* (parameter {index}); θ* on or near the prior's boundary?")]
@@ -84,17 +78,9 @@ pub fn laplace_log_evidence_with_step(
 ) -> Result<LaplaceEvidence, LaplaceError> {
     let d = theta_map.len();
     if scales.len() != d || posterior.dim() != d {
-        return Err(LaplaceError::Dimension {
-            theta: d,
-            scales: scales.len(),
-            posterior: posterior.dim(),
-        });
+        return Err(LaplaceError::Dimension { theta: d, scales: scales.len(), posterior: posterior.dim() });
     }
-    if let Some((index, &value)) = scales
-        .iter()
-        .enumerate()
-        .find(|(_, s)| !(s.is_finite() && **s > 0.0))
-    {
+    if let Some((index, &value)) = scales.iter().enumerate().find(|(_, s)| !(s.is_finite() && **s > 0.0)) {
         return Err(LaplaceError::BadScale { index, value });
     }
     // Offsets (in units of h) of every point needed, evaluated in parallel;
@@ -143,31 +129,15 @@ pub fn laplace_log_evidence_with_step(
     let chol = match nalgebra::Cholesky::new(hu.clone()) {
         Some(c) => c,
         None => {
-            let min_eigenvalue = hu
-                .symmetric_eigenvalues()
-                .iter()
-                .copied()
-                .fold(f64::INFINITY, f64::min);
+            let min_eigenvalue = hu.symmetric_eigenvalues().iter().copied().fold(f64::INFINITY, f64::min);
             return Err(LaplaceError::NotPositiveDefinite { min_eigenvalue });
         }
     };
     let log_det_hu: f64 = 2.0 * chol.l().diagonal().iter().map(|x| x.ln()).sum::<f64>();
     let log_det = log_det_hu - 2.0 * scales.iter().map(|s| s.ln()).sum::<f64>();
     let hu_inv = chol.inverse();
-    let hessian = (0..d)
-        .map(|i| {
-            (0..d)
-                .map(|j| hu[(i, j)] / (scales[i] * scales[j]))
-                .collect()
-        })
-        .collect();
-    let covariance = (0..d)
-        .map(|i| {
-            (0..d)
-                .map(|j| hu_inv[(i, j)] * scales[i] * scales[j])
-                .collect()
-        })
-        .collect();
+    let hessian = (0..d).map(|i| (0..d).map(|j| hu[(i, j)] / (scales[i] * scales[j])).collect()).collect();
+    let covariance = (0..d).map(|i| (0..d).map(|j| hu_inv[(i, j)] * scales[i] * scales[j]).collect()).collect();
     let log_post = -f0;
     Ok(LaplaceEvidence {
         log_evidence: log_post + 0.5 * d as f64 * (2.0 * std::f64::consts::PI).ln() - 0.5 * log_det,

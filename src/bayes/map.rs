@@ -6,10 +6,9 @@
 
 use argmin::core::{CostFunction, Error as ArgminError, Executor};
 use argmin::solver::neldermead::NelderMead;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
+use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::Posterior;
 
 /// Cost given to infeasible points: finite so the simplex arithmetic stays finite.
@@ -75,7 +74,7 @@ pub fn map_estimate(post: &dyn Posterior, start: &[f64], scales: &[f64], max_ite
     }
 }
 
-/// Draws `n_points` prior samples (seeded), keeps the `keep` best and polishes
+/// Draws `n_points` prior samples (stream `(seed, MultiStart, [run, 0])`), keeps the `keep` best and polishes
 /// each with Nelder–Mead (restarted once). Returns optima sorted by log
 /// posterior, best first.
 pub fn multi_start_optimum(
@@ -84,11 +83,11 @@ pub fn multi_start_optimum(
     n_points: usize,
     keep: usize,
     seed: u64,
+    run: u64,
 ) -> Vec<MapResult> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut rng = stream(seed, Purpose::MultiStart, [run, 0]);
     let candidates: Vec<Vec<f64>> = (0..n_points).map(|_| post.sample_prior(&mut rng)).collect();
-    let mut scored: Vec<(f64, Vec<f64>)> =
-        candidates.into_par_iter().map(|t| (post.log_posterior(&t), t)).collect();
+    let mut scored: Vec<(f64, Vec<f64>)> = candidates.into_par_iter().map(|t| (post.log_posterior(&t), t)).collect();
     scored.retain(|(lp, _)| lp.is_finite());
     scored.sort_by(|a, b| b.0.total_cmp(&a.0));
     scored.truncate(keep.max(1));

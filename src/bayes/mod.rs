@@ -10,6 +10,7 @@ pub mod likelihood;
 pub mod map;
 pub mod posterior;
 pub mod prior;
+pub mod rng;
 pub mod summary;
 pub mod tmcmc;
 

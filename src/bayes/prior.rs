@@ -125,9 +125,7 @@ impl Prior {
         match *self {
             Prior::Uniform { lower, upper } => Some((upper - lower) / 12f64.sqrt()),
             Prior::Normal { sd, .. } => Some(sd),
-            Prior::InverseGamma { shape, scale } => {
-                (shape > 2.0).then(|| scale / (shape - 1.0) / (shape - 2.0).sqrt())
-            }
+            Prior::InverseGamma { shape, scale } => (shape > 2.0).then(|| scale / (shape - 1.0) / (shape - 2.0).sqrt()),
             Prior::LogUniform { lower, upper } => {
                 let l = (upper / lower).ln();
                 let m = (upper - lower) / l;

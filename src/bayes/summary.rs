@@ -59,42 +59,24 @@ impl Summary {
 /// from `names.len()` (programming errors: samplers produce rectangular output).
 pub fn summarize(names: &[String], chains: &[Vec<Vec<f64>>]) -> Summary {
     let d = names.len();
-    assert!(
-        !chains.is_empty() && !chains[0].is_empty(),
-        "summarize: no draws"
-    );
+    assert!(!chains.is_empty() && !chains[0].is_empty(), "summarize: no draws");
     let n = chains[0].len();
     assert!(
-        chains
-            .iter()
-            .all(|c| c.len() == n && c.iter().all(|th| th.len() == d)),
+        chains.iter().all(|c| c.len() == n && c.iter().all(|th| th.len() == d)),
         "summarize: chains must be rectangular with {d} parameters per draw"
     );
     // per_param[i][c][s]
-    let per_param: Vec<Vec<Vec<f64>>> = (0..d)
-        .map(|i| {
-            chains
-                .iter()
-                .map(|c| c.iter().map(|th| th[i]).collect())
-                .collect()
-        })
-        .collect();
-    let pooled: Vec<Vec<f64>> = per_param
-        .iter()
-        .map(|p| p.iter().flatten().copied().collect())
-        .collect();
+    let per_param: Vec<Vec<Vec<f64>>> =
+        (0..d).map(|i| chains.iter().map(|c| c.iter().map(|th| th[i]).collect()).collect()).collect();
+    let pooled: Vec<Vec<f64>> = per_param.iter().map(|p| p.iter().flatten().copied().collect()).collect();
     let s = (n * chains.len()) as f64;
     let means: Vec<f64> = pooled.iter().map(|x| x.iter().sum::<f64>() / s).collect();
     // Centred cross-products; computed on centred data for numerical stability.
     let mut cov = vec![vec![0.0; d]; d];
     for i in 0..d {
         for j in 0..=i {
-            let c = pooled[i]
-                .iter()
-                .zip(&pooled[j])
-                .map(|(a, b)| (a - means[i]) * (b - means[j]))
-                .sum::<f64>()
-                / (s - 1.0);
+            let c =
+                pooled[i].iter().zip(&pooled[j]).map(|(a, b)| (a - means[i]) * (b - means[j])).sum::<f64>() / (s - 1.0);
             cov[i][j] = c;
             cov[j][i] = c;
         }
@@ -109,10 +91,7 @@ pub fn summarize(names: &[String], chains: &[Vec<Vec<f64>>]) -> Summary {
                 mean: means[i],
                 sd,
                 cv: sd / means[i].abs(),
-                ci95: [
-                    quantile_sorted(&sorted, 0.025),
-                    quantile_sorted(&sorted, 0.975),
-                ],
+                ci95: [quantile_sorted(&sorted, 0.025), quantile_sorted(&sorted, 0.975)],
                 map: None,
                 rhat: rhat(&per_param[i]),
                 ess_bulk: ess_bulk(&per_param[i]),
@@ -123,18 +102,9 @@ pub fn summarize(names: &[String], chains: &[Vec<Vec<f64>>]) -> Summary {
     let correlation = (0..d)
         .map(|i| {
             (0..d)
-                .map(|j| {
-                    if i == j && cov[i][i] > 0.0 {
-                        1.0
-                    } else {
-                        cov[i][j] / (cov[i][i] * cov[j][j]).sqrt()
-                    }
-                })
+                .map(|j| if i == j && cov[i][i] > 0.0 { 1.0 } else { cov[i][j] / (cov[i][i] * cov[j][j]).sqrt() })
                 .collect()
         })
         .collect();
-    Summary {
-        parameters,
-        correlation,
-    }
+    Summary { parameters, correlation }
 }

@@ -38,12 +38,12 @@
 //! The estimator of the evidence itself is consistent as N → ∞; log p̂ carries a
 //! small negative bias ≈ −se²/2 (Jensen).
 
-use rand::{Rng, RngCore, SeedableRng};
-use rand_chacha::ChaCha8Rng;
+use rand::{Rng, RngCore};
 use rand_distr::StandardNormal;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::rng::{stream, Purpose};
 use super::Posterior;
 use crate::error::InputError;
 
@@ -110,11 +110,7 @@ impl TmcmcConfig {
         crate::error::positive("tmcmc.target_cov", self.target_cov)?;
         crate::error::positive("tmcmc.beta", self.beta)?;
         if !(self.target_acceptance > 0.0 && self.target_acceptance < 1.0) {
-            return Err(InputError::new(
-                "tmcmc.target_acceptance",
-                self.target_acceptance,
-                "in (0, 1)",
-            ));
+            return Err(InputError::new("tmcmc.target_acceptance", self.target_acceptance, "in (0, 1)"));
         }
         Ok(())
     }
@@ -151,26 +147,7 @@ pub enum TmcmcError {
     #[error("TMCMC did not reach p = 1 within {max_stages} stages (p = {p})")]
     TooManyStages { max_stages: usize, p: f64 },
     #[error("TMCMC: prior sample {index} has dimension {got}, expected {expected}")]
-    BadPriorSample {
-        index: usize,
-        got: usize,
-        expected: usize,
-    },
-}
-
-/// Purposes of the random streams (part of the stream key).
-const PURPOSE_PRIOR: u64 = 1;
-const PURPOSE_RESAMPLE: u64 = 2;
-const PURPOSE_MOVE: u64 = 3;
-
-/// ChaCha8 stream keyed by (seed, stage, index, purpose): the 32-byte key is the
-/// four little-endian u64 words, so distinct tuples give independent streams.
-fn stream(seed: u64, stage: u64, index: u64, purpose: u64) -> ChaCha8Rng {
-    let mut key = [0u8; 32];
-    for (k, w) in [seed, stage, index, purpose].iter().enumerate() {
-        key[8 * k..8 * k + 8].copy_from_slice(&w.to_le_bytes());
-    }
-    ChaCha8Rng::from_seed(key)
+    BadPriorSample { index: usize, got: usize, expected: usize },
 }
 
 fn finite_or_neg_inf(x: f64) -> f64 {
@@ -192,25 +169,15 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
     let mut samples: Vec<Vec<f64>> = (0..n)
         .into_par_iter()
         .map(|i| {
-            let mut rng = stream(seed, 0, i as u64, PURPOSE_PRIOR);
+            let mut rng = stream(seed, Purpose::TmcmcPrior, [0, i as u64]);
             posterior.sample_prior(&mut rng as &mut dyn RngCore)
         })
         .collect();
     if let Some((index, s)) = samples.iter().enumerate().find(|(_, s)| s.len() != d) {
-        return Err(TmcmcError::BadPriorSample {
-            index,
-            got: s.len(),
-            expected: d,
-        });
+        return Err(TmcmcError::BadPriorSample { index, got: s.len(), expected: d });
     }
-    let mut loglik: Vec<f64> = samples
-        .par_iter()
-        .map(|th| finite_or_neg_inf(posterior.log_likelihood(th)))
-        .collect();
-    let mut logprior: Vec<f64> = samples
-        .par_iter()
-        .map(|th| posterior.log_prior(th))
-        .collect();
+    let mut loglik: Vec<f64> = samples.par_iter().map(|th| finite_or_neg_inf(posterior.log_likelihood(th))).collect();
+    let mut logprior: Vec<f64> = samples.par_iter().map(|th| posterior.log_prior(th)).collect();
     let prior_sd = weighted_mean_cov(&samples, &vec![1.0 / n as f64; n]).1;
 
     let mut p = 0.0;
@@ -225,10 +192,7 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
     let mut stage = 0usize;
     while p < 1.0 {
         if stage >= config.max_stages {
-            return Err(TmcmcError::TooManyStages {
-                max_stages: config.max_stages,
-                p,
-            });
+            return Err(TmcmcError::TooManyStages { max_stages: config.max_stages, p });
         }
         stage += 1;
         let l_max = loglik.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -251,7 +215,7 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
         let chol = proposal_factor(&samples, &wbar, &prior_sd);
 
         // Multinomial resampling (one sequential stream per stage).
-        let mut rs = stream(seed, stage as u64, 0, PURPOSE_RESAMPLE);
+        let mut rs = stream(seed, Purpose::TmcmcResample, [stage as u64, 0]);
         let cdf: Vec<f64> = wbar
             .iter()
             .scan(0.0, |acc, x| {
@@ -271,7 +235,7 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
             .par_iter()
             .enumerate()
             .map(|(i, &k)| {
-                let mut rng = stream(seed, stage as u64, i as u64, PURPOSE_MOVE);
+                let mut rng = stream(seed, Purpose::TmcmcMove, [stage as u64, i as u64]);
                 let mut th = samples[k].clone();
                 let (mut lp, mut ll) = (logprior[k], loglik[k]);
                 let mut acc = 0usize;
@@ -280,9 +244,8 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
                     for zi in z.iter_mut() {
                         *zi = rng.sample(StandardNormal);
                     }
-                    let prop: Vec<f64> = (0..d)
-                        .map(|a| th[a] + beta * (0..=a).map(|b| chol[a][b] * z[b]).sum::<f64>())
-                        .collect();
+                    let prop: Vec<f64> =
+                        (0..d).map(|a| th[a] + beta * (0..=a).map(|b| chol[a][b] * z[b]).sum::<f64>()).collect();
                     let lp_new = posterior.log_prior(&prop);
                     let u: f64 = rng.gen();
                     if !lp_new.is_finite() {
@@ -319,7 +282,11 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
             beta *= (rate - config.target_acceptance).exp();
         }
         if let Some(max) = config.max_mh_steps {
-            let wanted = if rate > 0.0 && rate < 1.0 { (0.01f64.ln() / (1.0 - rate).ln()).ceil() as usize } else { config.mh_steps };
+            let wanted = if rate > 0.0 && rate < 1.0 {
+                (0.01f64.ln() / (1.0 - rate).ln()).ceil() as usize
+            } else {
+                config.mh_steps
+            };
             steps = wanted.clamp(config.mh_steps, max);
         }
         p = p_next;
@@ -441,7 +408,5 @@ fn proposal_factor(samples: &[Vec<f64>], wbar: &[f64], prior_sd: &[f64]) -> Vec<
         }
         jitter = if jitter == 0.0 { 1e-10 } else { jitter * 10.0 };
     };
-    (0..d)
-        .map(|a| (0..d).map(|b| sd[a] * l[(a, b)]).collect())
-        .collect()
+    (0..d).map(|a| (0..d).map(|b| sd[a] * l[(a, b)]).collect()).collect()
 }

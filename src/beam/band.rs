@@ -449,7 +449,12 @@ mod tests {
         // nonsymmetric complex matrix A + i·B with a skew part
         let entry = |i: usize, j: usize| Complex64::new(a.get(i, j) + 0.3 * (i as f64 - j as f64), b.get(i, j));
         let lu = BandLu::factor(n, entry).unwrap();
-        let dense = nalgebra::DMatrix::from_fn(n, n, |i, j| if i.abs_diff(j) <= KD { entry(i, j) } else { Complex64::new(0.0, 0.0) });
+        let dense =
+            nalgebra::DMatrix::from_fn(
+                n,
+                n,
+                |i, j| if i.abs_diff(j) <= KD { entry(i, j) } else { Complex64::new(0.0, 0.0) },
+            );
         let rhs: Vec<Complex64> = (0..n).map(|i| Complex64::new(i as f64, 1.0)).collect();
         let mut x = rhs.clone();
         lu.solve(&mut x);

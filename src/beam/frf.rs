@@ -14,7 +14,12 @@ use crate::beam::BeamError;
 use crate::error::InputError;
 
 /// Receptance (m/N) at each ω (rad/s, finite, ≥ 0).
-pub fn frf(beam: &BeamSpec, input_x_nm: f64, output_x_nm: f64, omega_rad_s: &[f64]) -> Result<Vec<Complex64>, BeamError> {
+pub fn frf(
+    beam: &BeamSpec,
+    input_x_nm: f64,
+    output_x_nm: f64,
+    omega_rad_s: &[f64],
+) -> Result<Vec<Complex64>, BeamError> {
     beam.validate()?;
     let xi = check_position("input_x_nm", input_x_nm, beam.length_nm)?;
     let xo = check_position("output_x_nm", output_x_nm, beam.length_nm)?;

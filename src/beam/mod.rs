@@ -9,13 +9,13 @@
 
 pub(crate) mod band;
 pub(crate) mod dual;
+pub(crate) mod eigen;
 pub mod element;
 mod error;
-pub(crate) mod eigen;
 pub(crate) mod family;
 mod frf;
-pub(crate) mod model;
 mod modal;
+pub(crate) mod model;
 pub mod spec;
 mod state_space;
 

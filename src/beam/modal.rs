@@ -331,8 +331,12 @@ fn assemble(families: &[Vec<Complex64>], n_modes: usize, omega_ref: f64) -> Opti
 }
 
 fn too_few_modes(n_modes: usize, found: usize) -> BeamError {
-    InputError::new("n_modes", n_modes, format!("<= {found} (oscillatory modes of this model; the rest are overdamped)"))
-        .into()
+    InputError::new(
+        "n_modes",
+        n_modes,
+        format!("<= {found} (oscillatory modes of this model; the rest are overdamped)"),
+    )
+    .into()
 }
 
 /// Path (b): exact decoupling.
@@ -452,9 +456,15 @@ fn complex_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comple
         let (g, dg) = model.relaxation(s);
         // T(s) in band layout
         t.clear();
-        t.extend(model.m.data.iter().zip(&model.m_beam.data).zip(&model.k.data).map(|((&m, &mb), &k)| {
-            s * s * m + s * (model.c * mb) + g * k
-        }));
+        t.extend(
+            model
+                .m
+                .data
+                .iter()
+                .zip(&model.m_beam.data)
+                .zip(&model.k.data)
+                .map(|((&m, &mb), &k)| s * s * m + s * (model.c * mb) + g * k),
+        );
         if model.has_spring() {
             for &i in &model.spring_dofs {
                 t[i * (KD + 1)] += model.spring;
@@ -546,8 +556,7 @@ fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comp
         });
         let Some(lu) = lu else { return Ok(Complex64::new(s, 0.0)) };
         let (mx, mbx, kx) = (model.m.mul_vec(&x), model.m_beam.mul_vec(&x), model.k.mul_vec(&x));
-        let mut y: Vec<f64> =
-            (0..model.n()).map(|i| 2.0 * s * mx[i] + model.c * mbx[i] + dg.re * kx[i]).collect();
+        let mut y: Vec<f64> = (0..model.n()).map(|i| 2.0 * s * mx[i] + model.c * mbx[i] + dg.re * kx[i]).collect();
         lu.solve(&mut y);
         let norm = y.iter().map(|v| v.abs()).fold(0.0, f64::max);
         if !(norm.is_finite() && norm > 0.0) {
@@ -686,7 +695,8 @@ mod tests {
             let refined = eigen.lowest(mesh, &params, &kt, &model.m, model.point_mass.as_ref(), 4).unwrap().to_vec();
             assert_eq!(eigen.last_method, Some(EigenMethod::Refined), "{b:?}");
             let scratch =
-                lowest_eigenpairs(&kt, &model.m, 4, &mut Vec::new(), &|x| mesh.pencil_stiffness(params.spring, x)).unwrap();
+                lowest_eigenpairs(&kt, &model.m, 4, &mut Vec::new(), &|x| mesh.pencil_stiffness(params.spring, x))
+                    .unwrap();
             for (r, s) in refined.iter().zip(&scratch) {
                 // both are Rayleigh quotients of vectors converged far below
                 // 1e-6 (error quadratic in it); what remains is the rounding of

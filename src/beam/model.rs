@@ -23,7 +23,6 @@
 //! (both ends for simply supported, x = L for clamped–pinned); it is elastic
 //! only (not multiplied by the relaxation factor 1 + ΣΔᵢ s/(s+Ωᵢ)).
 
-
 use crate::beam::band::SymBand;
 use crate::beam::element;
 use crate::beam::spec::{BeamSpec, Support};
@@ -51,8 +50,10 @@ pub struct UnitMesh {
     curvature_ends: [[f64; 4]; 2],
 }
 
-const GX: [f64; 4] = [-0.861_136_311_594_052_6, -0.339_981_043_584_856_3, 0.339_981_043_584_856_3, 0.861_136_311_594_052_6];
-const GW: [f64; 4] = [0.347_854_845_137_453_8, 0.652_145_154_862_546_1, 0.652_145_154_862_546_1, 0.347_854_845_137_453_8];
+const GX: [f64; 4] =
+    [-0.861_136_311_594_052_6, -0.339_981_043_584_856_3, 0.339_981_043_584_856_3, 0.861_136_311_594_052_6];
+const GW: [f64; 4] =
+    [0.347_854_845_137_453_8, 0.652_145_154_862_546_1, 0.652_145_154_862_546_1, 0.347_854_845_137_453_8];
 
 impl UnitMesh {
     pub fn new(elements: usize, support: Support) -> Self {

@@ -6,8 +6,8 @@ use std::path::Path;
 
 use crate::bayes::summary::ParameterSummary;
 use crate::calibration::CalibrationResult;
-use crate::report::table::{fmt_interval, fmt_sig};
 use crate::report::svg::{self, HistogramPlot, NamedValues, PairPlot, TracePlot};
+use crate::report::table::{fmt_interval, fmt_sig};
 use crate::report::ReportError;
 
 /// Column headers of [`summary_cells`].
@@ -65,7 +65,11 @@ pub fn summary_json(result: &CalibrationResult) -> serde_json::Value {
 
 /// Writes every file of a calibration into `dir` (which must exist).
 /// `reference` optionally marks true values with dashed lines.
-pub fn write_calibration_files(dir: &Path, result: &CalibrationResult, reference: Option<&[f64]>) -> Result<(), ReportError> {
+pub fn write_calibration_files(
+    dir: &Path,
+    result: &CalibrationResult,
+    reference: Option<&[f64]>,
+) -> Result<(), ReportError> {
     let io = |path: &Path, e: std::io::Error| ReportError::Io { path: path.to_path_buf(), source: e };
     let write = |name: &str, text: &str| {
         let p = dir.join(name);
@@ -79,7 +83,10 @@ pub fn write_calibration_files(dir: &Path, result: &CalibrationResult, reference
             .chains
             .iter()
             .enumerate()
-            .map(|(c, ch)| NamedValues { name: format!("chain {}", c + 1), values: ch.draws.iter().map(|t| t[k]).collect() })
+            .map(|(c, ch)| NamedValues {
+                name: format!("chain {}", c + 1),
+                values: ch.draws.iter().map(|t| t[k]).collect(),
+            })
             .collect();
         let trace = TracePlot {
             title: format!("Trace of {name}"),

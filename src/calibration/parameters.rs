@@ -256,13 +256,21 @@ pub fn check_physical(prior: &Prior, field: &str) -> Result<(), InputError> {
     match *prior {
         Prior::Normal { mean, sd } => {
             if mean - 4.0 * sd <= 0.0 {
-                return Err(InputError::new(format!("{field}.prior.mean"), mean, format!("> 4 sd = {} (physical range >= 0)", 4.0 * sd)));
+                return Err(InputError::new(
+                    format!("{field}.prior.mean"),
+                    mean,
+                    format!("> 4 sd = {} (physical range >= 0)", 4.0 * sd),
+                ));
             }
         }
         _ => {
             let (lo, _) = prior.support();
             if lo < 0.0 {
-                return Err(InputError::new(format!("{field}.prior.lower"), lo, "a support within the physical range >= 0"));
+                return Err(InputError::new(
+                    format!("{field}.prior.lower"),
+                    lo,
+                    "a support within the physical range >= 0",
+                ));
             }
         }
     }

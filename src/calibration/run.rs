@@ -5,9 +5,10 @@ use std::io::IsTerminal;
 
 use serde::Serialize;
 
-use crate::bayes::chains::{chain_rng, pooled_acceptance, run_chains};
+use crate::bayes::chains::{pooled_acceptance, run_chains};
 use crate::bayes::dram::{ChainOutput, DramSettings};
 use crate::bayes::map::{map_estimate, multi_start_optimum};
+use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::summary::{summarize, Summary};
 use crate::bayes::Posterior;
 use crate::calibration::{BeamPosterior, MeasuredData, SamplerSpec};
@@ -97,14 +98,14 @@ pub fn calibrate_posterior(
 ) -> CalibrationResult {
     let names = post.names();
     let settings = dram_settings(sampler);
-    let optima = multi_start_optimum(post, c0_sd, sampler.multistart_points, 4, sampler.seed ^ 0x5eed_0f_0b7);
+    let optima = multi_start_optimum(post, c0_sd, sampler.multistart_points, 4, sampler.seed, 0);
     let best = optima.first().map(|m| m.theta.clone()).unwrap_or_else(|| {
-        let mut rng = chain_rng(sampler.seed, usize::MAX);
+        let mut rng = stream(sampler.seed, Purpose::ChainStart, [u64::MAX, 0]);
         post.sample_prior(&mut rng)
     });
     let starts: Vec<Vec<f64>> = (0..sampler.chains)
         .map(|c| {
-            let mut rng = chain_rng(sampler.seed ^ 0x57a7, c);
+            let mut rng = stream(sampler.seed, Purpose::ChainStart, [c as u64, 0]);
             for _ in 0..100 {
                 let cand: Vec<f64> = best
                     .iter()

@@ -53,7 +53,11 @@ impl SamplerSpec {
             return Err(InputError::new(f("draws_per_chain"), 0, ">= 1"));
         }
         if self.burn_in >= self.draws_per_chain {
-            return Err(InputError::new(f("burn_in"), self.burn_in, format!("< draws_per_chain = {}", self.draws_per_chain)));
+            return Err(InputError::new(
+                f("burn_in"),
+                self.burn_in,
+                format!("< draws_per_chain = {}", self.draws_per_chain),
+            ));
         }
         if self.covariance_skip > self.adaptation_start {
             return Err(InputError::new(

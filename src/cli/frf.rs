@@ -97,9 +97,14 @@ pub fn run(args: &FrfArgs, out: &mut dyn std::io::Write) -> Result<(), CliError>
         s
     } else {
         let mut s = String::new();
-        let _ = writeln!(s, "{:>14}  {:>14}  {:>14}  {:>14}  {:>10}", "omega [rad/s]", "Re [m/N]", "Im [m/N]", "|H| [m/N]", "phase [rad]");
+        let _ = writeln!(
+            s,
+            "{:>14}  {:>14}  {:>14}  {:>14}  {:>10}",
+            "omega [rad/s]", "Re [m/N]", "Im [m/N]", "|H| [m/N]", "phase [rad]"
+        );
         for (&w, z) in omegas.iter().zip(&h) {
-            let _ = writeln!(s, "{:>14.6e}  {:>14.6e}  {:>14.6e}  {:>14.6e}  {:>10.6}", w, z.re, z.im, z.norm(), z.arg());
+            let _ =
+                writeln!(s, "{:>14.6e}  {:>14.6e}  {:>14.6e}  {:>14.6e}  {:>10.6}", w, z.re, z.im, z.norm(), z.arg());
         }
         s
     };

@@ -15,7 +15,11 @@ use crate::beam::{BeamError, BeamSpec};
 use crate::error::InputError;
 
 #[derive(Debug, Parser)]
-#[command(name = "nanobeam", version, about = "Nonlocal viscoelastic Euler-Bernoulli nanobeams: forward model and calibration")]
+#[command(
+    name = "nanobeam",
+    version,
+    about = "Nonlocal viscoelastic Euler-Bernoulli nanobeams: forward model and calibration"
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,

@@ -23,7 +23,6 @@ use crate::bayes::prior::Prior;
 use crate::beam::BeamSpec;
 use crate::calibration::{Parameter, ParameterSet, Target};
 
-
 /// A model class compared by its evidence.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum ModelClass {
@@ -107,7 +106,12 @@ impl NominalScales {
 fn param(name: &str, prior: Prior) -> Parameter {
     let (lo, hi) = prior.support();
     let proposal_sd = if let Prior::LogUniform { .. } = prior { 0.01 * hi } else { 0.01 * (hi - lo) };
-    Parameter { name: name.to_string(), target: Target::from_name(name).expect("known parameter name"), prior, proposal_sd }
+    Parameter {
+        name: name.to_string(),
+        target: Target::from_name(name).expect("known parameter name"),
+        prior,
+        proposal_sd,
+    }
 }
 
 /// Builds the parameter vector of `class`. `base` is the file's parameter set;
@@ -118,9 +122,8 @@ pub fn class_parameters(class: ModelClass, base: &ParameterSet, beam: &BeamSpec,
     let mut params: Vec<Parameter> = base.params.iter().filter(|p| p.target != Target::BetaSquared).cloned().collect();
     match class {
         ModelClass::Base => {}
-        ModelClass::Baseline => params.push(
-            file_beta.unwrap_or_else(|| param("beta_squared", Prior::InverseGamma { shape: 9.5, scale: 11.1 })),
-        ),
+        ModelClass::Baseline => params
+            .push(file_beta.unwrap_or_else(|| param("beta_squared", Prior::InverseGamma { shape: 9.5, scale: 11.1 }))),
         ModelClass::ExtraRelaxation => {
             let used = params
                 .iter()
@@ -131,7 +134,11 @@ pub fn class_parameters(class: ModelClass, base: &ParameterSet, beam: &BeamSpec,
                 .max()
                 .unwrap_or(0);
             let k = used.max(beam.internal_variables.len()) + 1; // 1-based number of the new variable
-            let (dn, on) = if k == 1 { ("delta".to_string(), "omega_rad_s".to_string()) } else { (format!("delta_{k}"), format!("omega_{k}_rad_s")) };
+            let (dn, on) = if k == 1 {
+                ("delta".to_string(), "omega_rad_s".to_string())
+            } else {
+                (format!("delta_{k}"), format!("omega_{k}_rad_s"))
+            };
             params.push(param(&dn, Prior::Uniform { lower: 0.0, upper: 1.0 }));
             params.push(param(&on, Prior::LogUniform { lower: s.omega_1_rad_s / 3.0, upper: 3.0 * s.omega_max_rad_s }));
         }
@@ -141,7 +148,10 @@ pub fn class_parameters(class: ModelClass, base: &ParameterSet, beam: &BeamSpec,
         }
         ModelClass::SupportRotationalStiffness => {
             let k_ref = s.ei_n_m2 / s.length_m;
-            params.push(param("support_rotational_stiffness_n_m_rad", Prior::LogUniform { lower: 1e-2 * k_ref, upper: 1e2 * k_ref }));
+            params.push(param(
+                "support_rotational_stiffness_n_m_rad",
+                Prior::LogUniform { lower: 1e-2 * k_ref, upper: 1e2 * k_ref },
+            ));
         }
         ModelClass::AttachedMass => {
             let m_ref = s.rho_a_kg_m * s.length_m;

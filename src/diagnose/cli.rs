@@ -11,7 +11,13 @@ use super::{diagnose_run, report, DiagnoseSettings};
 /// Runs the command, writing the summary (or the JSON) to `out`. Bad input is
 /// `CliError::Input` (exit 2) naming the field; DIR is only replaced when
 /// everything succeeded.
-pub fn run_to(measured: &Path, dir: Option<&Path>, json: bool, settings: &DiagnoseSettings, out: &mut dyn Write) -> Result<(), CliError> {
+pub fn run_to(
+    measured: &Path,
+    dir: Option<&Path>,
+    json: bool,
+    settings: &DiagnoseSettings,
+    out: &mut dyn Write,
+) -> Result<(), CliError> {
     let data = read_measured(measured)?;
     let t0 = std::time::Instant::now();
     let run = diagnose_run(&data, settings)?;

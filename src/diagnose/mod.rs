@@ -37,11 +37,12 @@ use serde::Serialize;
 use crate::calibration::MeasuredData;
 use crate::error::InputError;
 
-pub use classes::ModelClass;
-use classes::{class_parameters, NominalScales};
 use crate::bayes::laplace::laplace_log_evidence_with_step;
 use crate::bayes::map::map_estimate;
+use crate::bayes::rng::{child_seed, Purpose};
 use crate::bayes::tmcmc::{tmcmc, TmcmcConfig, TmcmcError, TmcmcResult};
+pub use classes::ModelClass;
+use classes::{class_parameters, NominalScales};
 use posterior::{observables, predicted, ClassPosterior, Observable};
 use ppc::Check;
 
@@ -64,7 +65,14 @@ pub struct DiagnoseSettings {
 
 impl Default for DiagnoseSettings {
     fn default() -> Self {
-        Self { samples: 1000, mh_steps: 4, seed: None, family_alpha: 0.01, log_bayes_factor_threshold: 3.0, map_iters: 400 }
+        Self {
+            samples: 1000,
+            mh_steps: 4,
+            seed: None,
+            family_alpha: 0.01,
+            log_bayes_factor_threshold: 3.0,
+            map_iters: 400,
+        }
     }
 }
 
@@ -175,12 +183,14 @@ pub fn diagnose_run(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<
         ));
     }
     let n_modes = data.max_mode();
-    let scales = NominalScales::of(&data.beam, n_modes)
-        .map_err(|e| InputError::new("modes", format!("highest mode {n_modes}"), format!("modes the beam model can compute ({e})")))?;
+    let scales = NominalScales::of(&data.beam, n_modes).map_err(|e| {
+        InputError::new("modes", format!("highest mode {n_modes}"), format!("modes the beam model can compute ({e})"))
+    })?;
     let fitted = observables(&data.modes);
     let held = observables(&data.held_out_modes);
     let seed = settings.seed.unwrap_or(data.sampler.seed);
-    let classes: Vec<ModelClass> = [ModelClass::Base, ModelClass::Baseline].into_iter().chain(ModelClass::CAUSES).collect();
+    let classes: Vec<ModelClass> =
+        [ModelClass::Base, ModelClass::Baseline].into_iter().chain(ModelClass::CAUSES).collect();
 
     let runs: Vec<ClassRun> = classes
         .par_iter()
@@ -188,7 +198,7 @@ pub fn diagnose_run(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<
         .map(|(k, &class)| {
             let params = class_parameters(class, &data.parameters, &data.beam, &scales);
             let post = ClassPosterior::new(params, data.beam.clone(), fitted.clone(), n_modes);
-            run_class(class, post, settings, seed.wrapping_add(1000 * k as u64))
+            run_class(class, post, settings, child_seed(seed, Purpose::ModelClass, [k as u64, 0]))
         })
         .collect::<Result<_, _>>()
         .map_err(|e| InputError::new("modes", e, "data every model class can be evaluated on (TMCMC failed)"))?;
@@ -210,7 +220,8 @@ pub fn diagnose_run(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<
         probability: p,
         posterior: summaries(&r.posterior, &r.tmcmc.samples),
     };
-    let candidates: Vec<Candidate> = ModelClass::CAUSES.iter().map(|&c| candidate(run_of(c), prob(run_of(c)))).collect();
+    let candidates: Vec<Candidate> =
+        ModelClass::CAUSES.iter().map(|&c| candidate(run_of(c), prob(run_of(c)))).collect();
     let baseline_run = run_of(ModelClass::Baseline);
     let lb = baseline_run.tmcmc.log_evidence - z_base;
     let baseline = candidate(baseline_run, 1.0 / (1.0 + (-lb).exp()));

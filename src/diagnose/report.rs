@@ -102,7 +102,10 @@ pub fn markdown(run: &DiagnosisRun, data: &MeasuredData, s: &DiagnoseSettings) -
     ctx.insert("z_threshold", &z_of(d.thresholds.per_test_alpha_sidak));
     ctx.insert("n_fitted", &d.misfit.len());
     ctx.insert("fitted_modes", &data.modes.iter().map(|m| m.mode.to_string()).collect::<Vec<_>>().join(", "));
-    ctx.insert("held_out_modes", &data.held_out_modes.iter().map(|m| m.mode.to_string()).collect::<Vec<_>>().join(", "));
+    ctx.insert(
+        "held_out_modes",
+        &data.held_out_modes.iter().map(|m| m.mode.to_string()).collect::<Vec<_>>().join(", "),
+    );
     ctx.insert("seed", &s.seed.unwrap_or(data.sampler.seed));
     ctx.insert("samples", &s.samples);
     ctx.insert("mh_steps", &s.mh_steps);
@@ -130,7 +133,8 @@ pub fn residuals_svg(run: &DiagnosisRun) -> Result<String, String> {
             .y_label_area_size(50)
             .build_cartesian_2d(-0.5f64..(n as f64 - 0.5), -zmax..zmax)
             .map_err(svg_err)?;
-        let labels: Vec<String> = d.misfit.iter().map(|c| format!("{}{}", if c.quantity == "omega" { "ω" } else { "ζ" }, c.mode)).collect();
+        let labels: Vec<String> =
+            d.misfit.iter().map(|c| format!("{}{}", if c.quantity == "omega" { "ω" } else { "ζ" }, c.mode)).collect();
         chart
             .configure_mesh()
             .x_labels(n)
@@ -150,7 +154,11 @@ pub fn residuals_svg(run: &DiagnosisRun) -> Result<String, String> {
             .legend(|(x, y)| Circle::new((x, y), 5, BLUE.filled()));
         chart
             .draw_series(
-                d.gain.misfit_after.iter().enumerate().map(|(i, c)| TriangleMarker::new((i as f64 + 0.1, c.z), 6, GREEN.filled())),
+                d.gain
+                    .misfit_after
+                    .iter()
+                    .enumerate()
+                    .map(|(i, c)| TriangleMarker::new((i as f64 + 0.1, c.z), 6, GREEN.filled())),
             )
             .map_err(svg_err)?
             .label(d.gain.extension.as_str())
@@ -185,7 +193,11 @@ pub fn probabilities_svg(run: &DiagnosisRun) -> Result<String, String> {
             .draw()
             .map_err(svg_err)?;
         chart
-            .draw_series(bars.iter().enumerate().map(|(i, b)| Rectangle::new([(i as f64 - 0.35, 0.0), (i as f64 + 0.35, b.1)], BLUE.mix(0.7).filled())))
+            .draw_series(
+                bars.iter().enumerate().map(|(i, b)| {
+                    Rectangle::new([(i as f64 - 0.35, 0.0), (i as f64 + 0.35, b.1)], BLUE.mix(0.7).filled())
+                }),
+            )
             .map_err(svg_err)?;
         root.present().map_err(svg_err)?;
     }
@@ -205,9 +217,11 @@ pub fn posterior_svg(run: &DiagnosisRun) -> Result<String, String> {
         root.fill(&WHITE).map_err(svg_err)?;
         for (i, area) in root.split_evenly((1, k)).iter().enumerate() {
             let log = r.posterior.params.log_scale[i];
-            let v: Vec<f64> = r.tmcmc.samples.iter().map(|u| if log { u[i] / std::f64::consts::LN_10 } else { u[i] }).collect();
+            let v: Vec<f64> =
+                r.tmcmc.samples.iter().map(|u| if log { u[i] / std::f64::consts::LN_10 } else { u[i] }).collect();
             let (lo, hi) = v.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)));
-            let (lo, hi) = if hi > lo { (lo, hi) } else { (lo - 0.5 * lo.abs().max(1e-300), hi + 0.5 * hi.abs().max(1e-300)) };
+            let (lo, hi) =
+                if hi > lo { (lo, hi) } else { (lo - 0.5 * lo.abs().max(1e-300), hi + 0.5 * hi.abs().max(1e-300)) };
             let bins = 30;
             let w = (hi - lo) / bins as f64;
             let mut counts = vec![0usize; bins];

@@ -11,19 +11,20 @@
 //! this by fitting the base model (multi-start Nelder–Mead) and grows the
 //! magnitude ×1.5 (redrawing the effect's shape when a cap is reached) until true.
 
-use rand::{Rng, SeedableRng};
+use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 
+use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::Posterior;
 use crate::beam::{BeamSpec, InternalVariable, PointMass, Support};
 use crate::calibration::measured::MeasuredFile;
 use crate::calibration::{MeasuredData, ModeObservation, ParameterSet, SamplerSpec};
 
 use super::classes::{class_parameters, ModelClass, NominalScales};
+use super::posterior::{observables, predicted, ClassPosterior};
 use super::posterior::{predict, ModalPair};
 use crate::bayes::map::map_estimate;
-use super::posterior::{observables, predicted, ClassPosterior};
 
 /// Minimum misfit, in measurement sds, the hidden effect must leave in the best base fit.
 pub const MIN_SHIFT_SIGMA: f64 = 5.0;
@@ -67,7 +68,7 @@ pub fn nominal_beam() -> BeamSpec {
 
 /// Effect drawn by seed: clean with probability 1/5, else one of the four causes.
 pub fn draw_truth(seed: u64) -> Option<ModelClass> {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed ^ 0x5eed_cafe);
+    let mut rng = stream(seed, Purpose::SyntheticEffect, [0, 0]);
     let k = rng.gen_range(0..5);
     (k < 4).then(|| ModelClass::CAUSES[k])
 }
@@ -78,7 +79,7 @@ fn log_uniform(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> f64 {
 
 /// Generates the case of `seed` with the given hidden effect (`None` = clean).
 pub fn generate(seed: u64, effect: Option<ModelClass>) -> SyntheticCase {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut rng = stream(seed, Purpose::SyntheticCase, [0, 0]);
     let n_modes = rng.gen_range(4..=6);
     'truth: loop {
         let mut truth = nominal_beam();
@@ -133,7 +134,9 @@ fn with_effect(base: &BeamSpec, class: ModelClass, shape: f64, mag: f64, s: &Nom
         ModelClass::ExtraRelaxation => b.internal_variables.push(InternalVariable { delta: mag, omega_rad_s: shape }),
         ModelClass::ViscousDamping => b.viscous_damping_n_s_m2 = 2.0 * s.rho_a_kg_m * s.omega_1_rad_s * mag,
         ModelClass::SupportRotationalStiffness => b.support_rotational_stiffness_n_m_rad = mag * s.ei_n_m2 / s.length_m,
-        ModelClass::AttachedMass => b.point_mass = Some(PointMass { mass_kg: mag * s.rho_a_kg_m * s.length_m, x_nm: shape }),
+        ModelClass::AttachedMass => {
+            b.point_mass = Some(PointMass { mass_kg: mag * s.rho_a_kg_m * s.length_m, x_nm: shape })
+        }
         _ => {}
     }
     b
@@ -159,7 +162,7 @@ fn base_fit_max_z(y0: &[ModalPair], truth: &BeamSpec, n_modes: usize, s: &Nomina
     let obs = observables(&observations(y0));
     let params = class_parameters(ModelClass::Base, &ParameterSet::paper_n1(), &nominal_beam(), s);
     let post = ClassPosterior::new(params, nominal_beam(), obs.clone(), n_modes);
-    let mut rng = ChaCha8Rng::seed_from_u64(seed.wrapping_add(77));
+    let mut rng = stream(seed, Purpose::SyntheticBaseFit, [0, 0]);
     let iv = truth.internal_variables[0];
     let mut starts = vec![vec![truth.nonlocal_e0a_nm, iv.delta, iv.omega_rad_s]];
     starts.extend((0..128).map(|_| post.sample_prior(&mut rng)));
@@ -176,7 +179,14 @@ fn base_fit_max_z(y0: &[ModalPair], truth: &BeamSpec, n_modes: usize, s: &Nomina
     obs.iter().map(|o| ((o.value - predicted(o, &fit)) / o.sd).abs()).fold(0.0, f64::max)
 }
 
-fn finish(seed: u64, truth: BeamSpec, y0: Vec<ModalPair>, effect: Option<ModelClass>, z: f64, rng: &mut ChaCha8Rng) -> SyntheticCase {
+fn finish(
+    seed: u64,
+    truth: BeamSpec,
+    y0: Vec<ModalPair>,
+    effect: Option<ModelClass>,
+    z: f64,
+    rng: &mut ChaCha8Rng,
+) -> SyntheticCase {
     let mut modes = observations(&y0);
     for m in &mut modes {
         let e1: f64 = StandardNormal.sample(rng);

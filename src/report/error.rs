@@ -26,17 +26,11 @@ pub enum ReportError {
 
 impl ReportError {
     pub(crate) fn invalid(what: impl Into<String>, reason: impl Into<String>) -> Self {
-        ReportError::InvalidData {
-            what: what.into(),
-            reason: reason.into(),
-        }
+        ReportError::InvalidData { what: what.into(), reason: reason.into() }
     }
 
     pub(crate) fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        ReportError::Io {
-            path: path.into(),
-            source,
-        }
+        ReportError::Io { path: path.into(), source }
     }
 }
 

@@ -25,26 +25,15 @@ pub fn render_template(dir: &Path, name: &str, context: &serde_json::Value) -> R
     // Parse each file on its own first so a syntax error names its file.
     for (tpl_name, content) in &templates {
         if let Err(e) = tera::Template::new(tpl_name, None, content) {
-            return Err(ReportError::Template {
-                file: dir.join(tpl_name),
-                message: error_chain(&e),
-            });
+            return Err(ReportError::Template { file: dir.join(tpl_name), message: error_chain(&e) });
         }
     }
     let mut tera = tera::Tera::default();
     tera.add_raw_templates(templates.iter().map(|(n, c)| (n.as_str(), c.as_str())))
-        .map_err(|e| ReportError::Template {
-            file: requested.clone(),
-            message: error_chain(&e),
-        })?;
-    let ctx = tera::Context::from_value(context.clone()).map_err(|e| ReportError::Template {
-        file: requested.clone(),
-        message: error_chain(&e),
-    })?;
-    tera.render(name, &ctx).map_err(|e| ReportError::Template {
-        file: requested,
-        message: error_chain(&e),
-    })
+        .map_err(|e| ReportError::Template { file: requested.clone(), message: error_chain(&e) })?;
+    let ctx = tera::Context::from_value(context.clone())
+        .map_err(|e| ReportError::Template { file: requested.clone(), message: error_chain(&e) })?;
+    tera.render(name, &ctx).map_err(|e| ReportError::Template { file: requested, message: error_chain(&e) })
 }
 
 /// `(relative name, content)` of every file under `dir`, sorted by name.
@@ -58,11 +47,7 @@ fn read_template_dir(dir: &Path) -> Result<Vec<(String, String)>> {
                 stack.push(path);
             } else {
                 let rel = path.strip_prefix(dir).expect("walked below dir");
-                let name = rel
-                    .components()
-                    .map(|c| c.as_os_str().to_string_lossy())
-                    .collect::<Vec<_>>()
-                    .join("/");
+                let name = rel.components().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/");
                 let content = fs::read_to_string(&path).map_err(|e| ReportError::io(&path, e))?;
                 out.push((name, content));
             }
@@ -94,9 +79,7 @@ fn sibling(dest: &Path, tag: &str) -> Result<PathBuf> {
     };
     let name = dest
         .file_name()
-        .ok_or_else(|| {
-            ReportError::invalid(dest.display().to_string(), "destination has no file name")
-        })?
+        .ok_or_else(|| ReportError::invalid(dest.display().to_string(), "destination has no file name"))?
         .to_string_lossy();
     loop {
         let n = UNIQUE.fetch_add(1, Ordering::Relaxed);

@@ -17,10 +17,7 @@ pub struct Table {
 impl Table {
     /// An empty table with these column headers.
     pub fn new<S: Into<String>>(headers: impl IntoIterator<Item = S>) -> Self {
-        Self {
-            headers: headers.into_iter().map(Into::into).collect(),
-            rows: Vec::new(),
-        }
+        Self { headers: headers.into_iter().map(Into::into).collect(), rows: Vec::new() }
     }
 
     /// Appends a row.
@@ -30,12 +27,7 @@ impl Table {
     }
 
     fn n_columns(&self) -> usize {
-        self.rows
-            .iter()
-            .map(Vec::len)
-            .chain(std::iter::once(self.headers.len()))
-            .max()
-            .unwrap_or(0)
+        self.rows.iter().map(Vec::len).chain(std::iter::once(self.headers.len())).max().unwrap_or(0)
     }
 
     /// GitHub-flavoured Markdown: a header line, a `---` separator line and
@@ -43,15 +35,9 @@ impl Table {
     /// `|` in a cell is escaped as `\|`, a line break becomes `<br>`.
     pub fn to_markdown(&self) -> String {
         let n = self.n_columns();
-        let escape = |s: &str| {
-            s.replace('|', "\\|")
-                .replace("\r\n", "<br>")
-                .replace('\n', "<br>")
-        };
+        let escape = |s: &str| s.replace('|', "\\|").replace("\r\n", "<br>").replace('\n', "<br>");
         let pad = |line: &[String]| -> Vec<String> {
-            (0..n)
-                .map(|i| line.get(i).map(|s| escape(s)).unwrap_or_default())
-                .collect()
+            (0..n).map(|i| line.get(i).map(|s| escape(s)).unwrap_or_default()).collect()
         };
         let header = pad(&self.headers);
         let body: Vec<Vec<String>> = self.rows.iter().map(|r| pad(r)).collect();
@@ -66,11 +52,8 @@ impl Table {
             })
             .collect();
         let render = |line: &[String]| -> String {
-            let cells: Vec<String> = line
-                .iter()
-                .zip(&widths)
-                .map(|(c, &w)| format!("{c}{}", " ".repeat(w - c.chars().count())))
-                .collect();
+            let cells: Vec<String> =
+                line.iter().zip(&widths).map(|(c, &w)| format!("{c}{}", " ".repeat(w - c.chars().count()))).collect();
             format!("| {} |\n", cells.join(" | "))
         };
         let mut out = render(&header);
@@ -89,9 +72,7 @@ impl Table {
         let n = self.n_columns();
         let mut out = String::new();
         for line in std::iter::once(&self.headers).chain(self.rows.iter()) {
-            let cells: Vec<String> = (0..n)
-                .map(|i| csv_field(line.get(i).map(String::as_str).unwrap_or("")))
-                .collect();
+            let cells: Vec<String> = (0..n).map(|i| csv_field(line.get(i).map(String::as_str).unwrap_or(""))).collect();
             out.push_str(&cells.join(","));
             out.push('\n');
         }
@@ -128,9 +109,7 @@ pub fn fmt_sig(x: f64, sig: usize) -> String {
     // exponent *after* rounding (9.996 -> 1.00e1), which is what decides the
     // notation.
     let sci = format!("{:.*e}", sig - 1, x);
-    let (mantissa, exp) = sci
-        .split_once('e')
-        .expect("`{:e}` output always has an exponent");
+    let (mantissa, exp) = sci.split_once('e').expect("`{:e}` output always has an exponent");
     let exp: i32 = exp.parse().expect("`{:e}` exponent is an integer");
     if x == 0.0 || (-3..5).contains(&exp) {
         // Format the already-rounded value so that digits beyond `sig` are

@@ -9,18 +9,21 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
 use serde::Serialize;
 use serde_json::{json, Value};
 
+use crate::bayes::rng::{stream, Purpose};
 use crate::beam::{self, BeamSpec, InternalVariable};
 use crate::calibration::output::{summary_cells, write_calibration_files, SUMMARY_HEADERS};
-use crate::calibration::{calibrate_posterior, BeamPosterior, CalibrateOptions, CalibrationResult, ModeObservation, ParameterSet, Target};
+use crate::calibration::{
+    calibrate_posterior, BeamPosterior, CalibrateOptions, CalibrationResult, ModeObservation, ParameterSet, Target,
+};
 use crate::report::render::{render_template, write_dir_atomically};
-use crate::report::svg::{self, Axis, Band, Heatmap, HistogramPlot, LinePlot, NamedValues, PairPlot, RefLine, Series, TracePlot};
+use crate::report::svg::{
+    self, Axis, Band, Heatmap, HistogramPlot, LinePlot, NamedValues, PairPlot, RefLine, Series, TracePlot,
+};
 use crate::report::table::{fmt_interval, fmt_sig, Table};
 use crate::report::ReportError;
 use crate::reproduce::reconstruction::{ghz_to_rad_s, reconstruct, Reconstruction};
@@ -311,7 +314,8 @@ fn forward_stage(specs: &Specs, rec: &Reconstruction, quick: bool) -> Result<For
     let mut maps = Vec::new();
     let mut files = vec![("table-2.csv".to_string(), t2.to_csv()), ("table-2.md".to_string(), t2.to_markdown())];
     for r in 0..fs.modes {
-        let ratio: Vec<Vec<f64>> = grid.iter().map(|row| row.iter().map(|v| v[r].0 / local_omega[r]).collect()).collect();
+        let ratio: Vec<Vec<f64>> =
+            grid.iter().map(|row| row.iter().map(|v| v[r].0 / local_omega[r]).collect()).collect();
         let zeta: Vec<Vec<f64>> = grid.iter().map(|row| row.iter().map(|v| v[r].1).collect()).collect();
         let mut csv = String::from("e0a_nm,omega_rad_s,omega_ratio,zeta\n");
         for (i, e) in e0a.iter().enumerate() {
@@ -321,7 +325,9 @@ fn forward_stage(specs: &Specs, rec: &Reconstruction, quick: bool) -> Result<For
         }
         files.push((format!("figure-{}.csv", r + 1), csv));
         // Heatmap z is indexed [y][x]: y = e0a, x = Ω.
-        for (suffix, z, label) in [("a", &ratio, format!("ω{}/ω'{}", r + 1, r + 1)), ("b", &zeta, format!("ζ{}", r + 1))] {
+        for (suffix, z, label) in
+            [("a", &ratio, format!("ω{}/ω'{}", r + 1, r + 1)), ("b", &zeta, format!("ζ{}", r + 1))]
+        {
             let hm = Heatmap {
                 title: format!("Figure {}{}: mode {} (Δ = {:.3})", r + 1, suffix, r + 1, delta),
                 x_axis: Axis::log("Ω (rad/s)"),
@@ -357,7 +363,7 @@ fn truth_value(target: Target, truth: &BeamSpec) -> f64 {
 fn synthetic_observations(truth: &BeamSpec, published: &Published, set: &str, seed: u64) -> Vec<ModeObservation> {
     let cs = published.covariance_set(set).expect("validated covariance set id");
     let y0 = beam::modal(truth, 3).expect("reconstructed truth is a valid beam");
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut rng = stream(seed, Purpose::MeasurementNoise, [0, 0]);
     y0.modes
         .iter()
         .enumerate()
@@ -366,7 +372,13 @@ fn synthetic_observations(truth: &BeamSpec, published: &Published, set: &str, se
             let sz = (cs.sigma_zeta_zeta_diag_1e_minus_6[i] * 1e-6).sqrt();
             let ew: f64 = StandardNormal.sample(&mut rng);
             let ez: f64 = StandardNormal.sample(&mut rng);
-            ModeObservation { mode: i + 1, omega_rad_s: m.omega_rad_s + sw * ew, omega_sd_rad_s: sw, zeta: m.zeta + sz * ez, zeta_sd: sz }
+            ModeObservation {
+                mode: i + 1,
+                omega_rad_s: m.omega_rad_s + sw * ew,
+                omega_sd_rad_s: sw,
+                zeta: m.zeta + sz * ez,
+                zeta_sd: sz,
+            }
         })
         .collect()
 }
@@ -449,11 +461,21 @@ fn group<'a>(cases: &'a [CaseOutcome], ids: &[&str]) -> Vec<&'a CaseOutcome> {
 fn case_group_files(cases: &[CaseOutcome]) -> Result<Vec<(String, String)>, ReproduceError> {
     let mut files = Vec::new();
     let groups: [(&str, &[&str], &[(&str, &str)], &str); 3] = [
-        ("table-7", &["1A", "1B", "1C"], &[("figure-4", "nonlocal_e0a_nm"), ("figure-5", "delta"), ("figure-6", "omega_rad_s")], "figure-7"),
+        (
+            "table-7",
+            &["1A", "1B", "1C"],
+            &[("figure-4", "nonlocal_e0a_nm"), ("figure-5", "delta"), ("figure-6", "omega_rad_s")],
+            "figure-7",
+        ),
         (
             "table-8",
             &["2A", "2B", "2C"],
-            &[("figure-8", "nonlocal_e0a_nm"), ("figure-9", "delta"), ("figure-10", "omega_rad_s"), ("figure-11", "diameter_nm")],
+            &[
+                ("figure-8", "nonlocal_e0a_nm"),
+                ("figure-9", "delta"),
+                ("figure-10", "omega_rad_s"),
+                ("figure-11", "diameter_nm"),
+            ],
             "figure-12",
         ),
         ("table-12", &["3", "3-N2"], &[], "figure-13"),
@@ -471,7 +493,13 @@ fn case_group_files(cases: &[CaseOutcome]) -> Result<Vec<(String, String)>, Repr
             let trace = TracePlot {
                 title: format!("{fig}a: chain 1 of each case, {name}"),
                 y_label: name.to_string(),
-                chains: g.iter().map(|c| NamedValues { name: c.spec.id.clone(), values: c.result.chains[0].draws.iter().map(|t| t[k]).collect() }).collect(),
+                chains: g
+                    .iter()
+                    .map(|c| NamedValues {
+                        name: c.spec.id.clone(),
+                        values: c.result.chains[0].draws.iter().map(|t| t[k]).collect(),
+                    })
+                    .collect(),
                 reference: g[0].truth[k].is_finite().then_some(g[0].truth[k]),
                 ..TracePlot::default()
             };
@@ -479,7 +507,13 @@ fn case_group_files(cases: &[CaseOutcome]) -> Result<Vec<(String, String)>, Repr
             let hist = HistogramPlot {
                 title: format!("{fig}b: marginal posteriors of {name}"),
                 x_label: name.to_string(),
-                groups: g.iter().map(|c| NamedValues { name: c.spec.id.clone(), values: c.result.kept_draws().iter().flatten().map(|t| t[k]).collect() }).collect(),
+                groups: g
+                    .iter()
+                    .map(|c| NamedValues {
+                        name: c.spec.id.clone(),
+                        values: c.result.kept_draws().iter().flatten().map(|t| t[k]).collect(),
+                    })
+                    .collect(),
                 reference: g[0].truth[k].is_finite().then_some(g[0].truth[k]),
                 ..HistogramPlot::default()
             };
@@ -487,7 +521,8 @@ fn case_group_files(cases: &[CaseOutcome]) -> Result<Vec<(String, String)>, Repr
         }
         for c in &g {
             let kept = c.result.kept_draws();
-            let columns: Vec<Vec<f64>> = (0..c.names.len()).map(|k| kept.iter().flatten().map(|t| t[k]).collect()).collect();
+            let columns: Vec<Vec<f64>> =
+                (0..c.names.len()).map(|k| kept.iter().flatten().map(|t| t[k]).collect()).collect();
             let pp = PairPlot {
                 title: format!("{pair}: pairs, case {}", c.spec.id),
                 names: c.names.clone(),
@@ -515,7 +550,12 @@ pub struct FrfOutcome {
     pub mode_4_ghz: f64,
 }
 
-fn frf_stage(specs: &Specs, rec: &Reconstruction, cases: &[CaseOutcome], quick: bool) -> Result<FrfOutcome, ReproduceError> {
+fn frf_stage(
+    specs: &Specs,
+    rec: &Reconstruction,
+    cases: &[CaseOutcome],
+    quick: bool,
+) -> Result<FrfOutcome, ReproduceError> {
     let fs = &specs.frf;
     let case = cases.iter().find(|c| c.spec.id == fs.case).expect("validated case id");
     let reference = match case.spec.truth {
@@ -527,7 +567,9 @@ fn frf_stage(specs: &Specs, rec: &Reconstruction, cases: &[CaseOutcome], quick: 
     let w: Vec<f64> = f_ghz.iter().map(|f| ghz_to_rad_s(*f)).collect();
     let at = |b: &BeamSpec| -> Option<Vec<f64>> {
         let l = b.length_nm;
-        beam::frf(b, fs.input_x_fraction * l, fs.output_x_fraction * l, &w).ok().map(|h| h.iter().map(|z| z.norm()).collect())
+        beam::frf(b, fs.input_x_fraction * l, fs.output_x_fraction * l, &w)
+            .ok()
+            .map(|h| h.iter().map(|z| z.norm()).collect())
     };
     let href = at(reference).ok_or_else(|| ReproduceError::Failure("Figure 14: reference FRF failed".into()))?;
     let k = if quick { fs.quick_posterior_draws } else { fs.posterior_draws };
@@ -555,10 +597,14 @@ fn frf_stage(specs: &Specs, rec: &Reconstruction, cases: &[CaseOutcome], quick: 
     let covered = upto.iter().filter(|&&i| href[i] >= lo[i] && href[i] <= hi[i]).count();
     let coverage_to_mode_4 = covered as f64 / upto.len().max(1) as f64;
     // RMS of log10|H_mean| − log10|H_ref| up to mode 4: the FRF error of a model's mean prediction.
-    let log_rms = |m: &[f64]| (upto.iter().map(|&i| (m[i].log10() - href[i].log10()).powi(2)).sum::<f64>() / upto.len().max(1) as f64).sqrt();
+    let log_rms = |m: &[f64]| {
+        (upto.iter().map(|&i| (m[i].log10() - href[i].log10()).powi(2)).sum::<f64>() / upto.len().max(1) as f64).sqrt()
+    };
     let err_n1 = log_rms(&mean);
     let err_n2 = n2.as_ref().map(|(_, m, _, _)| log_rms(m));
-    let coverage_n2 = n2.as_ref().map(|(_, _, l, h)| upto.iter().filter(|&&i| href[i] >= l[i] && href[i] <= h[i]).count() as f64 / upto.len().max(1) as f64);
+    let coverage_n2 = n2.as_ref().map(|(_, _, l, h)| {
+        upto.iter().filter(|&&i| href[i] >= l[i] && href[i] <= h[i]).count() as f64 / upto.len().max(1) as f64
+    });
     let realizations: Vec<Series> = curves
         .iter()
         .take(40)
@@ -574,7 +620,11 @@ fn frf_stage(specs: &Specs, rec: &Reconstruction, cases: &[CaseOutcome], quick: 
             Series { name: "posterior mean (N = 1, β-inflated)".into(), x: f_ghz.clone(), y: mean.clone() },
         ]
         .into_iter()
-        .chain(n2.as_ref().map(|(_, m, _, _)| Series { name: "posterior mean (N = 2, β = 1)".into(), x: f_ghz.clone(), y: m.clone() }))
+        .chain(n2.as_ref().map(|(_, m, _, _)| Series {
+            name: "posterior mean (N = 2, β = 1)".into(),
+            x: f_ghz.clone(),
+            y: m.clone(),
+        }))
         .collect(),
         realizations,
         band: Some(Band { name: "99 % envelope".into(), x: f_ghz.clone(), lower: lo.clone(), upper: hi.clone() }),
@@ -602,7 +652,11 @@ fn frf_stage(specs: &Specs, rec: &Reconstruction, cases: &[CaseOutcome], quick: 
 /// same synthetic data; the log Bayes factor says what the second internal
 /// variable buys over absorbing the misfit into β. Null when a case is absent.
 fn evidence_stage(cases: &[CaseOutcome], quick: bool) -> Value {
-    let config = |seed: u64| crate::bayes::tmcmc::TmcmcConfig { n_samples: if quick { 300 } else { 1500 }, seed, ..Default::default() };
+    let config = |seed: u64| crate::bayes::tmcmc::TmcmcConfig {
+        n_samples: if quick { 300 } else { 1500 },
+        seed,
+        ..Default::default()
+    };
     let one = |id: &str| -> Option<(f64, f64)> {
         let c = cases.iter().find(|c| c.spec.id == id)?;
         crate::bayes::tmcmc::tmcmc(&c.posterior, &config(c.spec.seed)).ok().map(|r| (r.log_evidence, r.log_evidence_se))
@@ -636,7 +690,10 @@ fn diagnosis_stage(cases: &[CaseOutcome], rec: &Reconstruction, quick: bool) -> 
     };
     let data = crate::calibration::measured::MeasuredData::from_file(file)
         .map_err(|e| ReproduceError::Failure(format!("case 3 as measured data: {e}")))?;
-    let settings = DiagnoseSettings { seed: Some(c.spec.seed), ..if quick { DiagnoseSettings::quick() } else { DiagnoseSettings::default() } };
+    let settings = DiagnoseSettings {
+        seed: Some(c.spec.seed),
+        ..if quick { DiagnoseSettings::quick() } else { DiagnoseSettings::default() }
+    };
     let d = diagnose(&data, &settings).map_err(|e| ReproduceError::Failure(format!("case 3 diagnosis: {e}")))?;
     let probability = |name: &str| d.candidates.iter().find(|k| k.extension == name).map(|k| k.probability);
     Ok(json!({
@@ -672,11 +729,26 @@ fn covers(c: &CaseOutcome, k: usize) -> bool {
     p.ci95[0] <= c.truth[k] && c.truth[k] <= p.ci95[1]
 }
 
-fn audit(p: &Published, rec: &Reconstruction, fwd: &ForwardOutcome, cases: &[CaseOutcome], frf: &FrfOutcome) -> Vec<Verdict> {
+fn audit(
+    p: &Published,
+    rec: &Reconstruction,
+    fwd: &ForwardOutcome,
+    cases: &[CaseOutcome],
+    frf: &FrfOutcome,
+) -> Vec<Verdict> {
     let mut v = Vec::new();
-    let mut push = |id: &str, claim: String, source: String, reproduced: String, tolerance: &str, pass: bool, note: &str| {
-        v.push(Verdict { id: id.into(), claim, source, reproduced, tolerance: tolerance.into(), pass, note: if pass { String::new() } else { note.into() } });
-    };
+    let mut push =
+        |id: &str, claim: String, source: String, reproduced: String, tolerance: &str, pass: bool, note: &str| {
+            v.push(Verdict {
+                id: id.into(),
+                claim,
+                source,
+                reproduced,
+                tolerance: tolerance.into(),
+                pass,
+                note: if pass { String::new() } else { note.into() },
+            });
+        };
     for (id, fit, table) in [("table_5", &rec.fit_table_4, "Table 5"), ("table_10", &rec.fit_table_9, "Table 10")] {
         let worst = fit.values.iter().map(|x| x.residual_sigma.abs()).fold(0.0, f64::max);
         push(
@@ -693,20 +765,45 @@ fn audit(p: &Published, rec: &Reconstruction, fwd: &ForwardOutcome, cases: &[Cas
     // Case 1.
     if let Some(a) = get("1A") {
         let (claim, src) = claim_source(p, "case_1a_covers_truth");
-        let ok: Vec<bool> = ["nonlocal_e0a_nm", "delta", "omega_rad_s"].iter().filter_map(|n| param(a, n)).map(|k| covers(a, k)).collect();
-        push("case_1a_covers_truth", claim, src, format!("truth inside CI95: {ok:?} (e0a, Δ, Ω)"), "truth ∈ CI95", ok.iter().all(|x| *x), "a 95 % interval misses its truth 5 % of the time by design; see the case table");
+        let ok: Vec<bool> = ["nonlocal_e0a_nm", "delta", "omega_rad_s"]
+            .iter()
+            .filter_map(|n| param(a, n))
+            .map(|k| covers(a, k))
+            .collect();
+        push(
+            "case_1a_covers_truth",
+            claim,
+            src,
+            format!("truth inside CI95: {ok:?} (e0a, Δ, Ω)"),
+            "truth ∈ CI95",
+            ok.iter().all(|x| *x),
+            "a 95 % interval misses its truth 5 % of the time by design; see the case table",
+        );
     }
     for id in ["1B", "1C"] {
         if let Some(c) = get(id) {
             let (claim, src) = claim_source(p, "cases_1b_1c_miss_delta_omega");
-            let miss: Vec<bool> = ["delta", "omega_rad_s"].iter().filter_map(|n| param(c, n)).map(|k| !covers(c, k)).collect();
+            let miss: Vec<bool> =
+                ["delta", "omega_rad_s"].iter().filter_map(|n| param(c, n)).map(|k| !covers(c, k)).collect();
             push(&format!("case_{}_misses_delta_omega", id.to_lowercase()), claim, src, format!("truth outside CI95 (Δ, Ω): {miss:?}"), "truth ∉ CI95 for both", miss.iter().all(|x| *x), "the bias from a 3 % diameter error depends on the lost Table 1/4 values; with the reconstructed ones it is smaller than the posterior width");
         }
     }
-    let e0a_all: Vec<bool> = ["1A", "1B", "1C"].iter().filter_map(|id| get(id)).filter_map(|c| param(c, "nonlocal_e0a_nm").map(|k| covers(c, k))).collect();
+    let e0a_all: Vec<bool> = ["1A", "1B", "1C"]
+        .iter()
+        .filter_map(|id| get(id))
+        .filter_map(|c| param(c, "nonlocal_e0a_nm").map(|k| covers(c, k)))
+        .collect();
     if !e0a_all.is_empty() {
         let (claim, src) = claim_source(p, "e0a_covered_all_case_1");
-        push("e0a_covered_all_case_1", claim, src, format!("{e0a_all:?}"), "truth ∈ CI95 in 1A, 1B, 1C", e0a_all.iter().all(|x| *x), "e0a absorbs part of the diameter error here");
+        push(
+            "e0a_covered_all_case_1",
+            claim,
+            src,
+            format!("{e0a_all:?}"),
+            "truth ∈ CI95 in 1A, 1B, 1C",
+            e0a_all.iter().all(|x| *x),
+            "e0a absorbs part of the diameter error here",
+        );
     }
     for re in &p.reported_relative_errors {
         let Some(c) = get(&re.case) else { continue };
@@ -730,20 +827,44 @@ fn audit(p: &Published, rec: &Reconstruction, fwd: &ForwardOutcome, cases: &[Cas
     let c2: Vec<bool> = ["2A", "2B", "2C"]
         .iter()
         .filter_map(|id| get(id))
-        .flat_map(|c| ["nonlocal_e0a_nm", "delta", "omega_rad_s"].iter().filter_map(|n| param(c, n)).map(|k| covers(c, k)).collect::<Vec<_>>())
+        .flat_map(|c| {
+            ["nonlocal_e0a_nm", "delta", "omega_rad_s"]
+                .iter()
+                .filter_map(|n| param(c, n))
+                .map(|k| covers(c, k))
+                .collect::<Vec<_>>()
+        })
         .collect();
     if !c2.is_empty() {
         let (claim, src) = claim_source(p, "cases_2_cover_truth");
-        push("cases_2_cover_truth", claim, src, format!("{} of {} (e0a, Δ, Ω) × (2A, 2B, 2C) inside CI95", c2.iter().filter(|x| **x).count(), c2.len()), "all inside", c2.iter().all(|x| *x), "see Table 8");
+        push(
+            "cases_2_cover_truth",
+            claim,
+            src,
+            format!("{} of {} (e0a, Δ, Ω) × (2A, 2B, 2C) inside CI95", c2.iter().filter(|x| **x).count(), c2.len()),
+            "all inside",
+            c2.iter().all(|x| *x),
+            "see Table 8",
+        );
     }
     if let (Some(a1), Some(a2)) = (get("1A"), get("2A")) {
         if let (Some(k1), Some(k2)) = (param(a1, "delta"), param(a2, "delta")) {
             let (s1, s2) = (a1.result.summary.parameters[k1].sd, a2.result.summary.parameters[k2].sd);
             let (claim, src) = claim_source(p, "cases_2_wider_delta_omega");
-            push("cases_2_wider_delta_omega", claim, src, format!("sd(Δ): 1A {} vs 2A {}", fmt_sig(s1, 3), fmt_sig(s2, 3)), "2A > 1A", s2 > s1, "");
+            push(
+                "cases_2_wider_delta_omega",
+                claim,
+                src,
+                format!("sd(Δ): 1A {} vs 2A {}", fmt_sig(s1, 3), fmt_sig(s2, 3)),
+                "2A > 1A",
+                s2 > s1,
+                "",
+            );
         }
     }
-    let corr = |c: &CaseOutcome, a: &str, b: &str| -> Option<f64> { Some(c.result.summary.correlation[param(c, a)?][param(c, b)?]) };
+    let corr = |c: &CaseOutcome, a: &str, b: &str| -> Option<f64> {
+        Some(c.result.summary.correlation[param(c, a)?][param(c, b)?])
+    };
     if let Some(r) = get("1A").and_then(|c| corr(c, "nonlocal_e0a_nm", "delta")) {
         let (claim, src) = claim_source(p, "corr_e0a_delta_positive");
         push("corr_e0a_delta_positive", claim, src, format!("ρ(e0a, Δ) = {r:.3} in 1A"), "> 0", r > 0.0, "");
@@ -762,7 +883,15 @@ fn audit(p: &Published, rec: &Reconstruction, fwd: &ForwardOutcome, cases: &[Cas
         }
     }
     let (claim, src) = claim_source(p, "omega_decreases_with_e0a");
-    push("omega_decreases_with_e0a", claim, src, format!("strictly decreasing along e0a at every Ω of the grid: {monotone}"), "exact (no tolerance)", monotone, "");
+    push(
+        "omega_decreases_with_e0a",
+        claim,
+        src,
+        format!("strictly decreasing along e0a at every Ω of the grid: {monotone}"),
+        "exact (no tolerance)",
+        monotone,
+        "",
+    );
     let mut ridge = Vec::new();
     for (r, (_, zeta)) in fwd.maps.iter().enumerate() {
         let row = &zeta[0];
@@ -771,13 +900,32 @@ fn audit(p: &Published, rec: &Reconstruction, fwd: &ForwardOutcome, cases: &[Cas
     }
     let ok = ridge.iter().all(|x| (0.33..=3.0).contains(x));
     let (claim, src) = claim_source(p, "damping_ridge_near_omega_r");
-    push("damping_ridge_near_omega_r", claim, src, format!("Ω at the ζ_r peak / ω'_r (e0a = 0): {:?}", ridge.iter().map(|x| (x * 100.0).round() / 100.0).collect::<Vec<_>>()), "within a factor 3 (peak of a Debye-type loss at Ω ≈ ω/√(1+Δ))", ok, "");
+    push(
+        "damping_ridge_near_omega_r",
+        claim,
+        src,
+        format!(
+            "Ω at the ζ_r peak / ω'_r (e0a = 0): {:?}",
+            ridge.iter().map(|x| (x * 100.0).round() / 100.0).collect::<Vec<_>>()
+        ),
+        "within a factor 3 (peak of a Debye-type loss at Ω ≈ ω/√(1+Δ))",
+        ok,
+        "",
+    );
     // Case 3.
     if let Some(c3) = get("3") {
         if let Some(k) = param(c3, "nonlocal_e0a_nm") {
             let (claim, src) = claim_source(p, "case_3_e0a_outside_ci95");
             let pr = &c3.result.summary.parameters[k];
-            push("case_3_e0a_outside_ci95", claim, src, format!("truth {} vs CI95 {}", fmt_sig(c3.truth[k], 4), fmt_interval(pr.ci95[0], pr.ci95[1], 4)), "truth ∉ CI95", !covers(c3, k), "with the reconstructed N̄ = 2 truth the N = 1 model's bias in e0a is smaller than its posterior width");
+            push(
+                "case_3_e0a_outside_ci95",
+                claim,
+                src,
+                format!("truth {} vs CI95 {}", fmt_sig(c3.truth[k], 4), fmt_interval(pr.ci95[0], pr.ci95[1], 4)),
+                "truth ∉ CI95",
+                !covers(c3, k),
+                "with the reconstructed N̄ = 2 truth the N = 1 model's bias in e0a is smaller than its posterior width",
+            );
         }
         if let Some(k) = param(c3, "beta_squared") {
             let draws: Vec<f64> = c3.result.kept_draws().iter().flatten().map(|t| t[k].sqrt()).collect();
@@ -787,15 +935,44 @@ fn audit(p: &Published, rec: &Reconstruction, fwd: &ForwardOutcome, cases: &[Cas
         }
     }
     let (claim, src) = claim_source(p, "case_3_envelope_covers_to_mode_4");
-    push("case_3_envelope_covers_to_mode_4", claim, src, format!("{:.0} % of frequencies up to mode 4 ({:.0} GHz) inside the 99 % envelope", 100.0 * frf.coverage_to_mode_4, frf.mode_4_ghz), "≥ 95 % of the grid", frf.coverage_to_mode_4 >= 0.95, "the envelope misses the reference near some resonance peaks");
+    push(
+        "case_3_envelope_covers_to_mode_4",
+        claim,
+        src,
+        format!(
+            "{:.0} % of frequencies up to mode 4 ({:.0} GHz) inside the 99 % envelope",
+            100.0 * frf.coverage_to_mode_4,
+            frf.mode_4_ghz
+        ),
+        "≥ 95 % of the grid",
+        frf.coverage_to_mode_4 >= 0.95,
+        "the envelope misses the reference near some resonance peaks",
+    );
     if let Some(rv) = p.reported_values.iter().find(|r| r.id == "fourth_mode_frequency_case_3_ghz") {
         let tol = 0.02 * rv.value;
-        push("fourth_mode_frequency_case_3_ghz", "The Case-3 reference beam's fourth mode lies around 1250 GHz".into(), rv.source.clone(), format!("{:.0} GHz", frf.mode_4_ghz), "± 2 % (\"around\" a value read off a figure)", (frf.mode_4_ghz - rv.value).abs() <= tol, "");
+        push(
+            "fourth_mode_frequency_case_3_ghz",
+            "The Case-3 reference beam's fourth mode lies around 1250 GHz".into(),
+            rv.source.clone(),
+            format!("{:.0} GHz", frf.mode_4_ghz),
+            "± 2 % (\"around\" a value read off a figure)",
+            (frf.mode_4_ghz - rv.value).abs() <= tol,
+            "",
+        );
     }
     let worst_rhat = cases.iter().flat_map(|c| c.result.summary.parameters.iter().map(|p| p.rhat)).fold(1.0, f64::max);
-    let min_ess = cases.iter().flat_map(|c| c.result.summary.parameters.iter().map(|p| p.ess_bulk)).fold(f64::INFINITY, f64::min);
+    let min_ess =
+        cases.iter().flat_map(|c| c.result.summary.parameters.iter().map(|p| p.ess_bulk)).fold(f64::INFINITY, f64::min);
     let (claim, src) = claim_source(p, "chains_converged");
-    push("chains_converged", claim, src, format!("max R-hat {worst_rhat:.4}, min bulk ESS {min_ess:.0} over all cases"), "R-hat < 1.01 and ESS > 400 (added by this reproduction)", worst_rhat < 1.01 && min_ess > 400.0, "some chains have not mixed to the Vehtari et al. (2021) standard at these settings");
+    push(
+        "chains_converged",
+        claim,
+        src,
+        format!("max R-hat {worst_rhat:.4}, min bulk ESS {min_ess:.0} over all cases"),
+        "R-hat < 1.01 and ESS > 400 (added by this reproduction)",
+        worst_rhat < 1.01 && min_ess > 400.0,
+        "some chains have not mixed to the Vehtari et al. (2021) standard at these settings",
+    );
     v
 }
 
@@ -805,7 +982,8 @@ fn audit(p: &Published, rec: &Reconstruction, fwd: &ForwardOutcome, cases: &[Cas
 
 /// Tables 5 and 10: reference values, their rounding intervals and the reconstruction's fit.
 fn fit_table(f: &crate::reproduce::reconstruction::Fit) -> Table {
-    let mut t = Table::new(["mode", "quantity", "reference", "rounding interval", "reproduced", "residual (σ)", "inside"]);
+    let mut t =
+        Table::new(["mode", "quantity", "reference", "rounding interval", "reproduced", "residual (σ)", "inside"]);
     for x in &f.values {
         t.push_row([
             x.mode.to_string(),
@@ -830,9 +1008,13 @@ fn report_context(
     quick: bool,
 ) -> Value {
     let fit_table = |f| fit_table(f).to_markdown();
-    let params = |f: &crate::reproduce::reconstruction::Fit| f.parameters.iter().map(|(n, v)| format!("{n} = {}", fmt_sig(*v, 5))).collect::<Vec<_>>().join(", ");
+    let params = |f: &crate::reproduce::reconstruction::Fit| {
+        f.parameters.iter().map(|(n, v)| format!("{n} = {}", fmt_sig(*v, 5))).collect::<Vec<_>>().join(", ")
+    };
     let mut tables = BTreeMap::new();
-    for (name, ids) in [("table_7", vec!["1A", "1B", "1C"]), ("table_8", vec!["2A", "2B", "2C"]), ("table_12", vec!["3", "3-N2"])] {
+    for (name, ids) in
+        [("table_7", vec!["1A", "1B", "1C"]), ("table_8", vec!["2A", "2B", "2C"]), ("table_12", vec!["3", "3-N2"])]
+    {
         let g = group(cases, &ids);
         if !g.is_empty() {
             tables.insert(name, case_table(&g).to_markdown());
@@ -840,7 +1022,14 @@ fn report_context(
     }
     let mut audit = Table::new(["id", "claim", "reproduced", "tolerance", "verdict", "why not"]);
     for v in verdicts {
-        audit.push_row([v.id.clone(), v.claim.clone(), v.reproduced.clone(), v.tolerance.clone(), if v.pass { "✓".into() } else { "✗".into() }, v.note.clone()]);
+        audit.push_row([
+            v.id.clone(),
+            v.claim.clone(),
+            v.reproduced.clone(),
+            v.tolerance.clone(),
+            if v.pass { "✓".into() } else { "✗".into() },
+            v.note.clone(),
+        ]);
     }
     let mut timing = Table::new(["stage", "wall time (s)"]);
     for (k, s) in timings {

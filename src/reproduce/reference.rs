@@ -289,11 +289,7 @@ impl Published {
     /// Reads and parses `path` (normally `paper/published.yaml`).
     pub fn load(path: &Path) -> Result<Self, InputError> {
         let text = std::fs::read_to_string(path).map_err(|e| {
-            InputError::new(
-                path.display().to_string(),
-                "(unreadable)",
-                format!("a readable file: {e}"),
-            )
+            InputError::new(path.display().to_string(), "(unreadable)", format!("a readable file: {e}"))
         })?;
         Self::from_yaml_str(&text)
     }
@@ -312,11 +308,7 @@ impl Published {
                 ));
             }
             if !self.samplers.iter().any(|s| s.id == c.sampler) {
-                return Err(InputError::new(
-                    format!("cases.{}.sampler", c.id),
-                    &c.sampler,
-                    "an id of samplers",
-                ));
+                return Err(InputError::new(format!("cases.{}.sampler", c.id), &c.sampler, "an id of samplers"));
             }
         }
         let mut claim_ids = std::collections::BTreeSet::new();
@@ -330,10 +322,7 @@ impl Published {
 
     /// The covariance set with this id.
     pub fn covariance_set(&self, id: &str) -> Option<&CovarianceSet> {
-        self.measurement_error
-            .covariance_sets
-            .iter()
-            .find(|s| s.id == id)
+        self.measurement_error.covariance_sets.iter().find(|s| s.id == id)
     }
 
     /// The case with this id ("1A", ..., "3").
@@ -372,19 +361,10 @@ pub fn rounding_interval(printed: f64, decimals: u32) -> (f64, f64) {
 /// y_r = sqrt(Σ_rr)/c with its rounding interval (the map is increasing, so
 /// the interval ends map to the interval ends). `scale` converts the printed
 /// number to the variance (1 for GHz², 1e-6 for Σζζ).
-pub fn value_from_variance(
-    printed: f64,
-    decimals: u32,
-    scale: f64,
-    relative_sd: f64,
-) -> ReferenceValue {
+pub fn value_from_variance(printed: f64, decimals: u32, scale: f64, relative_sd: f64) -> ReferenceValue {
     let (lo, hi) = rounding_interval(printed, decimals);
     let f = |v: f64| (v.max(0.0) * scale).sqrt() / relative_sd;
-    ReferenceValue {
-        value: f(printed),
-        lower: f(lo),
-        upper: f(hi),
-    }
+    ReferenceValue { value: f(printed), lower: f(lo), upper: f(hi) }
 }
 
 /// Reference modal data y_E0 encoded by one covariance set.
@@ -399,11 +379,7 @@ pub struct ReferenceModal {
 }
 
 /// ω_r = sqrt(Σωω,rr)/c_ω and ζ_r = sqrt(Σζζ,rr)/c_ζ for one printed set.
-pub fn reference_modal(
-    set: &CovarianceSet,
-    relative_sd_frequency: f64,
-    relative_sd_damping: f64,
-) -> ReferenceModal {
+pub fn reference_modal(set: &CovarianceSet, relative_sd_frequency: f64, relative_sd_damping: f64) -> ReferenceModal {
     let d = set.printed_decimals;
     ReferenceModal {
         set_id: set.id.clone(),
@@ -426,13 +402,7 @@ impl Published {
         let me = &self.measurement_error;
         me.covariance_sets
             .iter()
-            .map(|s| {
-                reference_modal(
-                    s,
-                    me.relative_sd_frequency.value,
-                    me.relative_sd_damping.value,
-                )
-            })
+            .map(|s| reference_modal(s, me.relative_sd_frequency.value, me.relative_sd_damping.value))
             .collect()
     }
 }
@@ -476,20 +446,12 @@ pub struct BeamAssumptions {
 impl BeamAssumptions {
     /// E = 1 TPa, ρ = 2300 kg/m³, solid d = 1 nm.
     pub fn solid_1nm() -> Self {
-        Self {
-            youngs_modulus_pa: 1e12,
-            density_kg_m3: 2300.0,
-            diameter_m: 1e-9,
-            wall_thickness_m: None,
-        }
+        Self { youngs_modulus_pa: 1e12, density_kg_m3: 2300.0, diameter_m: 1e-9, wall_thickness_m: None }
     }
     /// Same but a hollow tube of mean diameter 1 nm and wall 0.34 nm (the
     /// graphite interlayer spacing, the usual SWCNT wall thickness).
     pub fn tube_1nm() -> Self {
-        Self {
-            wall_thickness_m: Some(0.34e-9),
-            ..Self::solid_1nm()
-        }
+        Self { wall_thickness_m: Some(0.34e-9), ..Self::solid_1nm() }
     }
 
     /// sqrt(EI/(ρA)) in m²/s = r_g·sqrt(E/ρ), r_g² = I/A = d²/16 (solid) or
@@ -599,8 +561,7 @@ pub fn nonlocal_kappa_from_ratio_32(omega2: f64, omega3: f64) -> Option<f64> {
 /// re-run this function.
 pub fn frequency_unit_evidence(omega_ghz: [f64; 3]) -> Option<FrequencyUnitEvidence> {
     let kappa = nonlocal_kappa_from_ratio_32(omega_ghz[1], omega_ghz[2])?;
-    let predicted_omega4_ghz =
-        omega_ghz[2] * 16.0 / 9.0 * ((1.0 + 9.0 * kappa) / (1.0 + 16.0 * kappa)).sqrt();
+    let predicted_omega4_ghz = omega_ghz[2] * 16.0 / 9.0 * ((1.0 + 9.0 * kappa) / (1.0 + 16.0 * kappa)).sqrt();
     let mut implications = Vec::new();
     for beam in [BeamAssumptions::solid_1nm(), BeamAssumptions::tube_1nm()] {
         let c = beam.bending_wave_constant_m2_s();
@@ -618,30 +579,18 @@ pub fn frequency_unit_evidence(omega_ghz: [f64; 3]) -> Option<FrequencyUnitEvide
                     nonlocal_length_nm: nonlocal * 1e9,
                     implied_e0a_nm: e0a * 1e9,
                     e0a_inside_prior: e0a * 1e9 <= E0A_PRIOR_UPPER_NM,
-                    omega_prior_upper_over_omega3: OMEGA_PRIOR_UPPER_RAD_S
-                        / reading.to_rad_s(omega_ghz[2]),
+                    omega_prior_upper_over_omega3: OMEGA_PRIOR_UPPER_RAD_S / reading.to_rad_s(omega_ghz[2]),
                     proposal_sd_over_omega1: PROPOSAL_SD_OMEGA_RAD_S / w1,
                 },
             ));
         }
     }
     let solid_inside = |r: FrequencyReading| {
-        implications
-            .iter()
-            .any(|(b, i)| b.wall_thickness_m.is_none() && i.reading == r && i.e0a_inside_prior)
+        implications.iter().any(|(b, i)| b.wall_thickness_m.is_none() && i.reading == r && i.e0a_inside_prior)
     };
-    let favoured = match (
-        solid_inside(FrequencyReading::Cyclic),
-        solid_inside(FrequencyReading::Angular),
-    ) {
+    let favoured = match (solid_inside(FrequencyReading::Cyclic), solid_inside(FrequencyReading::Angular)) {
         (false, true) => FrequencyReading::Angular,
         _ => FrequencyReading::Cyclic,
     };
-    Some(FrequencyUnitEvidence {
-        omega_ghz,
-        kappa,
-        predicted_omega4_ghz,
-        implications,
-        favoured,
-    })
+    Some(FrequencyUnitEvidence { omega_ghz, kappa, predicted_omega4_ghz, implications, favoured })
 }

@@ -87,7 +87,11 @@ impl Axis {
 
     fn validate(&self, field: &str) -> Result<(), InputError> {
         if !(self.from.is_finite() && self.to.is_finite() && self.to > self.from && self.from >= 0.0) {
-            return Err(InputError::new(format!("{field}.to"), self.to, format!("finite, > from = {} >= 0", self.from)));
+            return Err(InputError::new(
+                format!("{field}.to"),
+                self.to,
+                format!("finite, > from = {} >= 0", self.from),
+            ));
         }
         if self.log {
             positive(&format!("{field}.from"), self.from)?;
@@ -171,9 +175,14 @@ impl Specs {
         let forward: ForwardSpec = load(&dir.join("forward.yaml"))?;
         let frf: FrfSpec = load(&dir.join("figure-14.yaml"))?;
         let mut case_files: Vec<PathBuf> = std::fs::read_dir(dir)
-            .map_err(|e| SpecError { file: dir.to_path_buf(), error: InputError::new("<dir>", dir.display(), e.to_string()) })?
+            .map_err(|e| SpecError {
+                file: dir.to_path_buf(),
+                error: InputError::new("<dir>", dir.display(), e.to_string()),
+            })?
             .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with("case-") && n.ends_with(".yaml")))
+            .filter(|p| {
+                p.file_name().and_then(|n| n.to_str()).is_some_and(|n| n.starts_with("case-") && n.ends_with(".yaml"))
+            })
             .collect();
         case_files.sort();
         let mut cases = Vec::new();

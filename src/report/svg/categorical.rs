@@ -1,8 +1,6 @@
 //! Figures over named categories: bar charts and per-mode residual plots.
 
-use super::common::{
-    draw_err, series_colour, tick_label, NamedValues, DESC_SIZE, FONT, TICK_SIZE, TITLE_SIZE,
-};
+use super::common::{draw_err, series_colour, tick_label, NamedValues, DESC_SIZE, FONT, TICK_SIZE, TITLE_SIZE};
 use crate::report::error::{ReportError, Result};
 use crate::report::table::fmt_sig;
 use plotters::coord::ranged1d::SegmentedCoord;
@@ -89,25 +87,16 @@ pub fn bar_chart(spec: &BarChart) -> Result<String> {
     if n == 0 || spec.values.len() != n {
         return Err(ReportError::invalid(
             "bar chart",
-            format!(
-                "{} values for {n} categories (need >= 1, equal)",
-                spec.values.len()
-            ),
+            format!("{} values for {n} categories (need >= 1, equal)", spec.values.len()),
         ));
     }
     if let Some(v) = spec.values.iter().find(|v| !v.is_finite()) {
-        return Err(ReportError::invalid(
-            "bar chart values",
-            format!("{v} is not finite"),
-        ));
+        return Err(ReportError::invalid("bar chart values", format!("{v} is not finite")));
     }
     let (y0, y1) = match spec.y_range {
         Some((a, b)) if a.is_finite() && b.is_finite() && a < b => (a, b),
         Some((a, b)) => {
-            return Err(ReportError::invalid(
-                "bar chart y_range",
-                format!("({a}, {b}) must be finite and increasing"),
-            ))
+            return Err(ReportError::invalid("bar chart y_range", format!("({a}, {b}) must be finite and increasing")))
         }
         None => {
             let lo = spec.values.iter().copied().fold(0.0, f64::min);
@@ -128,10 +117,7 @@ pub fn bar_chart(spec: &BarChart) -> Result<String> {
         chart
             .draw_series(spec.values.iter().enumerate().map(|(i, &v)| {
                 let mut bar = Rectangle::new(
-                    [
-                        (SegmentValue::Exact(i as i32), 0.0),
-                        (SegmentValue::Exact(i as i32 + 1), v),
-                    ],
+                    [(SegmentValue::Exact(i as i32), 0.0), (SegmentValue::Exact(i as i32 + 1), v)],
                     series_colour(0).filled(),
                 );
                 bar.set_margin(0, 0, 12, 12);
@@ -143,12 +129,10 @@ pub fn bar_chart(spec: &BarChart) -> Result<String> {
                 Text::new(
                     fmt_sig(v, 3),
                     (SegmentValue::CenterOf(i as i32), v),
-                    (FONT, TICK_SIZE).into_font().color(&BLACK).pos(
-                        plotters::style::text_anchor::Pos::new(
-                            plotters::style::text_anchor::HPos::Center,
-                            plotters::style::text_anchor::VPos::Bottom,
-                        ),
-                    ),
+                    (FONT, TICK_SIZE).into_font().color(&BLACK).pos(plotters::style::text_anchor::Pos::new(
+                        plotters::style::text_anchor::HPos::Center,
+                        plotters::style::text_anchor::VPos::Bottom,
+                    )),
                 )
             }))
             .map_err(draw_err)?;
@@ -203,10 +187,7 @@ pub fn residual_plot(spec: &ResidualPlot) -> Result<String> {
         }
     }
     if !(spec.band.is_finite() && spec.band >= 0.0) {
-        return Err(ReportError::invalid(
-            "residual plot band",
-            format!("{} must be finite and >= 0", spec.band),
-        ));
+        return Err(ReportError::invalid("residual plot band", format!("{} must be finite and >= 0", spec.band)));
     }
     let extent = spec
         .groups
@@ -237,12 +218,7 @@ pub fn residual_plot(spec: &ResidualPlot) -> Result<String> {
                 ))
                 .map_err(draw_err)?;
         }
-        chart
-            .draw_series(LineSeries::new(
-                vec![(left, 0.0), (right, 0.0)],
-                BLACK.stroke_width(1),
-            ))
-            .map_err(draw_err)?;
+        chart.draw_series(LineSeries::new(vec![(left, 0.0), (right, 0.0)], BLACK.stroke_width(1))).map_err(draw_err)?;
         for (k, g) in spec.groups.iter().enumerate() {
             let colour = series_colour(k);
             let pts: Vec<(SegmentValue<i32>, f64)> = g
@@ -255,18 +231,9 @@ pub fn residual_plot(spec: &ResidualPlot) -> Result<String> {
             // Marker shape cycles circle / triangle / cross so that groups
             // stay distinguishable where they overlap and in grey print.
             let series = match k % 3 {
-                0 => chart.draw_series(
-                    pts.into_iter()
-                        .map(|p| Circle::new(p, 6, colour.filled()).into_dyn()),
-                ),
-                1 => chart.draw_series(
-                    pts.into_iter()
-                        .map(|p| TriangleMarker::new(p, 7, colour.filled()).into_dyn()),
-                ),
-                _ => chart.draw_series(
-                    pts.into_iter()
-                        .map(|p| Cross::new(p, 6, colour.stroke_width(2)).into_dyn()),
-                ),
+                0 => chart.draw_series(pts.into_iter().map(|p| Circle::new(p, 6, colour.filled()).into_dyn())),
+                1 => chart.draw_series(pts.into_iter().map(|p| TriangleMarker::new(p, 7, colour.filled()).into_dyn())),
+                _ => chart.draw_series(pts.into_iter().map(|p| Cross::new(p, 6, colour.stroke_width(2)).into_dyn())),
             }
             .map_err(draw_err)?;
             series.label(&g.name).legend(move |(x, y)| match k % 3 {

@@ -25,19 +25,11 @@ pub struct Axis {
 impl Axis {
     /// A linear axis with automatic range.
     pub fn linear(label: impl Into<String>) -> Self {
-        Self {
-            label: label.into(),
-            scale: Scale::Linear,
-            range: None,
-        }
+        Self { label: label.into(), scale: Scale::Linear, range: None }
     }
     /// A log-10 axis with automatic range.
     pub fn log(label: impl Into<String>) -> Self {
-        Self {
-            label: label.into(),
-            scale: Scale::Log,
-            range: None,
-        }
+        Self { label: label.into(), scale: Scale::Log, range: None }
     }
     /// The same axis with a fixed range.
     pub fn with_range(mut self, lo: f64, hi: f64) -> Self {
@@ -56,11 +48,7 @@ pub struct Series {
 
 impl Series {
     pub fn new(name: impl Into<String>, x: Vec<f64>, y: Vec<f64>) -> Self {
-        Self {
-            name: name.into(),
-            x,
-            y,
-        }
+        Self { name: name.into(), x, y }
     }
 }
 
@@ -73,10 +61,7 @@ pub struct NamedValues {
 
 impl NamedValues {
     pub fn new(name: impl Into<String>, values: Vec<f64>) -> Self {
-        Self {
-            name: name.into(),
-            values,
-        }
+        Self { name: name.into(), values }
     }
 }
 
@@ -122,11 +107,7 @@ pub(crate) fn drawable(v: f64, scale: Scale) -> bool {
 /// The range of an axis: the fixed one if given (checked), else the span of
 /// the drawable `values` widened by 5 % (linear) or 5 % of a decade-log span
 /// (log). A degenerate span is widened to ±1 (linear) or a factor 10 (log).
-pub(crate) fn axis_range(
-    axis: &Axis,
-    values: impl Iterator<Item = f64>,
-    what: &str,
-) -> Result<(f64, f64)> {
+pub(crate) fn axis_range(axis: &Axis, values: impl Iterator<Item = f64>, what: &str) -> Result<(f64, f64)> {
     if let Some((lo, hi)) = axis.range {
         let ok = drawable(lo, axis.scale) && drawable(hi, axis.scale) && lo < hi;
         return if ok {
@@ -134,9 +115,7 @@ pub(crate) fn axis_range(
         } else {
             Err(ReportError::invalid(
                 what,
-                format!(
-                    "axis range ({lo}, {hi}) must be finite, increasing (and > 0 on a log axis)"
-                ),
+                format!("axis range ({lo}, {hi}) must be finite, increasing (and > 0 on a log axis)"),
             ))
         };
     }
@@ -146,10 +125,7 @@ pub(crate) fn axis_range(
         hi = hi.max(v);
     }
     if lo > hi {
-        return Err(ReportError::invalid(
-            what,
-            "no drawable (finite, and positive on a log axis) values",
-        ));
+        return Err(ReportError::invalid(what, "no drawable (finite, and positive on a log axis) values"));
     }
     Ok(match axis.scale {
         Scale::Linear => {
@@ -181,10 +157,7 @@ pub(crate) fn tick_label(v: &f64) -> String {
         None => (s, String::new()),
     };
     let mantissa = if mantissa.contains('.') {
-        mantissa
-            .trim_end_matches('0')
-            .trim_end_matches('.')
-            .to_string()
+        mantissa.trim_end_matches('0').trim_end_matches('.').to_string()
     } else {
         mantissa
     };
@@ -211,10 +184,7 @@ pub(crate) fn same_len(what: &str, a: usize, b: usize) -> Result<()> {
     if a == b {
         Ok(())
     } else {
-        Err(ReportError::invalid(
-            what,
-            format!("paired lists have different lengths ({a} vs {b})"),
-        ))
+        Err(ReportError::invalid(what, format!("paired lists have different lengths ({a} vs {b})")))
     }
 }
 
@@ -230,27 +200,20 @@ macro_rules! with_chart {
         let (y0, y1) = $yr;
         match ($xs, $ys) {
             (Scale::Linear, Scale::Linear) => {
-                let mut $chart = $builder
-                    .build_cartesian_2d(x0..x1, y0..y1)
-                    .map_err(draw_err)?;
+                let mut $chart = $builder.build_cartesian_2d(x0..x1, y0..y1).map_err(draw_err)?;
                 $body
             }
             (Scale::Log, Scale::Linear) => {
-                let mut $chart = $builder
-                    .build_cartesian_2d((x0..x1).log_scale(), y0..y1)
-                    .map_err(draw_err)?;
+                let mut $chart = $builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1).map_err(draw_err)?;
                 $body
             }
             (Scale::Linear, Scale::Log) => {
-                let mut $chart = $builder
-                    .build_cartesian_2d(x0..x1, (y0..y1).log_scale())
-                    .map_err(draw_err)?;
+                let mut $chart = $builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale()).map_err(draw_err)?;
                 $body
             }
             (Scale::Log, Scale::Log) => {
-                let mut $chart = $builder
-                    .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())
-                    .map_err(draw_err)?;
+                let mut $chart =
+                    $builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale()).map_err(draw_err)?;
                 $body
             }
         }

@@ -1,9 +1,7 @@
 //! Heatmaps: a scalar field z(x, y) on a rectangular grid with a colour bar
 //! (e.g. normalized ω_r and ζ_r over an e0a × Ω grid, paper Figs 1–3).
 
-use super::common::{
-    draw_err, drawable, tick_label, with_chart, Axis, Scale, DESC_SIZE, FONT, TICK_SIZE, TITLE_SIZE,
-};
+use super::common::{draw_err, drawable, tick_label, with_chart, Axis, Scale, DESC_SIZE, FONT, TICK_SIZE, TITLE_SIZE};
 use crate::report::error::{ReportError, Result};
 use plotters::prelude::*;
 
@@ -58,11 +56,7 @@ pub fn viridis(t: f64) -> RGBColor {
         (170, 220, 50),
         (253, 231, 37),
     ];
-    let t = if t.is_finite() {
-        t.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
+    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
     let pos = t * (ANCHORS.len() - 1) as f64;
     let k = (pos.floor() as usize).min(ANCHORS.len() - 2);
     let f = pos - k as f64;
@@ -74,8 +68,7 @@ pub fn viridis(t: f64) -> RGBColor {
 /// Cell edges around strictly increasing grid values (arithmetic or
 /// geometric midpoints; the end cells are symmetric about their value).
 fn cell_edges(v: &[f64], scale: Scale, what: &str) -> Result<Vec<f64>> {
-    if v.is_empty() || v.iter().any(|&a| !drawable(a, scale)) || v.windows(2).any(|w| w[1] <= w[0])
-    {
+    if v.is_empty() || v.iter().any(|&a| !drawable(a, scale)) || v.windows(2).any(|w| w[1] <= w[0]) {
         return Err(ReportError::invalid(
             what,
             "grid values must be non-empty, finite, strictly increasing (and > 0 on a log axis)",
@@ -87,16 +80,8 @@ fn cell_edges(v: &[f64], scale: Scale, what: &str) -> Result<Vec<f64>> {
         Scale::Log => (f64::log10, |a| 10f64.powf(a)),
     };
     let t: Vec<f64> = v.iter().map(|&a| fwd(a)).collect();
-    let half = if t.len() > 1 {
-        0.5 * (t[1] - t[0])
-    } else {
-        0.5
-    };
-    let half_end = if t.len() > 1 {
-        0.5 * (t[t.len() - 1] - t[t.len() - 2])
-    } else {
-        0.5
-    };
+    let half = if t.len() > 1 { 0.5 * (t[1] - t[0]) } else { 0.5 };
+    let half_end = if t.len() > 1 { 0.5 * (t[t.len() - 1] - t[t.len() - 2]) } else { 0.5 };
     let mut edges = vec![inv(t[0] - half)];
     edges.extend(t.windows(2).map(|w| inv(0.5 * (w[0] + w[1]))));
     edges.push(inv(t[t.len() - 1] + half_end));
@@ -117,16 +102,11 @@ pub fn heatmap(spec: &Heatmap) -> Result<String> {
     let (z0, z1) = match spec.z_range {
         Some((a, b)) if a.is_finite() && b.is_finite() && a < b => (a, b),
         Some((a, b)) => {
-            return Err(ReportError::invalid(
-                "heatmap z_range",
-                format!("({a}, {b}) must be finite and increasing"),
-            ))
+            return Err(ReportError::invalid("heatmap z_range", format!("({a}, {b}) must be finite and increasing")))
         }
         None => {
             let finite = spec.z.iter().flatten().copied().filter(|v| v.is_finite());
-            let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
-                (l.min(v), h.max(v))
-            });
+            let (lo, hi) = finite.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| (l.min(v), h.max(v)));
             if lo > hi {
                 return Err(ReportError::invalid("heatmap z", "no finite values"));
             }
@@ -149,44 +129,32 @@ pub fn heatmap(spec: &Heatmap) -> Result<String> {
     {
         let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(draw_err)?;
-        let root = root
-            .titled(&spec.title, (FONT, TITLE_SIZE))
-            .map_err(draw_err)?;
+        let root = root.titled(&spec.title, (FONT, TITLE_SIZE)).map_err(draw_err)?;
         let (main, bar) = root.split_horizontally(w.saturating_sub(130));
         let mut builder = ChartBuilder::on(&main);
-        builder
-            .margin(10)
-            .x_label_area_size(55)
-            .y_label_area_size(80);
+        builder.margin(10).x_label_area_size(55).y_label_area_size(80);
         let xr = (xe[0], xe[xe.len() - 1]);
         let yr = (ye[0], ye[ye.len() - 1]);
-        with_chart!(
-            builder,
-            spec.x_axis.scale,
-            xr,
-            spec.y_axis.scale,
-            yr,
-            |chart| {
-                chart
-                    .configure_mesh()
-                    .disable_mesh()
-                    .x_desc(&spec.x_axis.label)
-                    .y_desc(&spec.y_axis.label)
-                    .axis_desc_style((FONT, DESC_SIZE))
-                    .label_style((FONT, TICK_SIZE))
-                    .x_label_formatter(&tick_label)
-                    .y_label_formatter(&tick_label)
-                    .draw()
-                    .map_err(draw_err)?;
-                let (xe, ye, colour) = (&xe, &ye, &colour);
-                let cells = spec.z.iter().enumerate().flat_map(|(j, row)| {
-                    row.iter().enumerate().map(move |(i, &v)| {
-                        Rectangle::new([(xe[i], ye[j]), (xe[i + 1], ye[j + 1])], colour(v).filled())
-                    })
-                });
-                chart.draw_series(cells).map_err(draw_err)?;
-            }
-        );
+        with_chart!(builder, spec.x_axis.scale, xr, spec.y_axis.scale, yr, |chart| {
+            chart
+                .configure_mesh()
+                .disable_mesh()
+                .x_desc(&spec.x_axis.label)
+                .y_desc(&spec.y_axis.label)
+                .axis_desc_style((FONT, DESC_SIZE))
+                .label_style((FONT, TICK_SIZE))
+                .x_label_formatter(&tick_label)
+                .y_label_formatter(&tick_label)
+                .draw()
+                .map_err(draw_err)?;
+            let (xe, ye, colour) = (&xe, &ye, &colour);
+            let cells = spec.z.iter().enumerate().flat_map(|(j, row)| {
+                row.iter()
+                    .enumerate()
+                    .map(move |(i, &v)| Rectangle::new([(xe[i], ye[j]), (xe[i + 1], ye[j + 1])], colour(v).filled()))
+            });
+            chart.draw_series(cells).map_err(draw_err)?;
+        });
         let mut bar_chart = ChartBuilder::on(&bar)
             .margin_top(20)
             .margin_bottom(65)

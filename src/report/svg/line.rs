@@ -3,8 +3,8 @@
 //! reference lines.
 
 use super::common::{
-    axis_range, drawable, same_len, series_colour, tick_label, with_chart, Axis, RefLine, Series,
-    DESC_SIZE, FONT, TICK_SIZE, TITLE_SIZE,
+    axis_range, drawable, same_len, series_colour, tick_label, with_chart, Axis, RefLine, Series, DESC_SIZE, FONT,
+    TICK_SIZE, TITLE_SIZE,
 };
 use crate::report::error::Result;
 use plotters::prelude::*;
@@ -57,23 +57,12 @@ pub fn line_plot(spec: &LinePlot) -> Result<String> {
         same_len(&format!("series `{}`", s.name), s.x.len(), s.y.len())?;
     }
     if let Some(b) = &spec.band {
-        same_len(
-            &format!("band `{}` lower", b.name),
-            b.x.len(),
-            b.lower.len(),
-        )?;
-        same_len(
-            &format!("band `{}` upper", b.name),
-            b.x.len(),
-            b.upper.len(),
-        )?;
+        same_len(&format!("band `{}` lower", b.name), b.x.len(), b.lower.len())?;
+        same_len(&format!("band `{}` upper", b.name), b.x.len(), b.upper.len())?;
     }
     let all_series = || spec.series.iter().chain(&spec.realizations);
     let band_x = spec.band.iter().flat_map(|b| b.x.iter().copied());
-    let band_y = spec
-        .band
-        .iter()
-        .flat_map(|b| b.lower.iter().chain(&b.upper).copied());
+    let band_y = spec.band.iter().flat_map(|b| b.lower.iter().chain(&b.upper).copied());
     let ref_x = spec.ref_lines.iter().filter_map(|r| match r {
         RefLine::Vertical(v) => Some(*v),
         RefLine::Horizontal(_) => None,
@@ -84,18 +73,12 @@ pub fn line_plot(spec: &LinePlot) -> Result<String> {
     });
     let xr = axis_range(
         &spec.x_axis,
-        all_series()
-            .flat_map(|s| s.x.iter().copied())
-            .chain(band_x)
-            .chain(ref_x),
+        all_series().flat_map(|s| s.x.iter().copied()).chain(band_x).chain(ref_x),
         "line plot x axis",
     )?;
     let yr = axis_range(
         &spec.y_axis,
-        all_series()
-            .flat_map(|s| s.y.iter().copied())
-            .chain(band_y)
-            .chain(ref_y),
+        all_series().flat_map(|s| s.y.iter().copied()).chain(band_y).chain(ref_y),
         "line plot y axis",
     )?;
     let (xs, ys) = (spec.x_axis.scale, spec.y_axis.scale);
@@ -106,11 +89,7 @@ pub fn line_plot(spec: &LinePlot) -> Result<String> {
         let root = SVGBackend::with_string(&mut svg, spec.size).into_drawing_area();
         root.fill(&WHITE).map_err(super::common::draw_err)?;
         let mut builder = ChartBuilder::on(&root);
-        builder
-            .caption(&spec.title, (FONT, TITLE_SIZE))
-            .margin(12)
-            .x_label_area_size(55)
-            .y_label_area_size(80);
+        builder.caption(&spec.title, (FONT, TITLE_SIZE)).margin(12).x_label_area_size(55).y_label_area_size(80);
         with_chart!(builder, xs, xr, ys, yr, |chart| {
             chart
                 .configure_mesh()
@@ -125,62 +104,34 @@ pub fn line_plot(spec: &LinePlot) -> Result<String> {
                 .map_err(draw_err)?;
             if let Some(b) = &spec.band {
                 let upper: Vec<(f64, f64)> =
-                    b.x.iter()
-                        .zip(&b.upper)
-                        .map(|(&x, &y)| (x, y))
-                        .filter(|&(x, y)| keep(x, y))
-                        .collect();
+                    b.x.iter().zip(&b.upper).map(|(&x, &y)| (x, y)).filter(|&(x, y)| keep(x, y)).collect();
                 let lower: Vec<(f64, f64)> =
-                    b.x.iter()
-                        .zip(&b.lower)
-                        .map(|(&x, &y)| (x, y))
-                        .filter(|&(x, y)| keep(x, y))
-                        .collect();
-                let polygon: Vec<(f64, f64)> =
-                    upper.iter().chain(lower.iter().rev()).copied().collect();
+                    b.x.iter().zip(&b.lower).map(|(&x, &y)| (x, y)).filter(|&(x, y)| keep(x, y)).collect();
+                let polygon: Vec<(f64, f64)> = upper.iter().chain(lower.iter().rev()).copied().collect();
                 let fill = RGBColor(160, 160, 160).mix(0.3);
                 chart
                     .draw_series(std::iter::once(Polygon::new(polygon, fill.filled())))
                     .map_err(draw_err)?
                     .label(&b.name)
-                    .legend(move |(x, y)| {
-                        Rectangle::new([(x, y - 5), (x + 20, y + 5)], fill.filled())
-                    });
+                    .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 20, y + 5)], fill.filled()));
                 for edge in [upper, lower] {
-                    chart
-                        .draw_series(DashedLineSeries::new(edge, 6, 4, BLACK.stroke_width(1)))
-                        .map_err(draw_err)?;
+                    chart.draw_series(DashedLineSeries::new(edge, 6, 4, BLACK.stroke_width(1))).map_err(draw_err)?;
                 }
             }
             for r in &spec.realizations {
                 let pts: Vec<(f64, f64)> =
-                    r.x.iter()
-                        .zip(&r.y)
-                        .map(|(&x, &y)| (x, y))
-                        .filter(|&(x, y)| keep(x, y))
-                        .collect();
-                chart
-                    .draw_series(LineSeries::new(
-                        pts,
-                        RGBColor(190, 190, 190).stroke_width(1),
-                    ))
-                    .map_err(draw_err)?;
+                    r.x.iter().zip(&r.y).map(|(&x, &y)| (x, y)).filter(|&(x, y)| keep(x, y)).collect();
+                chart.draw_series(LineSeries::new(pts, RGBColor(190, 190, 190).stroke_width(1))).map_err(draw_err)?;
             }
             for (i, s) in spec.series.iter().enumerate() {
                 let colour = series_colour(i);
                 let pts: Vec<(f64, f64)> =
-                    s.x.iter()
-                        .zip(&s.y)
-                        .map(|(&x, &y)| (x, y))
-                        .filter(|&(x, y)| keep(x, y))
-                        .collect();
+                    s.x.iter().zip(&s.y).map(|(&x, &y)| (x, y)).filter(|&(x, y)| keep(x, y)).collect();
                 chart
                     .draw_series(LineSeries::new(pts, colour.stroke_width(2)))
                     .map_err(draw_err)?
                     .label(&s.name)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-                    });
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
             }
             for r in &spec.ref_lines {
                 let line = match *r {
@@ -188,9 +139,7 @@ pub fn line_plot(spec: &LinePlot) -> Result<String> {
                     RefLine::Vertical(v) => vec![(v, yr.0), (v, yr.1)],
                 };
                 if line.iter().all(|&(x, y)| keep(x, y)) {
-                    chart
-                        .draw_series(DashedLineSeries::new(line, 6, 4, BLACK.stroke_width(1)))
-                        .map_err(draw_err)?;
+                    chart.draw_series(DashedLineSeries::new(line, 6, 4, BLACK.stroke_width(1))).map_err(draw_err)?;
                 }
             }
             if !spec.series.is_empty() || spec.band.is_some() {

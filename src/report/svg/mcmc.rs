@@ -1,8 +1,8 @@
 //! Sample figures: trace plots, marginal histograms and pair plots.
 
 use super::common::{
-    axis_range, draw_err, series_colour, thin_stride, tick_label, Axis, NamedValues, DESC_SIZE,
-    FONT, TICK_SIZE, TITLE_SIZE,
+    axis_range, draw_err, series_colour, thin_stride, tick_label, Axis, NamedValues, DESC_SIZE, FONT, TICK_SIZE,
+    TITLE_SIZE,
 };
 use crate::report::error::{ReportError, Result};
 use plotters::coord::Shift;
@@ -41,22 +41,14 @@ impl Default for TracePlot {
 
 /// Renders a [`TracePlot`] as SVG text.
 pub fn trace_plot(spec: &TracePlot) -> Result<String> {
-    let n = spec
-        .chains
-        .iter()
-        .map(|c| c.values.len())
-        .max()
-        .unwrap_or(0);
+    let n = spec.chains.iter().map(|c| c.values.len()).max().unwrap_or(0);
     if n == 0 {
         return Err(ReportError::invalid("trace plot", "no draws"));
     }
     let xr = (0.0, (n - 1).max(1) as f64);
     let yr = axis_range(
         &Axis::linear(""),
-        spec.chains
-            .iter()
-            .flat_map(|c| c.values.iter().copied())
-            .chain(spec.reference),
+        spec.chains.iter().flat_map(|c| c.values.iter().copied()).chain(spec.reference),
         "trace plot values",
     )?;
     let mut svg = String::new();
@@ -84,29 +76,17 @@ pub fn trace_plot(spec: &TracePlot) -> Result<String> {
         for (k, c) in spec.chains.iter().enumerate() {
             let colour = series_colour(k);
             let stride = thin_stride(c.values.len(), spec.max_points);
-            let pts = c
-                .values
-                .iter()
-                .enumerate()
-                .step_by(stride)
-                .filter(|(_, v)| v.is_finite())
-                .map(|(i, &v)| (i as f64, v));
+            let pts =
+                c.values.iter().enumerate().step_by(stride).filter(|(_, v)| v.is_finite()).map(|(i, &v)| (i as f64, v));
             chart
                 .draw_series(LineSeries::new(pts, colour.stroke_width(1)))
                 .map_err(draw_err)?
                 .label(&c.name)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-                });
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
         }
         if let Some(r) = spec.reference.filter(|r| r.is_finite()) {
             chart
-                .draw_series(DashedLineSeries::new(
-                    vec![(xr.0, r), (xr.1, r)],
-                    6,
-                    4,
-                    BLACK.stroke_width(2),
-                ))
+                .draw_series(DashedLineSeries::new(vec![(xr.0, r), (xr.1, r)], 6, 4, BLACK.stroke_width(2)))
                 .map_err(draw_err)?;
         }
         chart
@@ -159,24 +139,12 @@ pub(crate) fn density(values: &[f64], lo: f64, hi: f64, bins: usize) -> Vec<f64>
     let width = (hi - lo) / bins as f64;
     let mut counts = vec![0usize; bins];
     let mut n = 0usize;
-    for &v in values
-        .iter()
-        .filter(|v| v.is_finite() && **v >= lo && **v <= hi)
-    {
+    for &v in values.iter().filter(|v| v.is_finite() && **v >= lo && **v <= hi) {
         let k = (((v - lo) / width) as usize).min(bins - 1);
         counts[k] += 1;
         n += 1;
     }
-    counts
-        .iter()
-        .map(|&c| {
-            if n == 0 {
-                0.0
-            } else {
-                c as f64 / (n as f64 * width)
-            }
-        })
-        .collect()
+    counts.iter().map(|&c| if n == 0 { 0.0 } else { c as f64 / (n as f64 * width) }).collect()
 }
 
 /// The pooled finite range of several lists, or an explicit one.
@@ -185,17 +153,10 @@ fn pooled_range<'a>(
     explicit: Option<(f64, f64)>,
     what: &str,
 ) -> Result<(f64, f64)> {
-    let axis = Axis {
-        range: explicit,
-        ..Axis::linear("")
-    };
+    let axis = Axis { range: explicit, ..Axis::linear("") };
     let (lo, hi) = axis_range(&axis, lists.flat_map(|l| l.iter().copied()), what)?;
     // axis_range adds a 5 % margin; the histogram spans the data itself.
-    Ok(if explicit.is_some() {
-        (lo, hi)
-    } else {
-        (lo + (hi - lo) / 22.0, hi - (hi - lo) / 22.0)
-    })
+    Ok(if explicit.is_some() { (lo, hi) } else { (lo + (hi - lo) / 22.0, hi - (hi - lo) / 22.0) })
 }
 
 /// Draws step-outlined density histograms on `area` (shared by
@@ -248,29 +209,17 @@ fn draw_histograms<DB: DrawingBackend>(
             step.push((lo + (b + 1) as f64 * width, v));
         }
         step.push((hi, 0.0));
-        chart
-            .draw_series(std::iter::once(Polygon::new(
-                step.clone(),
-                colour.mix(0.15).filled(),
-            )))
-            .map_err(draw_err)?;
-        let outline = chart
-            .draw_series(LineSeries::new(step, colour.stroke_width(2)))
-            .map_err(draw_err)?;
+        chart.draw_series(std::iter::once(Polygon::new(step.clone(), colour.mix(0.15).filled()))).map_err(draw_err)?;
+        let outline = chart.draw_series(LineSeries::new(step, colour.stroke_width(2))).map_err(draw_err)?;
         if let Some(names) = names {
-            outline.label(&names[k]).legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-            });
+            outline
+                .label(&names[k])
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
         }
     }
     if let Some(r) = reference.filter(|r| r.is_finite()) {
         chart
-            .draw_series(DashedLineSeries::new(
-                vec![(r, 0.0), (r, top)],
-                6,
-                4,
-                BLACK.stroke_width(2),
-            ))
+            .draw_series(DashedLineSeries::new(vec![(r, 0.0), (r, top)], 6, 4, BLACK.stroke_width(2)))
             .map_err(draw_err)?;
     }
     if names.is_some() {
@@ -293,10 +242,7 @@ pub fn histogram(spec: &HistogramPlot) -> Result<String> {
     }
     let lists: Vec<&[f64]> = spec.groups.iter().map(|g| g.values.as_slice()).collect();
     let range = pooled_range(
-        lists
-            .iter()
-            .copied()
-            .chain(spec.reference.as_slice().iter().map(std::slice::from_ref)),
+        lists.iter().copied().chain(spec.reference.as_slice().iter().map(std::slice::from_ref)),
         spec.x_range,
         "histogram values",
     )?;
@@ -360,10 +306,7 @@ pub fn pair_plot(spec: &PairPlot) -> Result<String> {
     if d == 0 || spec.names.len() != d {
         return Err(ReportError::invalid(
             "pair plot",
-            format!(
-                "{} names for {d} columns (need >= 1, equal)",
-                spec.names.len()
-            ),
+            format!("{} names for {d} columns (need >= 1, equal)", spec.names.len()),
         ));
     }
     let n = spec.columns[0].len();
@@ -377,10 +320,7 @@ pub fn pair_plot(spec: &PairPlot) -> Result<String> {
     }
     if let Some(r) = &spec.reference {
         if r.len() != d {
-            return Err(ReportError::invalid(
-                "pair plot reference",
-                format!("{} values for {d} columns", r.len()),
-            ));
+            return Err(ReportError::invalid("pair plot reference", format!("{} values for {d} columns", r.len())));
         }
     }
     let bins = spec.bins.max(1);
@@ -388,8 +328,7 @@ pub fn pair_plot(spec: &PairPlot) -> Result<String> {
         .map(|p| {
             let r = spec.reference.as_ref().map(|r| r[p]);
             pooled_range(
-                std::iter::once(spec.columns[p].as_slice())
-                    .chain(r.as_slice().iter().map(std::slice::from_ref)),
+                std::iter::once(spec.columns[p].as_slice()).chain(r.as_slice().iter().map(std::slice::from_ref)),
                 None,
                 &format!("pair plot column `{}`", spec.names[p]),
             )
@@ -402,31 +341,15 @@ pub fn pair_plot(spec: &PairPlot) -> Result<String> {
     {
         let root = SVGBackend::with_string(&mut svg, (side, side + 40)).into_drawing_area();
         root.fill(&WHITE).map_err(draw_err)?;
-        let root = root
-            .titled(&spec.title, (FONT, TITLE_SIZE))
-            .map_err(draw_err)?;
+        let root = root.titled(&spec.title, (FONT, TITLE_SIZE)).map_err(draw_err)?;
         let cells = root.split_evenly((d, d));
         for i in 0..d {
             for j in 0..d {
                 let area = &cells[i * d + j];
-                let x_label = if i == d - 1 {
-                    spec.names[j].as_str()
-                } else {
-                    ""
-                };
+                let x_label = if i == d - 1 { spec.names[j].as_str() } else { "" };
                 if i == j {
                     let r = spec.reference.as_ref().map(|r| r[i]);
-                    draw_histograms(
-                        area,
-                        &[&spec.columns[i]],
-                        None,
-                        ranges[i],
-                        bins,
-                        r,
-                        x_label,
-                        None,
-                        font,
-                    )?;
+                    draw_histograms(area, &[&spec.columns[i]], None, ranges[i], bins, r, x_label, None, font)?;
                 } else if j < i {
                     let (xr, yr) = (ranges[j], ranges[i]);
                     let mut chart = ChartBuilder::on(area)
@@ -449,22 +372,14 @@ pub fn pair_plot(spec: &PairPlot) -> Result<String> {
                         .draw()
                         .map_err(draw_err)?;
                     let (cx, cy) = (&spec.columns[j], &spec.columns[i]);
-                    let pts = (0..n)
-                        .step_by(stride)
-                        .map(|k| (cx[k], cy[k]))
-                        .filter(|(x, y)| x.is_finite() && y.is_finite());
+                    let pts =
+                        (0..n).step_by(stride).map(|k| (cx[k], cy[k])).filter(|(x, y)| x.is_finite() && y.is_finite());
                     chart
-                        .draw_series(
-                            pts.map(|p| Circle::new(p, 1, series_colour(0).mix(0.35).filled())),
-                        )
+                        .draw_series(pts.map(|p| Circle::new(p, 1, series_colour(0).mix(0.35).filled())))
                         .map_err(draw_err)?;
                     if let Some(r) = &spec.reference {
                         chart
-                            .draw_series(std::iter::once(Cross::new(
-                                (r[j], r[i]),
-                                6,
-                                BLACK.stroke_width(2),
-                            )))
+                            .draw_series(std::iter::once(Cross::new((r[j], r[i]), 6, BLACK.stroke_width(2))))
                             .map_err(draw_err)?;
                     }
                 }
