@@ -2,11 +2,12 @@
 
 use std::fmt;
 
-/// A value that breaks a documented rule of an input file.
+/// A value that breaks a documented rule of an input file or flag: the one
+/// input error of every layer (the user can fix it; the CLI exits with 2).
 ///
-/// Displayed as one line: `invalid <field> = <value>: <allowed>`, which is
-/// what the CLI prints before exiting with code 2.
-#[derive(Debug, Clone, PartialEq)]
+/// Displayed as one line: `invalid <field> = <value>: allowed <allowed>`.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("invalid {field} = {value}: allowed {allowed}")]
 pub struct InputError {
     /// Dotted path of the offending field, e.g. `beam.length_nm` or `modes[2].zeta_sd`.
     pub field: String,
@@ -27,14 +28,6 @@ impl InputError {
         self
     }
 }
-
-impl fmt::Display for InputError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "invalid {} = {}: allowed {}", self.field, self.value, self.allowed)
-    }
-}
-
-impl std::error::Error for InputError {}
 
 /// Checks `value > 0` and finite.
 pub fn positive(field: &str, value: f64) -> Result<(), InputError> {

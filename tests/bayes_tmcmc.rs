@@ -20,8 +20,9 @@
 //! N = 1000, 4000: no bias detectable at this precision.
 
 use nalgebra::{DMatrix, DVector};
-use nanobeam::bayes::laplace::{laplace_log_evidence, LaplaceError};
-use nanobeam::bayes::tmcmc::{tmcmc, TmcmcConfig, TmcmcError, TmcmcResult};
+use nanobeam::bayes::laplace::laplace_log_evidence;
+use nanobeam::bayes::tmcmc::{tmcmc, TmcmcConfig, TmcmcResult};
+use nanobeam::bayes::BayesError;
 use nanobeam::bayes::Posterior;
 use rand::{Rng, RngCore};
 use rand_distr::{Distribution, StandardNormal};
@@ -380,15 +381,15 @@ fn tmcmc_is_identical_for_any_thread_count() {
 fn tmcmc_rejects_bad_config() {
     let g = gaussian_1d();
     match tmcmc(&g, &TmcmcConfig { n_samples: 1, ..Default::default() }) {
-        Err(TmcmcError::Config(e)) => assert_eq!(e.field, "tmcmc.n_samples"),
+        Err(BayesError::Config(e)) => assert_eq!(e.field, "tmcmc.n_samples"),
         other => panic!("expected config error, got {other:?}"),
     }
     match tmcmc(&g, &TmcmcConfig { beta: -1.0, ..Default::default() }) {
-        Err(TmcmcError::Config(e)) => assert_eq!(e.field, "tmcmc.beta"),
+        Err(BayesError::Config(e)) => assert_eq!(e.field, "tmcmc.beta"),
         other => panic!("expected config error, got {other:?}"),
     }
     match tmcmc(&g, &TmcmcConfig { mh_steps: 4, max_mh_steps: Some(3), ..Default::default() }) {
-        Err(TmcmcError::Config(e)) => assert_eq!(e.field, "tmcmc.max_mh_steps"),
+        Err(BayesError::Config(e)) => assert_eq!(e.field, "tmcmc.max_mh_steps"),
         other => panic!("expected config error, got {other:?}"),
     }
 }
@@ -474,13 +475,13 @@ impl Posterior for Saddle {
 #[test]
 fn laplace_flags_non_positive_definite_hessian_and_boundary() {
     match laplace_log_evidence(&Saddle, &[0.0, 0.0], &[1.0, 1.0]) {
-        Err(LaplaceError::NotPositiveDefinite { min_eigenvalue }) => {
+        Err(BayesError::NotPositiveDefinite { min_eigenvalue }) => {
             assert!((min_eigenvalue + 1.0).abs() < 1e-6, "{min_eigenvalue}")
         }
         other => panic!("expected NotPositiveDefinite, got {other:?}"),
     }
     // MAP on the boundary of a uniform prior: a FD point falls outside the support.
     let m = TruncatedNormal { a: -0.5, sigma: 0.1 };
-    assert!(matches!(laplace_log_evidence(&m, &[0.0], &[0.1]), Err(LaplaceError::NonFinite { index: 0 })));
-    assert!(matches!(laplace_log_evidence(&m, &[0.5], &[0.0]), Err(LaplaceError::BadScale { index: 0, .. })));
+    assert!(matches!(laplace_log_evidence(&m, &[0.0], &[0.1]), Err(BayesError::NonFinite { index: 0 })));
+    assert!(matches!(laplace_log_evidence(&m, &[0.5], &[0.0]), Err(BayesError::BadScale { index: 0, .. })));
 }

@@ -1,7 +1,21 @@
 //! Bad input and the output directory of `diagnose`.
 
+use std::path::Path;
+use std::process::Command;
+
 use nanobeam::calibration::MeasuredData;
-use nanobeam::diagnose::{cli, diagnose, synthetic, DiagnoseSettings};
+use nanobeam::diagnose::{diagnose, synthetic, DiagnoseError, DiagnoseSettings};
+
+/// `nanobeam diagnose` at quick settings (400 samples); returns the exit code and stderr.
+fn run_cli(input: &Path, out: &Path, json: bool) -> (i32, String) {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_nanobeam"));
+    cmd.arg("diagnose").arg(input).arg("--out").arg(out).args(["--samples", "400"]);
+    if json {
+        cmd.arg("--json");
+    }
+    let o = cmd.output().expect("binary runs");
+    (o.status.code().expect("exit code"), String::from_utf8_lossy(&o.stderr).into_owned())
+}
 
 fn yaml_with(modes: &str) -> String {
     format!(
@@ -16,8 +30,10 @@ const M3: &str = "  - { mode: 3, omega_rad_s: 5.3e12, omega_sd_rad_s: 1.6e10, ze
 #[test]
 fn fewer_than_three_modes_is_an_input_error_naming_modes() {
     let data = MeasuredData::from_yaml(&yaml_with(&format!("{M1}{M2}"))).unwrap();
-    let e = diagnose(&data, &DiagnoseSettings::quick()).unwrap_err();
-    assert_eq!(e.field, "modes");
+    match diagnose(&data, &DiagnoseSettings::quick()) {
+        Err(DiagnoseError::Input(e)) => assert_eq!(e.field, "modes"),
+        other => panic!("expected an input error, got {other:?}"),
+    }
 }
 
 #[test]
@@ -41,7 +57,10 @@ fn cli_exits_2_and_leaves_out_dir_untouched_on_bad_input() {
     let out = dir.path().join("out");
     std::fs::create_dir(&out).unwrap();
     std::fs::write(out.join("sentinel"), "x").unwrap();
-    assert_eq!(cli::run(&input, Some(&out), true, &DiagnoseSettings::quick()), 2);
+    let (code, stderr) = run_cli(&input, &out, true);
+    assert_eq!(code, 2);
+    assert_eq!(stderr.lines().count(), 1, "one line: {stderr}");
+    assert!(stderr.contains("modes"), "{stderr}");
     assert_eq!(std::fs::read_to_string(out.join("sentinel")).unwrap(), "x");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2, "no temporary directory left behind");
 }
@@ -53,8 +72,9 @@ fn report_directory_is_written_and_json_is_shaped() {
     let input = dir.path().join("m.yaml");
     std::fs::write(&input, serde_yaml::to_string(&case.file).unwrap()).unwrap();
     let out = dir.path().join("out");
-    assert_eq!(cli::run(&input, Some(&out), false, &DiagnoseSettings::quick()), 0);
-    for f in ["report.md", "diagnosis.json", "residuals.svg", "probabilities.svg", "posterior.svg"] {
+    assert_eq!(run_cli(&input, &out, false).0, 0);
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    for f in ["report.md", "diagnosis.json", "residuals.svg", "probabilities.svg"] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
     let v: serde_json::Value =
@@ -62,9 +82,49 @@ fn report_directory_is_written_and_json_is_shaped() {
     for key in ["misfit_detected", "misfit", "candidates", "cause", "gain"] {
         assert!(v.get(key).is_some(), "{key} missing");
     }
+    // every figure the report links exists, and every figure written is linked
+    let linked: Vec<&str> = report.split("](").skip(1).filter_map(|s| s.split(')').next()).collect();
+    for f in &linked {
+        assert!(out.join(f).is_file(), "{f} linked but missing");
+    }
+    for e in std::fs::read_dir(&out).unwrap() {
+        let name = e.unwrap().file_name().into_string().unwrap();
+        assert!(!name.ends_with(".svg") || linked.contains(&name.as_str()), "{name} not shown in report.md");
+    }
+    assert!(linked.iter().any(|f| f.starts_with("posterior-")), "no posterior figure: {linked:?}");
+    for key in ["causes", "explained", "alternatives", "next_measurement", "best_partial_explanation"] {
+        assert!(v.get(key).is_some(), "{key} missing");
+    }
     let c = &v["candidates"][0];
-    for key in ["extension", "log_evidence", "log_evidence_laplace", "log_bayes_factor", "probability", "posterior"] {
+    for key in [
+        "extension",
+        "log_evidence",
+        "log_evidence_se",
+        "log_evidence_laplace",
+        "laplace_disagrees",
+        "log_bayes_factor",
+        "probability",
+        "posterior",
+    ] {
         assert!(c.get(key).is_some(), "candidate.{key} missing");
     }
     assert!(["omega", "zeta"].contains(&v["misfit"][0]["quantity"].as_str().unwrap()));
+}
+
+#[test]
+fn samples_out_of_range_is_blamed_on_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("m.yaml");
+    std::fs::write(&input, yaml_with(&format!("{M1}{M2}{M3}"))).unwrap();
+    for bad in ["0", "10000000"] {
+        let o = Command::new(env!("CARGO_BIN_EXE_nanobeam"))
+            .arg("diagnose")
+            .arg(&input)
+            .args(["--samples", bad])
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.starts_with(&format!("invalid --samples = {bad}: allowed 50..=100000")), "{err}");
+    }
 }

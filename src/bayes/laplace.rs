@@ -27,6 +27,7 @@ use nalgebra::DMatrix;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::error::BayesError;
 use super::Posterior;
 
 /// Default standardised finite-difference step h ≈ ε^{1/4} (module docs).
@@ -47,25 +48,12 @@ pub struct LaplaceEvidence {
     pub covariance: Vec<Vec<f64>>,
 }
 
-/// Failures of [`laplace_log_evidence`].
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum LaplaceError {
-    #[error("Laplace: dimension mismatch (theta has {theta}, scales {scales}, posterior {posterior})")]
-    Dimension { theta: usize, scales: usize, posterior: usize },
-    #[error("Laplace: scale of parameter {index} is {value}; must be > 0 and finite")]
-    BadScale { index: usize, value: f64 },
-    #[error("Laplace: log posterior is not finite at a finite-difference point near θ* (parameter {index}); θ* on or near the prior's boundary?")]
-    NonFinite { index: usize },
-    #[error("Laplace: Hessian of −log posterior is not positive definite at θ* (smallest eigenvalue of the standardised Hessian {min_eigenvalue:e}); θ* is not a strict local maximum")]
-    NotPositiveDefinite { min_eigenvalue: f64 },
-}
-
 /// Laplace log evidence at `theta_map` with FD step [`DEFAULT_FD_STEP`]·`scales[i]`.
 pub fn laplace_log_evidence(
     posterior: &dyn Posterior,
     theta_map: &[f64],
     scales: &[f64],
-) -> Result<LaplaceEvidence, LaplaceError> {
+) -> Result<LaplaceEvidence, BayesError> {
     laplace_log_evidence_with_step(posterior, theta_map, scales, DEFAULT_FD_STEP)
 }
 
@@ -75,13 +63,13 @@ pub fn laplace_log_evidence_with_step(
     theta_map: &[f64],
     scales: &[f64],
     h: f64,
-) -> Result<LaplaceEvidence, LaplaceError> {
+) -> Result<LaplaceEvidence, BayesError> {
     let d = theta_map.len();
     if scales.len() != d || posterior.dim() != d {
-        return Err(LaplaceError::Dimension { theta: d, scales: scales.len(), posterior: posterior.dim() });
+        return Err(BayesError::Dimension { theta: d, scales: scales.len(), posterior: posterior.dim() });
     }
     if let Some((index, &value)) = scales.iter().enumerate().find(|(_, s)| !(s.is_finite() && **s > 0.0)) {
-        return Err(LaplaceError::BadScale { index, value });
+        return Err(BayesError::BadScale { index, value });
     }
     // Offsets (in units of h) of every point needed, evaluated in parallel;
     // each result lands at its own index, so the output is thread-count independent.
@@ -107,7 +95,7 @@ pub fn laplace_log_evidence_with_step(
         .collect();
     if let Some(k) = values.iter().position(|v| !v.is_finite()) {
         let index = offsets[k].first().map_or(0, |o| o.0);
-        return Err(LaplaceError::NonFinite { index });
+        return Err(BayesError::NonFinite { index });
     }
     let f0 = values[0];
     let mut it = values[1..].iter();
@@ -130,7 +118,7 @@ pub fn laplace_log_evidence_with_step(
         Some(c) => c,
         None => {
             let min_eigenvalue = hu.symmetric_eigenvalues().iter().copied().fold(f64::INFINITY, f64::min);
-            return Err(LaplaceError::NotPositiveDefinite { min_eigenvalue });
+            return Err(BayesError::NotPositiveDefinite { min_eigenvalue });
         }
     };
     let log_det_hu: f64 = 2.0 * chol.l().diagonal().iter().map(|x| x.ln()).sum::<f64>();

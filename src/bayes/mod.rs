@@ -5,6 +5,7 @@
 pub mod chains;
 pub mod diagnostics;
 pub mod dram;
+pub mod error;
 pub mod laplace;
 pub mod likelihood;
 pub mod map;
@@ -13,5 +14,7 @@ pub mod prior;
 pub mod rng;
 pub mod summary;
 pub mod tmcmc;
+pub mod transform;
 
+pub use error::BayesError;
 pub use posterior::Posterior;

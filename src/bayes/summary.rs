@@ -52,6 +52,17 @@ impl Summary {
     }
 }
 
+/// Mean, sd (ddof 1) and type-7 central 95 % interval of one sample of draws
+/// (e.g. a TMCMC population, which carries no chain structure).
+pub fn describe(values: &[f64]) -> (f64, f64, [f64; 2]) {
+    let n = values.len() as f64;
+    let mean = values.iter().sum::<f64>() / n;
+    let sd = (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt();
+    let mut sorted = values.to_vec();
+    sorted.sort_by(f64::total_cmp);
+    (mean, sd, [quantile_sorted(&sorted, 0.025), quantile_sorted(&sorted, 0.975)])
+}
+
 /// Summarises `chains[c][s][i]` = parameter i of draw s of chain c.
 ///
 /// # Panics

@@ -43,6 +43,7 @@ use rand_distr::StandardNormal;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::error::BayesError;
 use super::rng::{stream, Purpose};
 use super::Posterior;
 use crate::error::InputError;
@@ -137,19 +138,6 @@ pub struct TmcmcResult {
     pub beta: Vec<f64>,
 }
 
-/// Failures of [`tmcmc`].
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum TmcmcError {
-    #[error("{0}")]
-    Config(#[from] InputError),
-    #[error("TMCMC stage {stage}: no sample has a finite log-likelihood")]
-    NoFiniteLikelihood { stage: usize },
-    #[error("TMCMC did not reach p = 1 within {max_stages} stages (p = {p})")]
-    TooManyStages { max_stages: usize, p: f64 },
-    #[error("TMCMC: prior sample {index} has dimension {got}, expected {expected}")]
-    BadPriorSample { index: usize, got: usize, expected: usize },
-}
-
 fn finite_or_neg_inf(x: f64) -> f64 {
     if x.is_nan() {
         f64::NEG_INFINITY
@@ -159,7 +147,7 @@ fn finite_or_neg_inf(x: f64) -> f64 {
 }
 
 /// Runs TMCMC on `posterior` (uses only `sample_prior`, `log_prior`, `log_likelihood`).
-pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcResult, TmcmcError> {
+pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcResult, BayesError> {
     config.validate()?;
     let n = config.n_samples;
     let d = posterior.dim();
@@ -174,7 +162,7 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
         })
         .collect();
     if let Some((index, s)) = samples.iter().enumerate().find(|(_, s)| s.len() != d) {
-        return Err(TmcmcError::BadPriorSample { index, got: s.len(), expected: d });
+        return Err(BayesError::BadPriorSample { index, got: s.len(), expected: d });
     }
     let mut loglik: Vec<f64> = samples.par_iter().map(|th| finite_or_neg_inf(posterior.log_likelihood(th))).collect();
     let mut logprior: Vec<f64> = samples.par_iter().map(|th| posterior.log_prior(th)).collect();
@@ -192,12 +180,12 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
     let mut stage = 0usize;
     while p < 1.0 {
         if stage >= config.max_stages {
-            return Err(TmcmcError::TooManyStages { max_stages: config.max_stages, p });
+            return Err(BayesError::TooManyStages { max_stages: config.max_stages, p });
         }
         stage += 1;
         let l_max = loglik.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         if !l_max.is_finite() {
-            return Err(TmcmcError::NoFiniteLikelihood { stage });
+            return Err(BayesError::NoFiniteLikelihood { stage });
         }
         // Next exponent.
         let dp = next_increment(&loglik, l_max, 1.0 - p, config.target_cov);

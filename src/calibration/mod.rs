@@ -10,6 +10,6 @@ pub mod sampler;
 
 pub use measured::{MeasuredData, ModeObservation};
 pub use parameters::{Parameter, ParameterSet, Target};
-pub use posterior::BeamPosterior;
+pub use posterior::{observables, BeamPosterior, Observable, Quantity};
 pub use run::{calibrate, calibrate_posterior, CalibrateOptions, CalibrationResult};
 pub use sampler::SamplerSpec;

@@ -3,7 +3,9 @@
 //!
 //! y = [ω_1 … ω_M, ζ_1 … ζ_M] (eq. 36 for any listed modes); the measurement
 //! covariance is diagonal with the file's standard deviations, scaled by β²
-//! when `beta_squared` is a parameter (eq. 41).
+//! when `beta_squared` is a parameter (eq. 41). A θ the forward model cannot
+//! evaluate (invalid beam, a requested mode overdamped or missing, numerical
+//! failure) has likelihood zero: log L = −∞.
 
 use rand::RngCore;
 
@@ -19,6 +21,7 @@ pub struct BeamPosterior {
     params: ParameterSet,
     /// Fitted modes (their numbers, 1-based).
     modes: Vec<usize>,
+    observables: Vec<Observable>,
     observed: Vec<f64>,
     sd: Vec<f64>,
     /// Highest mode number the forward model must return.
@@ -33,12 +36,15 @@ impl BeamPosterior {
     }
 
     pub fn from_parts(base: &BeamSpec, observations: &[ModeObservation], params: ParameterSet) -> Self {
-        let (observed, sd) = stack_observations(observations);
+        let observables = observables(observations);
+        let observed = observables.iter().map(|o| o.value).collect();
+        let sd = observables.iter().map(|o| o.sd).collect();
         let beta_squared = params.beta_squared_index();
         Self {
             base: base.clone(),
             modes: observations.iter().map(|m| m.mode).collect(),
             n_modes: observations.iter().map(|m| m.mode).max().unwrap_or(1),
+            observables,
             observed,
             sd,
             params,
@@ -74,8 +80,51 @@ impl BeamPosterior {
         &self.observed
     }
 
+    /// The fitted observables in the order of [`Self::observed`].
+    pub fn observables(&self) -> &[Observable] {
+        &self.observables
+    }
+
     pub fn sd(&self) -> &[f64] {
         &self.sd
+    }
+}
+
+/// Which modal quantity an observable is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Quantity {
+    Omega,
+    Zeta,
+}
+
+impl Quantity {
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Omega => "omega",
+            Quantity::Zeta => "zeta",
+        }
+    }
+}
+
+/// One scalar entry of y (eq. 36): mode `mode`'s ω (rad/s) or ζ, with its
+/// measurement sd in the same unit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Observable {
+    pub mode: usize,
+    pub quantity: Quantity,
+    pub value: f64,
+    pub sd: f64,
+}
+
+impl Observable {
+    /// This observable's model value among `modes` (1-based numbering), if computed.
+    pub fn predicted(&self, modes: &[beam::Mode]) -> Option<f64> {
+        let m = modes.get(self.mode.checked_sub(1)?)?;
+        Some(match self.quantity {
+            Quantity::Omega => m.omega_rad_s,
+            Quantity::Zeta => m.zeta,
+        })
     }
 }
 
@@ -91,11 +140,16 @@ pub fn predict_modes(beam: &BeamSpec, modes: &[usize], n_modes: usize) -> Option
     Some(y)
 }
 
-/// Observations and standard deviations stacked as in eq. (36).
-pub fn stack_observations(obs: &[ModeObservation]) -> (Vec<f64>, Vec<f64>) {
-    let y = obs.iter().map(|m| m.omega_rad_s).chain(obs.iter().map(|m| m.zeta)).collect();
-    let sd = obs.iter().map(|m| m.omega_sd_rad_s).chain(obs.iter().map(|m| m.zeta_sd)).collect();
-    (y, sd)
+/// The observables of a list of modes stacked as in eq. (36): every ω, then every ζ.
+pub fn observables(obs: &[ModeObservation]) -> Vec<Observable> {
+    let omega = obs.iter().map(|m| Observable {
+        mode: m.mode,
+        quantity: Quantity::Omega,
+        value: m.omega_rad_s,
+        sd: m.omega_sd_rad_s,
+    });
+    let zeta = obs.iter().map(|m| Observable { mode: m.mode, quantity: Quantity::Zeta, value: m.zeta, sd: m.zeta_sd });
+    omega.chain(zeta).collect()
 }
 
 impl Posterior for BeamPosterior {
@@ -114,7 +168,7 @@ impl Posterior for BeamPosterior {
     fn log_likelihood(&self, theta: &[f64]) -> f64 {
         match self.predict(theta) {
             Some(pred) => gaussian_log_likelihood(&self.observed, &pred, &self.sd, self.beta_at(theta)),
-            None => f64::NAN,
+            None => f64::NEG_INFINITY,
         }
     }
 

@@ -1,12 +1,12 @@
-//! `nanobeam diagnose MEASURED.yaml [--out DIR] [--json]`: misfit, cause,
-//! extension and gain (see `crate::diagnose`).
+//! `nanobeam diagnose MEASURED.yaml [--out DIR] [--json] [--samples N]`:
+//! misfit, causes, extension and gain (see `crate::diagnose`).
 
 use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::cli::CliError;
-use crate::diagnose::{cli::run_to, DiagnoseSettings};
+use crate::cli::{read_measured, write_out, CliError};
+use crate::diagnose::{diagnose_run, report, DiagnoseSettings};
 
 #[derive(Debug, Args)]
 pub struct DiagnoseArgs {
@@ -18,12 +18,42 @@ pub struct DiagnoseArgs {
     /// Print the diagnosis as JSON on stdout.
     #[arg(long)]
     pub json: bool,
-    /// TMCMC samples per stage per model class.
+    /// TMCMC samples per stage per model.
     #[arg(long, default_value_t = 1000)]
     pub samples: usize,
 }
 
+/// Runs the command: the summary (or the JSON) goes to `out`; DIR is only
+/// replaced when everything succeeded.
 pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
     let settings = DiagnoseSettings { samples: args.samples, ..DiagnoseSettings::default() };
-    run_to(&args.measured, args.out.as_deref(), args.json, &settings, out)
+    settings.validate()?;
+    let data = read_measured(&args.measured)?;
+    let run = diagnose_run(&data, &settings)?;
+    if let Some(dir) = &args.out {
+        report::write_report(dir, &run, &data, &settings)?;
+    }
+    let d = &run.diagnosis;
+    let text = if args.json {
+        serde_json::to_string_pretty(d).expect("plain data") + "\n"
+    } else {
+        let mut t = format!(
+            "misfit detected: {}\ncause: {}\nexplained: {}\nln B ({} vs base): {:.2}\nRMS z: {:.2} -> {:.2}\n",
+            d.misfit_detected,
+            d.cause,
+            d.explained,
+            d.gain.extension,
+            d.gain.log_bayes_factor,
+            d.gain.rms_z_before,
+            d.gain.rms_z_after,
+        );
+        for a in &d.alternatives {
+            t += &format!("alternative: {} (ln B gap {:.2})\n", a.extension, a.log_bayes_factor_gap);
+        }
+        if let Some(n) = &d.next_measurement {
+            t += &format!("next measurement: {} of mode {} ({:.1} sd apart)\n", n.quantity, n.mode, n.separation_sd);
+        }
+        t
+    };
+    write_out(out, &text)
 }

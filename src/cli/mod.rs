@@ -11,8 +11,11 @@ use std::path::Path;
 
 use clap::{Parser, Subcommand};
 
+use crate::bayes::BayesError;
 use crate::beam::{BeamError, BeamSpec};
+use crate::diagnose::DiagnoseError;
 use crate::error::InputError;
+use crate::report::ReportError;
 
 #[derive(Debug, Parser)]
 #[command(
@@ -37,12 +40,17 @@ pub enum Command {
     Diagnose(diagnose::DiagnoseArgs),
 }
 
-/// A command failure, mapped to the process exit code.
-#[derive(Debug)]
+/// A command failure. Every layer's error converts into it, and
+/// [`CliError::exit_code`] is the one place where exit codes are decided:
+/// 2 for bad input (the user can fix the file or flag), 1 for a numerical or
+/// output failure on valid input.
+#[derive(Debug, thiserror::Error)]
 pub enum CliError {
-    /// Exit 2.
-    Input(InputError),
-    /// Exit 1.
+    /// Exit 2: one line naming the field, the value and the allowed range.
+    #[error("{0}")]
+    Input(#[from] InputError),
+    /// Exit 1: the computation or the output failed.
+    #[error("error: {0}")]
     Failure(String),
 }
 
@@ -51,15 +59,6 @@ impl CliError {
         match self {
             CliError::Input(_) => 2,
             CliError::Failure(_) => 1,
-        }
-    }
-}
-
-impl std::fmt::Display for CliError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            CliError::Input(e) => write!(f, "{e}"),
-            CliError::Failure(m) => write!(f, "error: {m}"),
         }
     }
 }
@@ -73,9 +72,19 @@ impl From<BeamError> for CliError {
     }
 }
 
-impl From<InputError> for CliError {
-    fn from(e: InputError) -> Self {
-        CliError::Input(e)
+impl From<DiagnoseError> for CliError {
+    fn from(e: DiagnoseError) -> Self {
+        match e {
+            DiagnoseError::Input(i) => CliError::Input(i),
+            DiagnoseError::Evidence { source: BayesError::Config(i), .. } => CliError::Input(i),
+            other => CliError::Failure(other.to_string()),
+        }
+    }
+}
+
+impl From<ReportError> for CliError {
+    fn from(e: ReportError) -> Self {
+        CliError::Failure(format!("cannot write output: {e}"))
     }
 }
 

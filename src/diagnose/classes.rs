@@ -20,16 +20,12 @@
 //! evidence is invariant under this change of variables.
 
 use crate::bayes::prior::Prior;
-use crate::beam::BeamSpec;
+use crate::beam::{BeamError, BeamSpec};
 use crate::calibration::{Parameter, ParameterSet, Target};
 
-/// A model class compared by its evidence.
+/// One candidate cause: an extension of the base model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum ModelClass {
-    /// The file's parameters (default: the paper's N = 1 set), β = 1.
-    Base,
-    /// Base + β² ~ IG(9.5, 11.1), eq. (41): absorbs misfit as noise.
-    Baseline,
     ExtraRelaxation,
     ViscousDamping,
     SupportRotationalStiffness,
@@ -37,7 +33,7 @@ pub enum ModelClass {
 }
 
 impl ModelClass {
-    /// The four candidate causes, in report order.
+    /// The candidate causes, in report order.
     pub const CAUSES: [ModelClass; 4] = [
         ModelClass::ExtraRelaxation,
         ModelClass::ViscousDamping,
@@ -47,8 +43,6 @@ impl ModelClass {
 
     pub fn name(self) -> &'static str {
         match self {
-            ModelClass::Base => "base",
-            ModelClass::Baseline => "baseline-beta",
             ModelClass::ExtraRelaxation => "extra-relaxation",
             ModelClass::ViscousDamping => "viscous-damping",
             ModelClass::SupportRotationalStiffness => "support-rotational-stiffness",
@@ -57,17 +51,65 @@ impl ModelClass {
     }
 
     pub fn from_name(name: &str) -> Option<Self> {
-        [ModelClass::Base, ModelClass::Baseline].into_iter().chain(Self::CAUSES).find(|c| c.name() == name)
+        Self::CAUSES.into_iter().find(|c| c.name() == name)
+    }
+}
+
+/// A model compared by its evidence: the base model plus a set of causes, or
+/// the β-inflated baseline of eq. (41) (which absorbs misfit as noise and is
+/// never a cause).
+#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Model {
+    /// The base model with these extensions (sorted, none = the base model itself).
+    Extended(Vec<ModelClass>),
+    /// Base + β² ~ IG(9.5, 11.1), eq. (41).
+    Baseline,
+}
+
+impl Model {
+    pub const BASE: Model = Model::Extended(Vec::new());
+
+    /// The base model with `causes` (order does not matter).
+    pub fn with(causes: &[ModelClass]) -> Self {
+        let mut c = causes.to_vec();
+        c.sort_unstable();
+        c.dedup();
+        Model::Extended(c)
+    }
+
+    /// The causes this model adds to the base (empty for the base and the baseline).
+    pub fn causes(&self) -> &[ModelClass] {
+        match self {
+            Model::Extended(c) => c,
+            Model::Baseline => &[],
+        }
+    }
+
+    /// The inverse of [`Model::name`].
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "base" => Some(Model::BASE),
+            "baseline-beta" => Some(Model::Baseline),
+            _ => name.split('+').map(ModelClass::from_name).collect::<Option<Vec<_>>>().map(|c| Model::with(&c)),
+        }
+    }
+
+    /// `base`, `baseline-beta`, a cause's name, or causes joined by `+`.
+    pub fn name(&self) -> String {
+        match self {
+            Model::Baseline => "baseline-beta".into(),
+            Model::Extended(c) if c.is_empty() => "base".into(),
+            Model::Extended(c) => c.iter().map(|c| c.name()).collect::<Vec<_>>().join("+"),
+        }
     }
 }
 
 /// The parameter vector of one class, with the sampling coordinate of each entry.
 #[derive(Debug, Clone)]
 pub struct ClassParameters {
-    pub class: ModelClass,
     /// Physical parameters (priors in physical units), mapped onto the beam by name.
     pub set: ParameterSet,
-    /// `true`: sampled as u = ln x (the prior is log-uniform, uniform in u).
+    /// `true`: sampled as u = ln x (the prior is log-uniform, uniform in u; see `bayes::transform`).
     pub log_scale: Vec<bool>,
 }
 
@@ -85,14 +127,14 @@ pub struct NominalScales {
 
 impl NominalScales {
     /// Scales of `beam` with e0a = 0, no damping, no extensions, for modes 1..=`max_mode`.
-    pub fn of(beam: &BeamSpec, max_mode: usize) -> Result<Self, String> {
+    pub fn of(beam: &BeamSpec, max_mode: usize) -> Result<Self, BeamError> {
         let mut elastic = beam.clone();
         elastic.nonlocal_e0a_nm = 0.0;
         elastic.viscous_damping_n_s_m2 = 0.0;
         elastic.internal_variables.clear();
         elastic.support_rotational_stiffness_n_m_rad = 0.0;
         elastic.point_mass = None;
-        let modes = super::posterior::predict(&elastic, max_mode)?;
+        let modes = crate::beam::modal(&elastic, max_mode)?.modes;
         Ok(Self {
             omega_1_rad_s: modes[0].omega_rad_s,
             omega_max_rad_s: modes[max_mode - 1].omega_rad_s,
@@ -114,16 +156,26 @@ fn param(name: &str, prior: Prior) -> Parameter {
     }
 }
 
-/// Builds the parameter vector of `class`. `base` is the file's parameter set;
-/// a `beta_squared` entry in it is dropped from every class except the baseline
+/// Builds the parameter vector of `model`. `base` is the file's parameter set;
+/// a `beta_squared` entry in it is dropped from every model except the baseline
 /// (where the file's β² prior replaces the paper's IG(9.5, 11.1)).
-pub fn class_parameters(class: ModelClass, base: &ParameterSet, beam: &BeamSpec, s: &NominalScales) -> ClassParameters {
+pub fn model_parameters(model: &Model, base: &ParameterSet, beam: &BeamSpec, s: &NominalScales) -> ClassParameters {
     let file_beta = base.params.iter().find(|p| p.target == Target::BetaSquared).cloned();
     let mut params: Vec<Parameter> = base.params.iter().filter(|p| p.target != Target::BetaSquared).cloned().collect();
+    if *model == Model::Baseline {
+        params
+            .push(file_beta.unwrap_or_else(|| param("beta_squared", Prior::InverseGamma { shape: 9.5, scale: 11.1 })));
+    }
+    for &class in model.causes() {
+        add_extension(&mut params, class, beam, s);
+    }
+    let log_scale = params.iter().map(|p| matches!(p.prior, Prior::LogUniform { .. })).collect();
+    ClassParameters { set: ParameterSet { params }, log_scale }
+}
+
+/// Appends the parameters of one cause, with the priors of the module doc.
+fn add_extension(params: &mut Vec<Parameter>, class: ModelClass, beam: &BeamSpec, s: &NominalScales) {
     match class {
-        ModelClass::Base => {}
-        ModelClass::Baseline => params
-            .push(file_beta.unwrap_or_else(|| param("beta_squared", Prior::InverseGamma { shape: 9.5, scale: 11.1 }))),
         ModelClass::ExtraRelaxation => {
             let used = params
                 .iter()
@@ -159,6 +211,4 @@ pub fn class_parameters(class: ModelClass, base: &ParameterSet, beam: &BeamSpec,
             params.push(param("point_mass_x_nm", Prior::Uniform { lower: 0.0, upper: beam.length_nm }));
         }
     }
-    let log_scale = params.iter().map(|p| matches!(p.prior, Prior::LogUniform { .. })).collect();
-    ClassParameters { class, set: ParameterSet { params }, log_scale }
 }

@@ -1,30 +1,35 @@
-//! `nanobeam diagnose`: show what the model gets wrong, name the cause,
-//! extend the model, measure the gain (the step §4.3 of the paper names:
-//! Muto & Beck's evidence-based model-class selection, done automatically).
+//! `nanobeam diagnose`: show what the model gets wrong, name every cause
+//! present, extend the model, measure the gain — or say that nothing it has
+//! explains the data (the step §4.3 of the paper names: Muto & Beck's
+//! evidence-based model-class selection, done automatically).
 //!
-//! 1. **Misfit.** The base class (the file's parameters, default the paper's
+//! 1. **Misfit.** The base model (the file's parameters, default the paper's
 //!    N = 1 set; C = 0, ideal supports, nominal geometry) is calibrated by
 //!    TMCMC; every observable (ω_r, ζ_r) gets a posterior predictive check
-//!    ([`ppc`]): standardized residual z and two-sided p-value. Misfit is
-//!    detected when some p-value falls below the Šidák level
-//!    1 − (1 − 0.01)^(1/J) (family-wise 1 % over the J observables).
-//! 2. **Candidates.** Four model classes extend the base, one cause each
-//!    ([`classes`]); the β-inflated base of eq. (41) is computed as a baseline.
-//! 3. **Evidence.** log π(y|M) by TMCMC, cross-checked by Laplace at the MAP
-//!    (`bayes::{tmcmc, map, laplace}`); class probabilities with equal prior probabilities over
-//!    {base, causes}. The cause is the most probable class when
-//!    ln B = ln Z_class − ln Z_base ≥ 3: "strong" on the Kass–Raftery scale
-//!    (B ≥ 20), and more than ten times the TMCMC log-evidence spread measured
-//!    between seeds (≈ 0.1–0.3 at the default settings, see the report). `none`
-//!    when no misfit is detected and no class wins, `unexplained` when misfit
-//!    is detected and no class wins.
+//!    ([`ppc`]). Misfit is detected when some p-value falls below the Šidák
+//!    level 1 − (1 − α_FW)^(1/J) (family-wise α_FW = 1 % over J observables).
+//! 2. **Search.** Causes are added one at a time (greedy forward selection):
+//!    every model "current + one more cause" gets its evidence
+//!    ([`evidence`]), and the best is kept when its ln B against the current
+//!    model is ≥ 3; the search stops once the kept model passes the misfit
+//!    test (nothing is left to explain) ("strong" on the Kass–Raftery scale, B ≥ 20, and more than
+//!    ten times the TMCMC log-evidence spread between seeds, ≈ 0.1–0.3).
+//!    The β-inflated base of eq. (41) is computed beside it as a baseline.
+//! 3. **Verdict.** The posterior predictive check is run again on the selected
+//!    model: a cause is only named when its model no longer misfits; otherwise
+//!    the verdict is `unexplained`, with the best partial explanation beside
+//!    it. `none` when no misfit is detected and no cause wins.
 //! 4. **Gain.** ln B, RMS standardized residual before/after and, with
 //!    `held_out_modes`, the joint predictive log score and 95 % coverage of
 //!    both models on the held-out modes.
+//! 5. **Undecided.** Models within [`DiagnoseSettings::alternative_margin`]
+//!    nats of the selected one are listed as alternatives, with the unmeasured
+//!    observable whose predictions under the two differ most
+//!    ([`next::next_measurement`]).
 
 pub mod classes;
-pub mod cli;
-pub mod posterior;
+pub mod evidence;
+pub mod next;
 pub mod ppc;
 pub mod report;
 pub mod synthetic;
@@ -34,17 +39,22 @@ use std::collections::BTreeMap;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::calibration::MeasuredData;
-use crate::error::InputError;
-
-use crate::bayes::laplace::laplace_log_evidence_with_step;
-use crate::bayes::map::map_estimate;
 use crate::bayes::rng::{child_seed, Purpose};
-use crate::bayes::tmcmc::{tmcmc, TmcmcConfig, TmcmcError, TmcmcResult};
-pub use classes::ModelClass;
-use classes::{class_parameters, NominalScales};
-use posterior::{observables, predicted, ClassPosterior, Observable};
-use ppc::Check;
+use crate::bayes::transform::Reparameterized;
+use crate::bayes::{BayesError, Posterior};
+use crate::beam::BeamSpec;
+use crate::calibration::{observables, BeamPosterior, MeasuredData, ModeObservation, Observable, ParameterSet};
+use crate::error::InputError;
+use crate::report::ReportError;
+
+use classes::model_parameters;
+pub use classes::NominalScales;
+pub use classes::{Model, ModelClass};
+pub use evidence::ModelRun;
+use ppc::{Check, Draws};
+
+/// The posterior of one model in its sampling coordinates (log-uniform priors sampled in ln x).
+pub type ClassPosterior = Reparameterized<BeamPosterior>;
 
 /// Knobs of a diagnosis (defaults documented on each field).
 #[derive(Debug, Clone, PartialEq)]
@@ -57,8 +67,13 @@ pub struct DiagnoseSettings {
     pub seed: Option<u64>,
     /// Family-wise level of the misfit test (default 0.01).
     pub family_alpha: f64,
-    /// ln B threshold to name a cause (default 3).
+    /// ln B threshold to add a cause (default 3).
     pub log_bayes_factor_threshold: f64,
+    /// A model within this many nats of the selected one is an alternative (default 3:
+    /// the data do not prefer either "strongly").
+    pub alternative_margin: f64,
+    /// Most causes the search adds (default 3).
+    pub max_causes: usize,
     /// Nelder–Mead iterations for the MAP (default 400).
     pub map_iters: u64,
 }
@@ -71,16 +86,65 @@ impl Default for DiagnoseSettings {
             seed: None,
             family_alpha: 0.01,
             log_bayes_factor_threshold: 3.0,
+            alternative_margin: 3.0,
+            max_causes: 3,
             map_iters: 400,
         }
     }
 }
 
 impl DiagnoseSettings {
+    /// Upper bound of `samples`: 1e5 samples × ≈ 20 stages × 4 steps is ≈ 1e7
+    /// forward evaluations per model (minutes); memory stays ≈ 1e5 × d × 8 B.
+    pub const MAX_SAMPLES: usize = 100_000;
+    /// Lower bound: the stage covariance of a 5-parameter model needs ≫ 5 samples.
+    pub const MIN_SAMPLES: usize = 50;
+
     /// Short runs for tests: 400 samples, 3 steps.
     pub fn quick() -> Self {
         Self { samples: 400, mh_steps: 3, map_iters: 250, ..Self::default() }
     }
+
+    /// Checks every knob against its range (flag names as the CLI spells them).
+    pub fn validate(&self) -> Result<(), InputError> {
+        if !(Self::MIN_SAMPLES..=Self::MAX_SAMPLES).contains(&self.samples) {
+            return Err(InputError::new(
+                "--samples",
+                self.samples,
+                format!("{}..={}", Self::MIN_SAMPLES, Self::MAX_SAMPLES),
+            ));
+        }
+        if !(1..=100).contains(&self.mh_steps) {
+            return Err(InputError::new("mh_steps", self.mh_steps, "1..=100"));
+        }
+        if !(self.family_alpha > 0.0 && self.family_alpha < 1.0) {
+            return Err(InputError::new("family_alpha", self.family_alpha, "0 < alpha < 1"));
+        }
+        for (name, v) in [
+            ("log_bayes_factor_threshold", self.log_bayes_factor_threshold),
+            ("alternative_margin", self.alternative_margin),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(InputError::new(name, v, ">= 0 (finite)"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Why a diagnosis could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum DiagnoseError {
+    /// The measured data or a setting is outside its range: fix the file or flag.
+    #[error("{0}")]
+    Input(#[from] InputError),
+    /// A model's evidence could not be computed (TMCMC failed): the data are
+    /// impossible under that model's priors, or the sampler budget is too small.
+    #[error("model `{model}`: {source}")]
+    Evidence { model: String, source: BayesError },
+    /// The report directory could not be written.
+    #[error("{0}")]
+    Report(#[from] ReportError),
 }
 
 /// Posterior summary of one parameter (physical units).
@@ -91,19 +155,29 @@ pub struct Summary {
     pub ci95: [f64; 2],
 }
 
-/// One model class in the output.
+/// One evaluated model in the output.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct Candidate {
+    /// The model's name: `base`, a cause, causes joined by `+`, or `baseline-beta`.
     pub extension: String,
+    pub causes: Vec<String>,
     pub log_evidence: f64,
+    /// Standard error of the TMCMC log evidence (Ching & Chen's stage estimator).
+    pub log_evidence_se: f64,
     /// `null` when the MAP sits on a prior boundary or the Hessian is not positive definite.
     pub log_evidence_laplace: Option<f64>,
+    /// Laplace and TMCMC disagree by more than [`LAPLACE_DISAGREEMENT_NATS`]: the
+    /// posterior is far from Gaussian (trust TMCMC).
+    pub laplace_disagrees: bool,
     pub log_bayes_factor: f64,
-    /// Posterior class probability among {base, causes}; for the baseline, its
-    /// probability had it been compared with the base alone.
+    /// Posterior model probability among the extended models evaluated (equal prior
+    /// probabilities); for the baseline, its probability had it been compared with the base alone.
     pub probability: f64,
     pub posterior: BTreeMap<String, Summary>,
 }
+
+/// Laplace vs TMCMC log-evidence gap that flags a non-Gaussian posterior.
+pub const LAPLACE_DISAGREEMENT_NATS: f64 = 1.0;
 
 /// Held-out predictive comparison.
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -120,7 +194,7 @@ pub struct HeldOut {
 /// What the extension buys.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct Gain {
-    /// The class assessed: the cause, else the most probable candidate.
+    /// The model assessed: the selected one, else the most probable candidate.
     pub extension: String,
     pub log_bayes_factor: f64,
     pub rms_z_before: f64,
@@ -130,12 +204,21 @@ pub struct Gain {
     pub held_out: Option<HeldOut>,
 }
 
+/// A model the data cannot separate from the selected one.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Alternative {
+    pub extension: String,
+    /// ln Z(selected) − ln Z(alternative) (≥ 0, < the margin).
+    pub log_bayes_factor_gap: f64,
+}
+
 /// Decision thresholds actually used.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct Thresholds {
     pub family_alpha: f64,
     pub per_test_alpha_sidak: f64,
     pub log_bayes_factor: f64,
+    pub alternative_margin: f64,
 }
 
 /// The diagnosis (the `--json` output).
@@ -143,254 +226,380 @@ pub struct Thresholds {
 pub struct Diagnosis {
     pub misfit_detected: bool,
     pub misfit: Vec<Check>,
+    /// Every extended model the search evaluated, in the order visited.
     pub candidates: Vec<Candidate>,
+    /// The causes of the selected model, ordered by evidence gain (empty when unexplained).
+    pub causes: Vec<String>,
+    /// `none`, a cause's name, `multiple`, or `unexplained`.
     pub cause: String,
+    /// `false` when the selected model still misfits (the cause is then `unexplained`).
+    pub explained: bool,
+    /// The causes of the best model found, even when it does not explain the data.
+    pub best_partial_explanation: Vec<String>,
     pub gain: Gain,
+    pub alternatives: Vec<Alternative>,
+    pub next_measurement: Option<next::NextMeasurement>,
     pub base: Candidate,
     pub baseline: Candidate,
     pub thresholds: Thresholds,
 }
 
-/// Everything computed for one class (kept for the report's plots).
-#[derive(Debug, Clone)]
-pub struct ClassRun {
-    pub class: ModelClass,
-    pub posterior: ClassPosterior,
-    pub tmcmc: TmcmcResult,
-    pub map: Vec<f64>,
-    pub log_evidence_laplace: Option<f64>,
-}
-
-/// A diagnosis with the per-class runs behind it.
+/// A diagnosis with the per-model runs behind it.
 #[derive(Debug, Clone)]
 pub struct DiagnosisRun {
     pub diagnosis: Diagnosis,
-    pub runs: Vec<ClassRun>,
+    pub runs: Vec<ModelRun>,
+}
+
+impl DiagnosisRun {
+    /// The run of `model` (every model in the diagnosis ran).
+    pub fn run_of(&self, model: &Model) -> Option<&ModelRun> {
+        self.runs.iter().find(|r| &r.model == model)
+    }
 }
 
 /// Runs the diagnosis of `data`.
-pub fn diagnose(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<Diagnosis, InputError> {
+pub fn diagnose(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<Diagnosis, DiagnoseError> {
     diagnose_run(data, settings).map(|r| r.diagnosis)
 }
 
-/// [`diagnose`] keeping the per-class runs.
-pub fn diagnose_run(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<DiagnosisRun, InputError> {
+/// What every model of one diagnosis shares.
+struct Problem<'a> {
+    data: &'a MeasuredData,
+    settings: &'a DiagnoseSettings,
+    scales: NominalScales,
+    seed: u64,
+}
+
+/// The posterior of `model` given the fitted `modes` of a beam whose known part is `beam`.
+pub fn model_posterior(
+    model: &Model,
+    parameters: &ParameterSet,
+    beam: &BeamSpec,
+    modes: &[ModeObservation],
+    scales: &NominalScales,
+) -> ClassPosterior {
+    let p = model_parameters(model, parameters, beam, scales);
+    Reparameterized::new(BeamPosterior::from_parts(beam, modes, p.set), p.log_scale)
+}
+
+impl Problem<'_> {
+    fn posterior(&self, model: &Model) -> ClassPosterior {
+        model_posterior(model, &self.data.parameters, &self.data.beam, &self.data.modes, &self.scales)
+    }
+
+    /// Evidence of every model in `models` (in parallel; each keyed by the model's identity).
+    fn run(&self, models: Vec<Model>) -> Result<Vec<ModelRun>, DiagnoseError> {
+        models
+            .into_par_iter()
+            .map(|m| {
+                let seed = child_seed(self.seed, Purpose::ModelClass, [model_key(&m), 0]);
+                evidence::run_model(m.clone(), self.posterior(&m), self.settings, seed)
+                    .map_err(|source| DiagnoseError::Evidence { model: m.name(), source })
+            })
+            .collect()
+    }
+}
+
+/// A stable key of a model for its random streams: the bit set of its causes
+/// (bit k = `ModelClass::CAUSES[k]`), or `u64::MAX` for the baseline.
+fn model_key(m: &Model) -> u64 {
+    match m {
+        Model::Baseline => u64::MAX,
+        Model::Extended(c) => {
+            c.iter().map(|c| 1u64 << ModelClass::CAUSES.iter().position(|k| k == c).unwrap_or(63)).sum()
+        }
+    }
+}
+
+/// [`diagnose`] keeping the per-model runs.
+pub fn diagnose_run(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<DiagnosisRun, DiagnoseError> {
+    settings.validate()?;
     if data.modes.len() < 3 {
         return Err(InputError::new(
             "modes",
             format!("{} mode(s)", data.modes.len()),
-            "at least 3 fitted modes (a diagnosis compares classes with up to 5 parameters)",
-        ));
+            "at least 3 fitted modes (a diagnosis compares models with up to 7 parameters)",
+        )
+        .into());
     }
     let n_modes = data.max_mode();
     let scales = NominalScales::of(&data.beam, n_modes).map_err(|e| {
         InputError::new("modes", format!("highest mode {n_modes}"), format!("modes the beam model can compute ({e})"))
     })?;
-    let fitted = observables(&data.modes);
-    let held = observables(&data.held_out_modes);
-    let seed = settings.seed.unwrap_or(data.sampler.seed);
-    let classes: Vec<ModelClass> =
-        [ModelClass::Base, ModelClass::Baseline].into_iter().chain(ModelClass::CAUSES).collect();
+    let problem = Problem { data, settings, scales, seed: settings.seed.unwrap_or(data.sampler.seed) };
 
-    let runs: Vec<ClassRun> = classes
-        .par_iter()
-        .enumerate()
-        .map(|(k, &class)| {
-            let params = class_parameters(class, &data.parameters, &data.beam, &scales);
-            let post = ClassPosterior::new(params, data.beam.clone(), fitted.clone(), n_modes);
-            run_class(class, post, settings, child_seed(seed, Purpose::ModelClass, [k as u64, 0]))
-        })
-        .collect::<Result<_, _>>()
-        .map_err(|e| InputError::new("modes", e, "data every model class can be evaluated on (TMCMC failed)"))?;
-    let run_of = |c: ModelClass| runs.iter().find(|r| r.class == c).expect("every class ran");
-    let base = run_of(ModelClass::Base);
-    let z_base = base.tmcmc.log_evidence;
+    let mut runs = problem.run(vec![Model::BASE, Model::Baseline])?;
+    let search = search(&problem, &mut runs)?;
+    let decide = Decision::new(&problem, &runs, &search);
+    let diagnosis = decide.diagnosis(&problem, &runs, &search)?;
+    Ok(DiagnosisRun { diagnosis, runs })
+}
 
-    // class probabilities over {base, causes}, equal prior probabilities
-    let compared: Vec<&ClassRun> = std::iter::once(base).chain(ModelClass::CAUSES.iter().map(|&c| run_of(c))).collect();
-    let z_max = compared.iter().map(|r| r.tmcmc.log_evidence).fold(f64::NEG_INFINITY, f64::max);
-    let norm: f64 = compared.iter().map(|r| (r.tmcmc.log_evidence - z_max).exp()).sum();
-    let prob = |r: &ClassRun| (r.tmcmc.log_evidence - z_max).exp() / norm;
+/// The models the greedy search selected, step by step.
+struct Search {
+    /// The selected model after each accepted step (first: the base).
+    path: Vec<Model>,
+    /// Every extended model visited, in order (the base first).
+    visited: Vec<Model>,
+}
 
-    let candidate = |r: &ClassRun, p: f64| Candidate {
-        extension: r.class.name().to_string(),
-        log_evidence: r.tmcmc.log_evidence,
-        log_evidence_laplace: r.log_evidence_laplace,
-        log_bayes_factor: r.tmcmc.log_evidence - z_base,
-        probability: p,
-        posterior: summaries(&r.posterior, &r.tmcmc.samples),
-    };
-    let candidates: Vec<Candidate> =
-        ModelClass::CAUSES.iter().map(|&c| candidate(run_of(c), prob(run_of(c)))).collect();
-    let baseline_run = run_of(ModelClass::Baseline);
-    let lb = baseline_run.tmcmc.log_evidence - z_base;
-    let baseline = candidate(baseline_run, 1.0 / (1.0 + (-lb).exp()));
-    let base_c = candidate(base, prob(base));
+/// Greedy forward selection by evidence (module doc, step 2).
+fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Search, DiagnoseError> {
+    let threshold = problem.settings.log_bayes_factor_threshold;
+    let mut path = vec![Model::BASE];
+    let mut visited = vec![Model::BASE];
+    while path.len() <= problem.settings.max_causes {
+        let current = path.last().expect("path starts with the base").clone();
+        let next: Vec<Model> = ModelClass::CAUSES
+            .iter()
+            .filter(|c| !current.causes().contains(c))
+            .map(|&c| Model::with(&[current.causes(), &[c]].concat()))
+            .filter(|m| !visited.contains(m))
+            .collect();
+        if next.is_empty() {
+            break;
+        }
+        visited.extend(next.iter().cloned());
+        runs.extend(problem.run(next.clone())?);
+        let z = |m: &Model| runs.iter().find(|r| &r.model == m).map_or(f64::NEG_INFINITY, |r| r.tmcmc.log_evidence);
+        let best = next.iter().max_by(|a, b| z(a).total_cmp(&z(b))).expect("non-empty").clone();
+        if z(&best) - z(&current) < threshold {
+            break;
+        }
+        // a model that passes the misfit test needs no further cause: stop there
+        let fits = !misfits(problem, runs.iter().find(|r| r.model == best).expect("ran"));
+        path.push(best);
+        if fits {
+            break;
+        }
+    }
+    Ok(Search { path, visited })
+}
 
-    // misfit of the base model
-    let all_obs: Vec<Observable> = fitted.iter().chain(&held).cloned().collect();
-    let base_pred = predictive(base, &all_obs);
-    let nf = fitted.len();
-    let base_checks = ppc::check(&fitted, &base_pred.0, &base_pred.1);
-    let per_test = ppc::sidak_level(settings.family_alpha, nf);
-    let misfit_detected = base_checks.iter().any(|c| c.check.ppp < per_test);
+/// Does `run`'s model fail the posterior predictive check on the fitted data?
+fn misfits(problem: &Problem, run: &ModelRun) -> bool {
+    let fitted = observables(&problem.data.modes);
+    let draws = predictive(run, &fitted, problem.data.max_mode());
+    let per_test = ppc::sidak_level(problem.settings.family_alpha, fitted.len());
+    ppc::check(&fitted, &draws, 0).iter().any(|p| p.check.ppp < per_test)
+}
 
-    // cause
-    let best = ModelClass::CAUSES
-        .iter()
-        .map(|&c| run_of(c))
-        .max_by(|a, b| a.tmcmc.log_evidence.total_cmp(&b.tmcmc.log_evidence))
-        .expect("four causes");
-    let best_lbf = best.tmcmc.log_evidence - z_base;
-    let cause = if best_lbf >= settings.log_bayes_factor_threshold {
-        best.class.name().to_string()
-    } else if misfit_detected {
-        "unexplained".to_string()
-    } else {
-        "none".to_string()
-    };
+/// The checks and the verdict (module doc, step 3).
+struct Decision {
+    selected: Model,
+    draws_base: Draws,
+    draws_selected: Draws,
+    fitted: Vec<Observable>,
+    held: Vec<Observable>,
+}
 
-    // gain of the best class
-    let best_pred = predictive(best, &all_obs);
-    let best_checks = ppc::check(&fitted, &best_pred.0, &best_pred.1);
-    let held_out = (!held.is_empty()).then(|| {
-        let score = |pred: &(Vec<Vec<f64>>, Vec<f64>)| {
-            let (p, b2) = pred;
-            let terms: Vec<f64> = p
+impl Decision {
+    fn new(problem: &Problem, runs: &[ModelRun], search: &Search) -> Self {
+        let fitted = observables(&problem.data.modes);
+        let held = observables(&problem.data.held_out_modes);
+        let all: Vec<Observable> = fitted.iter().chain(&held).copied().collect();
+        let run = |m: &Model| runs.iter().find(|r| &r.model == m).expect("every visited model ran");
+        let selected = search.path.last().expect("path starts with the base").clone();
+        // the gain is assessed for the selected model, else for the most probable candidate
+        let assessed = if selected == Model::BASE {
+            search
+                .visited
                 .iter()
-                .zip(b2)
-                .map(|(row, &b)| {
-                    held.iter()
-                        .enumerate()
-                        .map(|(j, o)| {
-                            let sd = o.sd * b.sqrt();
-                            let x = (row[nf + j] - o.value) / sd;
-                            -0.5 * x * x - sd.ln() - 0.5 * (2.0 * std::f64::consts::PI).ln()
-                        })
-                        .sum::<f64>()
+                .skip(1)
+                .max_by(|a, b| run(a).tmcmc.log_evidence.total_cmp(&run(b).tmcmc.log_evidence))
+                .cloned()
+                .unwrap_or(Model::BASE)
+        } else {
+            selected
+        };
+        let max_mode = problem.data.max_mode();
+        Self {
+            draws_base: predictive(run(&Model::BASE), &all, max_mode),
+            draws_selected: predictive(run(&assessed), &all, max_mode),
+            selected: assessed,
+            fitted,
+            held,
+        }
+    }
+
+    fn diagnosis(&self, problem: &Problem, runs: &[ModelRun], search: &Search) -> Result<Diagnosis, DiagnoseError> {
+        let s = problem.settings;
+        let run = |m: &Model| runs.iter().find(|r| &r.model == m).expect("every visited model ran");
+        let z_base = run(&Model::BASE).tmcmc.log_evidence;
+        let nf = self.fitted.len();
+        let per_test = ppc::sidak_level(s.family_alpha, nf);
+        let misfit: Vec<Check> = ppc::check(&self.fitted, &self.draws_base, 0).iter().map(|p| p.check).collect();
+        let misfit_after: Vec<Check> =
+            ppc::check(&self.fitted, &self.draws_selected, 0).iter().map(|p| p.check).collect();
+        let flags = |c: &[Check]| c.iter().any(|c| c.ppp < per_test);
+        let misfit_detected = flags(&misfit);
+
+        let selected = search.path.last().expect("path starts with the base");
+        let causes: Vec<String> = selected.causes_in_order(&search.path);
+        // misfit_after belongs to the selected model whenever one was selected
+        let explained = if selected == &Model::BASE { !misfit_detected } else { !flags(&misfit_after) };
+        let cause = match (explained, causes.len()) {
+            (false, _) => "unexplained".to_string(),
+            (true, 0) => "none".to_string(),
+            (true, 1) => causes[0].clone(),
+            (true, _) => "multiple".to_string(),
+        };
+
+        // probabilities over the visited extended models, equal prior probabilities
+        let z_max = search.visited.iter().map(|m| run(m).tmcmc.log_evidence).fold(f64::NEG_INFINITY, f64::max);
+        let norm: f64 = search.visited.iter().map(|m| (run(m).tmcmc.log_evidence - z_max).exp()).sum();
+        let prob = |r: &ModelRun| (r.tmcmc.log_evidence - z_max).exp() / norm;
+        let candidate = |r: &ModelRun, p: f64| candidate(r, z_base, p);
+        let candidates: Vec<Candidate> =
+            search.visited.iter().skip(1).map(|m| candidate(run(m), prob(run(m)))).collect();
+        let baseline_run = run(&Model::Baseline);
+        let lb = baseline_run.tmcmc.log_evidence - z_base;
+
+        let z_sel = run(selected).tmcmc.log_evidence;
+        let mut alternatives: Vec<Alternative> = if selected == &Model::BASE {
+            vec![]
+        } else {
+            search
+                .visited
+                .iter()
+                .filter(|m| *m != selected && z_sel - run(m).tmcmc.log_evidence < s.alternative_margin)
+                .map(|m| Alternative { extension: m.name(), log_bayes_factor_gap: z_sel - run(m).tmcmc.log_evidence })
+                .collect()
+        };
+        alternatives.sort_by(|a, b| a.log_bayes_factor_gap.total_cmp(&b.log_bayes_factor_gap));
+        let next_measurement = match alternatives.first() {
+            Some(a) => {
+                let other = search.visited.iter().find(|m| m.name() == a.extension).expect("visited");
+                next::next_measurement(problem.data, run(selected), run(other))
+            }
+            None => None,
+        };
+
+        let gain = Gain {
+            extension: self.selected.name(),
+            log_bayes_factor: run(&self.selected).tmcmc.log_evidence - z_base,
+            rms_z_before: ppc::rms_z(&misfit),
+            rms_z_after: ppc::rms_z(&misfit_after),
+            misfit_after,
+            held_out: self.held_out(problem.data),
+        };
+        Ok(Diagnosis {
+            misfit_detected,
+            misfit,
+            candidates,
+            causes: if explained { causes.clone() } else { vec![] },
+            cause,
+            explained,
+            best_partial_explanation: causes,
+            gain,
+            alternatives,
+            next_measurement,
+            base: candidate(run(&Model::BASE), prob(run(&Model::BASE))),
+            baseline: candidate(baseline_run, 1.0 / (1.0 + (-lb).exp())),
+            thresholds: Thresholds {
+                family_alpha: s.family_alpha,
+                per_test_alpha_sidak: per_test,
+                log_bayes_factor: s.log_bayes_factor_threshold,
+                alternative_margin: s.alternative_margin,
+            },
+        })
+    }
+
+    /// Held-out predictive log score and 95 % coverage, base vs assessed model.
+    fn held_out(&self, data: &MeasuredData) -> Option<HeldOut> {
+        if self.held.is_empty() {
+            return None;
+        }
+        let nf = self.fitted.len();
+        let score = |d: &Draws| {
+            let per_sample: Vec<f64> = d
+                .predictions
+                .iter()
+                .zip(&d.beta_sq)
+                .map(|(row, &b2)| {
+                    let one = Draws { predictions: vec![row.clone()], beta_sq: vec![b2] };
+                    ppc::check(&self.held, &one, nf).iter().map(|p| p.log_density).sum::<f64>()
                 })
                 .collect();
-            let m = terms.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-            m + (terms.iter().map(|t| (t - m).exp()).sum::<f64>() / terms.len() as f64).ln()
+            ppc::log_mean_exp(&per_sample)
         };
-        let coverage = |pred: &(Vec<Vec<f64>>, Vec<f64>)| {
-            let shifted: Vec<Vec<f64>> = pred.0.iter().map(|r| r[nf..].to_vec()).collect();
-            let c = ppc::check(&held, &shifted, &pred.1);
+        let coverage = |d: &Draws| {
+            let c = ppc::check(&self.held, d, nf);
             c.iter().filter(|p| p.in_95).count() as f64 / c.len() as f64
         };
         let mut modes: Vec<usize> = data.held_out_modes.iter().map(|m| m.mode).collect();
         modes.sort_unstable();
-        HeldOut {
+        Some(HeldOut {
             modes,
-            log_score_before: score(&base_pred),
-            log_score_after: score(&best_pred),
-            coverage95_before: coverage(&base_pred),
-            coverage95_after: coverage(&best_pred),
-        }
-    });
-    let misfit: Vec<Check> = base_checks.iter().map(|c| c.check).collect();
-    let misfit_after: Vec<Check> = best_checks.iter().map(|c| c.check).collect();
-    let gain = Gain {
-        extension: best.class.name().to_string(),
-        log_bayes_factor: best_lbf,
-        rms_z_before: ppc::rms_z(&misfit),
-        rms_z_after: ppc::rms_z(&misfit_after),
-        misfit_after,
-        held_out,
-    };
-    let diagnosis = Diagnosis {
-        misfit_detected,
-        misfit,
-        candidates,
-        cause,
-        gain,
-        base: base_c,
-        baseline,
-        thresholds: Thresholds {
-            family_alpha: settings.family_alpha,
-            per_test_alpha_sidak: per_test,
-            log_bayes_factor: settings.log_bayes_factor_threshold,
-        },
-    };
-    Ok(DiagnosisRun { diagnosis, runs })
+            log_score_before: score(&self.draws_base),
+            log_score_after: score(&self.draws_selected),
+            coverage95_before: coverage(&self.draws_base),
+            coverage95_after: coverage(&self.draws_selected),
+        })
+    }
 }
 
-/// TMCMC (`bayes::tmcmc`, Ching & Chen 2007 with the proposal scale and
-/// chain length adapted as in Betz et al. 2016), then the MAP from the best
-/// sample (`bayes::map`) and the Laplace evidence there (`bayes::laplace`).
-fn run_class(class: ModelClass, post: ClassPosterior, s: &DiagnoseSettings, seed: u64) -> Result<ClassRun, TmcmcError> {
-    use crate::bayes::Posterior;
-    let d = post.dim();
-    let config = TmcmcConfig {
-        n_samples: s.samples,
-        mh_steps: s.mh_steps,
-        // optimal random-walk scale for a d-dimensional Gaussian target
-        // (Gelman, Roberts & Gilks 1996), steered towards its 0.234 acceptance
-        beta: 2.38 / (d as f64).sqrt(),
-        target_acceptance: 0.234,
-        adapt_beta: true,
-        max_mh_steps: Some(5 * s.mh_steps),
-        seed,
-        ..TmcmcConfig::default()
-    };
-    let t = tmcmc(&post, &config)?;
-    let (_, sd) = moments(&t.samples, d);
-    let best = t
-        .samples
-        .iter()
-        .zip(&t.log_likelihoods)
-        .map(|(u, &l)| (u, l + post.log_prior(u)))
-        .max_by(|a, b| a.1.total_cmp(&b.1))
-        .map(|(u, _)| u.clone())
-        .expect("samples");
-    // initial simplex: half a posterior sd per coordinate
-    let half_sd: Vec<f64> = sd.iter().zip(&best).map(|(s, b)| (0.5 * s).max(1e-12 * b.abs().max(1e-300))).collect();
-    let map = map_estimate(&post, &best, &half_sd, s.map_iters).theta;
-    // FD step 0.05 sd: the O(h²) truncation error is ≈ 0.25 % of the curvature
-    // of a near-Gaussian posterior, while the forward model's round-off
-    // (~1e-12 relative) stays negligible against the h²-sized differences.
-    let log_evidence_laplace = laplace_log_evidence_with_step(&post, &map, &sd, 0.05).ok().map(|l| l.log_evidence);
-    Ok(ClassRun { class, posterior: post, tmcmc: t, map, log_evidence_laplace })
+impl Model {
+    /// This model's causes in the order the search added them.
+    fn causes_in_order(&self, path: &[Model]) -> Vec<String> {
+        path.windows(2)
+            .filter_map(|w| w[1].causes().iter().find(|c| !w[0].causes().contains(c)))
+            .filter(|c| self.causes().contains(c))
+            .map(|c| c.name().to_string())
+            .collect()
+    }
 }
 
-fn moments(samples: &[Vec<f64>], d: usize) -> (Vec<f64>, Vec<f64>) {
-    let n = samples.len() as f64;
-    let mean: Vec<f64> = (0..d).map(|k| samples.iter().map(|s| s[k]).sum::<f64>() / n).collect();
-    let sd = (0..d)
-        .map(|k| (samples.iter().map(|s| (s[k] - mean[k]).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt())
-        .collect();
-    (mean, sd)
+fn candidate(r: &ModelRun, z_base: f64, probability: f64) -> Candidate {
+    let z = r.tmcmc.log_evidence;
+    Candidate {
+        extension: r.model.name(),
+        causes: r.model.causes().iter().map(|c| c.name().to_string()).collect(),
+        log_evidence: z,
+        log_evidence_se: r.tmcmc.log_evidence_se,
+        log_evidence_laplace: r.log_evidence_laplace,
+        laplace_disagrees: r.log_evidence_laplace.is_some_and(|l| (l - z).abs() > LAPLACE_DISAGREEMENT_NATS),
+        log_bayes_factor: z - z_base,
+        probability,
+        posterior: summaries(r),
+    }
 }
 
-/// Predictions of `obs` at every posterior sample, and β² per sample.
-fn predictive(run: &ClassRun, obs: &[Observable]) -> (Vec<Vec<f64>>, Vec<f64>) {
+/// Predictions of `obs` at every posterior sample (failed samples dropped), and β² per sample.
+pub(crate) fn predictive(run: &ModelRun, obs: &[Observable], max_mode: usize) -> Draws {
+    let post = &run.posterior;
     let rows: Vec<Option<(Vec<f64>, f64)>> = run
         .tmcmc
         .samples
         .par_iter()
         .map(|u| {
-            let modes = run.posterior.predict(u).ok()?;
-            Some((obs.iter().map(|o| predicted(o, &modes)).collect(), run.posterior.beta_squared(u)))
+            let x = post.to_inner(u);
+            let modes = crate::beam::modal(&post.inner().beam_at(&x), max_mode).ok()?.modes;
+            let row: Option<Vec<f64>> = obs.iter().map(|o| o.predicted(&modes)).collect();
+            Some((row?, post.inner().beta_at(&x).powi(2)))
         })
         .collect();
-    rows.into_iter().flatten().unzip()
+    let (predictions, beta_sq) = rows.into_iter().flatten().unzip();
+    Draws { predictions, beta_sq }
 }
 
 /// Mean, sd and central 95 % interval of every parameter in physical units.
-fn summaries(post: &ClassPosterior, samples: &[Vec<f64>]) -> BTreeMap<String, Summary> {
-    let phys: Vec<Vec<f64>> = samples.iter().map(|u| post.to_physical(u)).collect();
-    let d = post.params.set.len();
-    let (mean, sd) = moments(&phys, d);
-    post.params
-        .set
+fn summaries(r: &ModelRun) -> BTreeMap<String, Summary> {
+    let phys: Vec<Vec<f64>> = r.tmcmc.samples.iter().map(|u| r.posterior.to_inner(u)).collect();
+    r.posterior
         .names()
         .into_iter()
         .enumerate()
         .map(|(k, name)| {
-            let mut v: Vec<f64> = phys.iter().map(|p| p[k]).collect();
-            v.sort_by(f64::total_cmp);
-            let q = |f: f64| v[((f * (v.len() - 1) as f64).round() as usize).min(v.len() - 1)];
-            (name, Summary { mean: mean[k], sd: sd[k], ci95: [q(0.025), q(0.975)] })
+            let v: Vec<f64> = phys.iter().map(|p| p[k]).collect();
+            let (mean, sd, ci95) = crate::bayes::summary::describe(&v);
+            (name, Summary { mean, sd, ci95 })
         })
         .collect()
+}
+
+/// The observations of `modes` as the file lists them (for the report).
+pub(crate) fn mode_list(modes: &[ModeObservation]) -> String {
+    modes.iter().map(|m| m.mode.to_string()).collect::<Vec<_>>().join(", ")
 }

@@ -15,14 +15,9 @@
 //! a strong signal.
 
 use serde::Serialize;
-use statrs::function::erf::erfc;
+use statrs::distribution::{Continuous, ContinuousCDF, Normal};
 
-use super::posterior::{Observable, Quantity};
-
-/// Standard normal upper tail Q(x) = P(Z ≥ x), accurate in the far tail.
-fn upper_tail(x: f64) -> f64 {
-    0.5 * erfc(x / std::f64::consts::SQRT_2)
-}
+use crate::calibration::Observable;
 
 /// The check of one observable.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -42,53 +37,64 @@ pub struct Predictive {
     pub in_95: bool,
 }
 
-/// `predictions[s][j]` = ŷ_j at sample s; `beta_sq[s]` = β² at sample s.
-pub fn check(obs: &[Observable], predictions: &[Vec<f64>], beta_sq: &[f64]) -> Vec<Predictive> {
-    let s_n = predictions.len() as f64;
-    obs.iter()
-        .enumerate()
-        .map(|(j, o)| {
-            let mut upper = 0.0; // P(y_rep >= y)
-            let mut lower = 0.0;
-            let mut mean = 0.0;
-            let mut second = 0.0;
-            let mut dens = Vec::with_capacity(predictions.len());
-            for (p, &b2) in predictions.iter().zip(beta_sq) {
-                let sd = o.sd * b2.sqrt();
-                let x = (p[j] - o.value) / sd;
-                upper += upper_tail(-x);
-                lower += upper_tail(x);
-                mean += p[j];
-                second += p[j] * p[j] + sd * sd;
-                dens.push(-0.5 * x * x - sd.ln() - 0.5 * (2.0 * std::f64::consts::PI).ln());
-            }
-            upper /= s_n;
-            lower /= s_n;
-            mean /= s_n;
-            let var = (second / s_n - mean * mean).max(0.0);
-            let max = dens.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
-            let log_density = max + (dens.iter().map(|d| (d - max).exp()).sum::<f64>() / s_n).ln();
-            let ppp = (2.0 * upper.min(lower)).min(1.0);
-            Predictive {
-                check: Check {
-                    mode: o.mode,
-                    quantity: match o.quantity {
-                        Quantity::Omega => "omega",
-                        Quantity::Zeta => "zeta",
-                    },
-                    z: (o.value - mean) / var.sqrt(),
-                    ppp,
-                },
-                log_density,
-                in_95: upper >= 0.025 && lower >= 0.025,
-            }
-        })
-        .collect()
+/// Posterior predictive draws: `predictions[s][j]` = ŷ_j at sample s, `beta_sq[s]` = β² there.
+#[derive(Debug, Clone, Default)]
+pub struct Draws {
+    pub predictions: Vec<Vec<f64>>,
+    pub beta_sq: Vec<f64>,
+}
+
+/// The predictive check of every observable `obs[j]` (column `offset + j` of the draws).
+pub fn check(obs: &[Observable], draws: &Draws, offset: usize) -> Vec<Predictive> {
+    obs.iter().enumerate().map(|(j, o)| check_one(o, draws, offset + j)).collect()
+}
+
+fn check_one(o: &Observable, draws: &Draws, column: usize) -> Predictive {
+    let s_n = draws.predictions.len() as f64;
+    let (mut upper, mut lower, mut mean, mut second) = (0.0, 0.0, 0.0, 0.0);
+    let mut dens = Vec::with_capacity(draws.predictions.len());
+    for (p, &b2) in draws.predictions.iter().zip(&draws.beta_sq) {
+        let sd = o.sd * b2.sqrt();
+        let n = Normal::new(p[column], sd).expect("sd > 0 validated with the file");
+        upper += n.sf(o.value); // P(y_rep >= y) under this sample
+        lower += n.cdf(o.value);
+        mean += p[column];
+        second += p[column] * p[column] + sd * sd;
+        dens.push(n.ln_pdf(o.value));
+    }
+    upper /= s_n;
+    lower /= s_n;
+    mean /= s_n;
+    let var = (second / s_n - mean * mean).max(0.0);
+    Predictive {
+        check: Check {
+            mode: o.mode,
+            quantity: o.quantity.name(),
+            z: (o.value - mean) / var.sqrt(),
+            ppp: (2.0 * upper.min(lower)).min(1.0),
+        },
+        log_density: log_mean_exp(&dens),
+        in_95: upper >= 0.025 && lower >= 0.025,
+    }
+}
+
+/// ln((1/n) Σ e^{x_i}), stable for widely spread x.
+pub fn log_mean_exp(x: &[f64]) -> f64 {
+    let max = x.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !max.is_finite() {
+        return max;
+    }
+    max + (x.iter().map(|d| (d - max).exp()).sum::<f64>() / x.len() as f64).ln()
 }
 
 /// Šidák per-test level for `tests` tests at family-wise level `family_alpha`.
 pub fn sidak_level(family_alpha: f64, tests: usize) -> f64 {
     1.0 - (1.0 - family_alpha).powf(1.0 / tests as f64)
+}
+
+/// |z| of a two-sided normal test at level `alpha`.
+pub fn z_threshold(alpha: f64) -> f64 {
+    Normal::new(0.0, 1.0).expect("standard normal").inverse_cdf(1.0 - alpha / 2.0)
 }
 
 /// Root mean square of the standardized residuals.
@@ -99,15 +105,18 @@ pub fn rms_z(checks: &[Check]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::calibration::Quantity;
 
     #[test]
     fn point_mass_predictive_gives_two_sided_normal_p_value() {
         // All samples predict 0 with sd 1; y = 2 → ppp = 2Q(2) = 0.0455, z = 2.
         let o = [Observable { mode: 1, quantity: Quantity::Omega, value: 2.0, sd: 1.0 }];
-        let r = check(&o, &vec![vec![0.0]; 10], &[1.0; 10]);
+        let draws = Draws { predictions: vec![vec![0.0]; 10], beta_sq: vec![1.0; 10] };
+        let r = check(&o, &draws, 0);
         assert!((r[0].check.ppp - 0.045500263896).abs() < 1e-9);
         assert!((r[0].check.z - 2.0).abs() < 1e-12);
         assert!(!r[0].in_95); // 2 > 1.96: outside the central 95 % interval
         assert!((sidak_level(0.01, 10) - 0.001004529).abs() < 1e-8);
+        assert!((z_threshold(0.0455002638963584) - 2.0).abs() < 1e-9);
     }
 }

@@ -21,10 +21,9 @@ use crate::beam::{BeamSpec, InternalVariable, PointMass, Support};
 use crate::calibration::measured::MeasuredFile;
 use crate::calibration::{MeasuredData, ModeObservation, ParameterSet, SamplerSpec};
 
-use super::classes::{class_parameters, ModelClass, NominalScales};
-use super::posterior::{observables, predicted, ClassPosterior};
-use super::posterior::{predict, ModalPair};
+use super::{model_posterior, Model, ModelClass, NominalScales};
 use crate::bayes::map::map_estimate;
+use crate::beam::{self, Mode};
 
 /// Minimum misfit, in measurement sds, the hidden effect must leave in the best base fit.
 pub const MIN_SHIFT_SIGMA: f64 = 5.0;
@@ -101,7 +100,6 @@ pub fn generate(seed: u64, effect: Option<ModelClass>) -> SyntheticCase {
                     ModelClass::ViscousDamping => (0.002, 0.3),
                     ModelClass::SupportRotationalStiffness => (0.02, 100.0),
                     ModelClass::AttachedMass => (0.005, 1.0),
-                    _ => unreachable!("causes only"),
                 };
                 let shape = match class {
                     ModelClass::ExtraRelaxation => {
@@ -113,7 +111,7 @@ pub fn generate(seed: u64, effect: Option<ModelClass>) -> SyntheticCase {
                 while mag <= cap {
                     let b = with_effect(&truth, class, shape, mag, &scales);
                     if let Ok(y0) = predict(&b, n_modes) {
-                        let z = base_fit_max_z(&y0, &truth, n_modes, &scales, seed);
+                        let z = base_fit_max_z(&y0, &truth, &scales, seed);
                         if z >= MIN_SHIFT_SIGMA {
                             return finish(seed, b, y0, Some(class), z, &mut rng);
                         }
@@ -122,7 +120,7 @@ pub fn generate(seed: u64, effect: Option<ModelClass>) -> SyntheticCase {
                 }
             }
         }
-        let fit_z = base_fit_max_z(&clean, &truth, n_modes, &scales, seed);
+        let fit_z = base_fit_max_z(&clean, &truth, &scales, seed);
         return finish(seed, truth, clean, None, fit_z, &mut rng);
     }
 }
@@ -137,12 +135,16 @@ fn with_effect(base: &BeamSpec, class: ModelClass, shape: f64, mag: f64, s: &Nom
         ModelClass::AttachedMass => {
             b.point_mass = Some(PointMass { mass_kg: mag * s.rho_a_kg_m * s.length_m, x_nm: shape })
         }
-        _ => {}
     }
     b
 }
 
-fn observations(y: &[ModalPair]) -> Vec<ModeObservation> {
+/// The first `n_modes` modes of `beam`.
+fn predict(beam: &BeamSpec, n_modes: usize) -> Result<Vec<Mode>, beam::BeamError> {
+    beam::modal(beam, n_modes).map(|r| r.modes)
+}
+
+fn observations(y: &[Mode]) -> Vec<ModeObservation> {
     y.iter()
         .enumerate()
         .map(|(r, m)| ModeObservation {
@@ -158,10 +160,8 @@ fn observations(y: &[ModalPair]) -> Vec<ModeObservation> {
 /// Best base-model fit to noise-free `y0`: 128 prior draws plus the truth's
 /// own base parameters screened, Nelder–Mead from the best 3; returns the
 /// largest standardized residual.
-fn base_fit_max_z(y0: &[ModalPair], truth: &BeamSpec, n_modes: usize, s: &NominalScales, seed: u64) -> f64 {
-    let obs = observables(&observations(y0));
-    let params = class_parameters(ModelClass::Base, &ParameterSet::paper_n1(), &nominal_beam(), s);
-    let post = ClassPosterior::new(params, nominal_beam(), obs.clone(), n_modes);
+fn base_fit_max_z(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -> f64 {
+    let post = model_posterior(&Model::BASE, &ParameterSet::paper_n1(), &nominal_beam(), &observations(y0), s);
     let mut rng = stream(seed, Purpose::SyntheticBaseFit, [0, 0]);
     let iv = truth.internal_variables[0];
     let mut starts = vec![vec![truth.nonlocal_e0a_nm, iv.delta, iv.omega_rad_s]];
@@ -175,14 +175,15 @@ fn base_fit_max_z(y0: &[ModalPair], truth: &BeamSpec, n_modes: usize, s: &Nomina
         .map(|(_, u)| map_estimate(&post, u, &sd, 600))
         .max_by(|a, b| a.log_posterior.total_cmp(&b.log_posterior))
         .expect("starts");
-    let Ok(fit) = post.predict(&best.theta) else { return f64::INFINITY };
-    obs.iter().map(|o| ((o.value - predicted(o, &fit)) / o.sd).abs()).fold(0.0, f64::max)
+    let Some(fit) = post.inner().predict(&post.to_inner(&best.theta)) else { return f64::INFINITY };
+    let obs = post.inner();
+    obs.observed().iter().zip(obs.sd()).zip(&fit).map(|((y, sd), f)| ((y - f) / sd).abs()).fold(0.0, f64::max)
 }
 
 fn finish(
     seed: u64,
     truth: BeamSpec,
-    y0: Vec<ModalPair>,
+    y0: Vec<Mode>,
     effect: Option<ModelClass>,
     z: f64,
     rng: &mut ChaCha8Rng,

@@ -28,12 +28,28 @@ pub fn render_template(dir: &Path, name: &str, context: &serde_json::Value) -> R
             return Err(ReportError::Template { file: dir.join(tpl_name), message: error_chain(&e) });
         }
     }
+    render_set(&templates, name, context, requested)
+}
+
+/// Renders one template given as text (e.g. compiled into the binary with
+/// `include_str!`, so an installed CLI needs no template directory); errors name `name`.
+pub fn render_embedded(name: &str, content: &str, context: &serde_json::Value) -> Result<String> {
+    render_set(&[(name.to_string(), content.to_string())], name, context, PathBuf::from(name))
+}
+
+/// Renders `name` out of the parsed set `templates`; errors name `file`.
+fn render_set(
+    templates: &[(String, String)],
+    name: &str,
+    context: &serde_json::Value,
+    file: PathBuf,
+) -> Result<String> {
     let mut tera = tera::Tera::default();
     tera.add_raw_templates(templates.iter().map(|(n, c)| (n.as_str(), c.as_str())))
-        .map_err(|e| ReportError::Template { file: requested.clone(), message: error_chain(&e) })?;
+        .map_err(|e| ReportError::Template { file: file.clone(), message: error_chain(&e) })?;
     let ctx = tera::Context::from_value(context.clone())
-        .map_err(|e| ReportError::Template { file: requested.clone(), message: error_chain(&e) })?;
-    tera.render(name, &ctx).map_err(|e| ReportError::Template { file: requested, message: error_chain(&e) })
+        .map_err(|e| ReportError::Template { file: file.clone(), message: error_chain(&e) })?;
+    tera.render(name, &ctx).map_err(|e| ReportError::Template { file, message: error_chain(&e) })
 }
 
 /// `(relative name, content)` of every file under `dir`, sorted by name.
