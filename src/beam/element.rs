@@ -196,14 +196,7 @@ pub const GAUSS4_W: [f64; 4] =
 pub fn timoshenko_element(h: f64, g: f64) -> TimoshenkoElement {
     let phi = 12.0 / (g * h * h);
     let z = [[0.0; 4]; 4];
-    let mut e = TimoshenkoElement {
-        stiffness: z,
-        mass_w0: z,
-        mass_w1: z,
-        mass_t0: z,
-        mass_t1: z,
-        geometric_1: z,
-    };
+    let mut e = TimoshenkoElement { stiffness: z, mass_w0: z, mass_w1: z, mass_t0: z, mass_t1: z, geometric_1: z };
     for (x, wt) in GAUSS4_X.iter().zip(GAUSS4_W) {
         let s = timoshenko_shape(h, phi, 0.5 * h * (1.0 + x));
         let wt = 0.5 * h * wt;

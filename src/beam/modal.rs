@@ -222,8 +222,7 @@ impl EigenCache {
         let hit = matches!(self.grid.get(&key), Some(e) if e.len() >= count);
         if !hit {
             let (kg, mg) = mesh.pencil(&g);
-            let pairs =
-                lowest_eigenpairs(&kg, &mg, count, &mut self.work, &|x| mesh.pencil_stiffness(&g, x)).ok()?;
+            let pairs = lowest_eigenpairs(&kg, &mg, count, &mut self.work, &|x| mesh.pencil_stiffness(&g, x)).ok()?;
             if self.grid.len() >= GRID_CACHE {
                 // wholesale reset: the cache only changes speed, never results
                 self.grid.clear();
@@ -708,8 +707,7 @@ mod tests {
             let refined = eigen.lowest(mesh, &params, &kt, &model.m, model.point_mass.as_ref(), 4).unwrap().to_vec();
             assert_eq!(eigen.last_method, Some(EigenMethod::Refined), "{b:?}");
             let scratch =
-                lowest_eigenpairs(&kt, &model.m, 4, &mut Vec::new(), &|x| mesh.pencil_stiffness(&params, x))
-                    .unwrap();
+                lowest_eigenpairs(&kt, &model.m, 4, &mut Vec::new(), &|x| mesh.pencil_stiffness(&params, x)).unwrap();
             for (r, s) in refined.iter().zip(&scratch) {
                 // both are Rayleigh quotients of vectors converged far below
                 // 1e-6 (error quadratic in it); what remains is the rounding of
