@@ -186,99 +186,76 @@ fn buckling_bound_matches_closed_form_and_is_enforced() {
     }
 }
 
-/// Leading discretisation error (relative, in ω) of the interdependent-
-/// interpolation element for mode n: ½·(h²/12)·λ̃(1 + ẽ²α̃²)/(g̃(1 + r̃²α̃²)), see
-/// the derivation in `beam::element::timoshenko_shape`.
-fn shear_error_estimate(b: &BeamSpec, n: usize, omega: f64) -> f64 {
-    let sd = b.shear_deformation.unwrap();
-    let l = b.length_nm * 1e-9;
-    let w_ref = (ei(b) / rho_a(b)).sqrt() / (l * l);
-    let lam = (omega / w_ref).powi(2);
-    let at = n as f64 * PI;
-    let et2 = (b.nonlocal_e0a_nm / b.length_nm).powi(2);
-    let g = sd.shear_to_youngs() * b.area_m2() * l * l / b.inertia_m4();
-    let r2 = 1.0 / (b.area_m2() * l * l / b.inertia_m4());
-    let h = 1.0 / b.elements as f64;
-    0.5 * h * h / 12.0 * lam * (1.0 + et2 * at * at) / (g * (1.0 + r2 * at * at))
-}
-
 /// Shear deformation (nonlocal Timoshenko), simply supported, L/d = 8: the
-/// interdependent-interpolation element against the closed form, modes 1–6.
+/// bending–shear split element against the closed form, modes 1–6, at 20
+/// and 40 elements.
 ///
-/// Error model (derived in `beam::element::timoshenko_shape`): the element's
-/// shear strain is constant per element, so it misses the shear energy of the
-/// within-element variation of γ; with g̃γ′ = −λ̃(w − ẽ²w″) (transverse
-/// equilibrium) that is (h²/12)λ̃²(1 + ẽ²α̃²)²∫w²/g̃, i.e. a relative ω error of
-/// ε = ½(h²/12)λ̃(1 + ẽ²α̃²)/(g̃(1 + r̃²α̃²)) (`shear_error_estimate`), O(h²).
-/// Bounds: Rayleigh–Ritz (≥ −1e-12) and the leading term with its O((αh)²)
-/// relative correction plus the Euler–Bernoulli (αh)⁴/720 part:
-/// ε(1 − (αh)²) ≤ err ≤ ε(1 + (αh)²) + (αh)⁴/720. Both sides can fail: the
-/// test pins the element's actual accuracy, which at 20 elements is NOT
-/// below the 3e-5 bar for modes ≥ 2 at L/d = 8 (printed; see
-/// the report: an element with independent bending and shear fields needs a
-/// band of half-width 7).
+/// Bounds: Rayleigh–Ritz with exact integration (≥ −1e-12, round-off of the
+/// refined eigenvalues) and, above, the Euler–Bernoulli bound (αh)⁴/720 of
+/// this suite: the bending part w_b is the cubic Hermite field, whose H²
+/// error sets the O(h⁴) eigenvalue error; the shear part w_s enters through
+/// H¹ only (O(h⁶)). The bar (≪ 0.1σ of 0.3 % noise = 3e-4; we take
+/// 3e-5) is printed at 20 elements (modes 1–3 meet it, 4–6 do not: the
+/// Hermite cubic's (αh)⁴ error, which the paper's Euler–Bernoulli model at
+/// 20 elements has too) and asserted at 40 elements (h⁴: 16× smaller).
 #[test]
 fn shear_deformation_simply_supported_matches_timoshenko_closed_form() {
-    let mut worst = [0.0f64; 6];
-    for e0a in [0.0, 0.5, 1.2, 2.0] {
-        let mut b = swcnt(Support::SimplySupported, 20);
-        b.nonlocal_e0a_nm = e0a;
-        b.shear_deformation = Some(SHEAR);
-        let w = omegas(&b, 6);
-        let mut eb = b.clone();
-        eb.shear_deformation = None;
-        let w_eb = omegas(&eb, 6);
-        let rel: Vec<f64> = (1..=6).map(|n| w[n - 1] / timoshenko_closed_form(&b, n) - 1.0).collect();
-        let est: Vec<f64> = (1..=6).map(|n| shear_error_estimate(&b, n, w[n - 1])).collect();
-        let shift: Vec<f64> = (0..6).map(|i| w[i] / w_eb[i] - 1.0).collect();
-        println!("e0a={e0a}: 20-element rel ω error {}", sci(&rel));
-        println!("         leading-term estimate  {}", sci(&est));
-        println!("         Timoshenko/EB − 1      {}", sci(&shift));
-        for n in 0..6 {
-            let ah2 = ((n + 1) as f64 * PI / 20.0).powi(2);
-            let (lo, hi) = (est[n] * (1.0 - ah2), est[n] * (1.0 + ah2) + ah2 * ah2 / 720.0);
-            assert!(
-                rel[n] > -1e-12 && rel[n] >= lo && rel[n] <= hi,
-                "e0a={e0a} mode {}: {} not in [{lo:e}, {hi:e}]",
-                n + 1,
-                rel[n]
-            );
-            worst[n] = worst[n].max(rel[n].abs());
-            // the mechanism is resolved: its shift (1.7 % at mode 1, 30 % at
-            // mode 6) is at least ten times the discretisation error
-            assert!(-shift[n] > 10.0 * rel[n], "mode {}: shift {} vs error {}", n + 1, shift[n], rel[n]);
+    for ne in [20usize, 40] {
+        let mut worst = [0.0f64; 6];
+        for e0a in [0.0, 0.5, 1.2, 2.0] {
+            let mut b = swcnt(Support::SimplySupported, ne);
+            b.nonlocal_e0a_nm = e0a;
+            b.shear_deformation = Some(SHEAR);
+            let w = omegas(&b, 6);
+            let mut eb = b.clone();
+            eb.shear_deformation = None;
+            let w_eb = omegas(&eb, 6);
+            let rel: Vec<f64> = (1..=6).map(|n| w[n - 1] / timoshenko_closed_form(&b, n) - 1.0).collect();
+            let shift: Vec<f64> = (0..6).map(|i| w[i] / w_eb[i] - 1.0).collect();
+            println!("ne={ne} e0a={e0a}: rel ω error {}", sci(&rel));
+            println!("                Timoshenko/EB − 1 {}", sci(&shift));
+            for n in 0..6 {
+                let ah = (n + 1) as f64 * PI / ne as f64;
+                let hi = ah.powi(4) / 720.0;
+                assert!(rel[n] > -1e-12 && rel[n] <= hi, "ne={ne} e0a={e0a} mode {}: {} vs {hi:e}", n + 1, rel[n]);
+                worst[n] = worst[n].max(rel[n].abs());
+                // the mechanism is resolved: its shift (1.7 % at mode 1, 31 % at
+                // mode 6) is far above the discretisation error
+                assert!(-shift[n] > 100.0 * rel[n], "mode {}: shift {} vs error {}", n + 1, shift[n], rel[n]);
+            }
+        }
+        println!("ne={ne}: worst relative ω error per mode 1-6 (bar: 3e-5): {}", sci(&worst));
+        if ne == 40 {
+            assert!(worst.iter().all(|&e| e <= 3e-5), "{worst:?}");
         }
     }
-    println!("worst 20-element relative ω error per mode (bar: << 3e-4): {}", sci(&worst));
 }
 
 /// Mesh convergence of the Timoshenko element for every support (closed
-/// forms exist only for simply supported): the self-convergence order
-/// between 20, 40 and 80 elements is that of the leading term, 2, up to the
-/// O((βh)²) relative corrections: p ∈ 2 ± log₂(1 + (βh)²) with βh ≤ (k+1)π/20
-/// for mode k (βL ≤ (k+1)π for every support).
+/// forms exist only for simply supported): self-convergence between 20, 40
+/// and 80 elements at order 4, p ∈ [3.5, 4.5] (as for the Euler–Bernoulli
+/// element in `beam_properties.rs`: the ratio is 2⁴(1 + O((βh)²))).
 #[test]
-fn shear_deformation_converges_at_h2_for_every_support() {
+fn shear_deformation_converges_at_h4_for_every_support() {
     for support in Support::ALL {
         let run = |ne: usize| {
             let mut b = swcnt(support, ne);
             b.nonlocal_e0a_nm = 0.8;
             b.shear_deformation = Some(SHEAR);
-            omegas(&b, 3)
+            omegas(&b, 4)
         };
         let (w20, w40, w80) = (run(20), run(40), run(80));
-        for n in 0..3 {
+        for n in 0..4 {
             let (d1, d2) = (w20[n] - w40[n], w40[n] - w80[n]);
             let p = (d1 / d2).log2();
-            let slack = (1.0 + ((n + 2) as f64 * PI / 20.0).powi(2)).log2();
-            println!("{support:?} mode {}: self-convergence order {p:.3} (2 ± {slack:.2})", n + 1);
-            assert!((p - 2.0).abs() <= slack, "{support:?} mode {}: order {p}", n + 1);
+            println!("{support:?} mode {}: self-convergence order {p:.3}", n + 1);
+            assert!((3.5..=4.5).contains(&p), "{support:?} mode {}: order {p}", n + 1);
         }
     }
 }
 
-/// Euler–Bernoulli limit through the spec: the Timoshenko correction (shear,
-/// rotary inertia, and the element's own shear error, all ∝ 1/g̃ or r̃²) is
+/// Euler–Bernoulli limit through the spec: the Timoshenko correction (shear
+/// and rotary inertia, ∝ 1/g̃ and r̃²) is
 /// of relative size ∝ (r/L)², r = d/4: doubling L at fixed ẽ = e0a/L must
 /// divide 1 − ω_T/ω_EB by 4, up to relative corrections O((βr/L)²(1 + E/κG))
 /// ≤ (8π·0.25/400)²·3.7 ≈ 9e-4 (modes ≤ 6, βL ≤ 7π); the ratio must lie in

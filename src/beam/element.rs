@@ -102,88 +102,63 @@ pub fn point_load(h: f64, xbar: f64, e0a: f64) -> [f64; 4] {
     [n[0] - e2 * dd[0], n[1] - e2 * dd[1], n[2] - e2 * dd[2], n[3] - e2 * dd[3]]
 }
 
-/// Values of the interdependent-interpolation Timoshenko element at one point:
-/// deflection w and its first two derivatives, section rotation θ and θ'.
+/// 8×8 element matrix of the Timoshenko element.
+pub type Mat8 = [[f64; 8]; 8];
+
+/// The fields of the Timoshenko element at one point, each as its 8 DOF
+/// coefficients: deflection w, w′, w″, section rotation θ = w_b′ and θ′ = w_b″,
+/// shear strain γ = w_s′.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TimoshenkoShape {
-    pub w: [f64; 4],
-    pub dw: [f64; 4],
-    pub ddw: [f64; 4],
-    pub t: [f64; 4],
-    pub dt: [f64; 4],
+pub struct TimoshenkoPoint {
+    pub w: [f64; 8],
+    pub dw: [f64; 8],
+    pub ddw: [f64; 8],
+    pub rot: [f64; 8],
+    pub drot: [f64; 8],
+    pub shear: [f64; 8],
 }
 
-/// Shape functions of the interdependent-interpolation ("exact shape
-/// function") Timoshenko element: cubic w, quadratic θ, DOFs [w₁, θ₁, w₂, θ₂]
-/// with θ the rotation of the cross-section (shear strain γ = w′ − θ),
-/// φ = 12EI/(κGAh²). Source: Friedman & Kosmatka, "An improved two-node
-/// Timoshenko beam finite element", Computers & Structures 47 (1993) 473–481,
-/// eqs. (14)–(15); Reddy, "On locking-free shear deformable beam finite
-/// elements", CMAME 149 (1997) 113–132 (the IIE element). With ξ = x̄/h:
-///   N_w = 1/(1+φ)·[2ξ³ − 3ξ² − φξ + 1 + φ,  h(ξ³ − (2 + φ/2)ξ² + (1 + φ/2)ξ),
-///                 −2ξ³ + 3ξ² + φξ,          h(ξ³ − (1 − φ/2)ξ² − (φ/2)ξ)]
-///   N_θ = 1/(1+φ)·[6(ξ² − ξ)/h,  3ξ² − (4 + φ)ξ + 1 + φ,  −6(ξ² − ξ)/h,  3ξ² − (2 − φ)ξ]
-/// They solve the homogeneous static Timoshenko equations exactly (γ is
-/// constant on the element), so the element does not lock in shear, and at
-/// φ = 0 they are the Hermite functions (A3) with N_θ = N_w′.
-pub fn timoshenko_shape(h: f64, phi: f64, xbar: f64) -> TimoshenkoShape {
-    let x = xbar / h;
-    let (x2, x3) = (x * x, x * x * x);
-    let c = 1.0 / (1.0 + phi);
-    let w = [
-        c * (2.0 * x3 - 3.0 * x2 - phi * x + 1.0 + phi),
-        c * h * (x3 - (2.0 + 0.5 * phi) * x2 + (1.0 + 0.5 * phi) * x),
-        c * (-2.0 * x3 + 3.0 * x2 + phi * x),
-        c * h * (x3 - (1.0 - 0.5 * phi) * x2 - 0.5 * phi * x),
-    ];
-    let dw = [
-        c * (6.0 * x2 - 6.0 * x - phi) / h,
-        c * (3.0 * x2 - 2.0 * (2.0 + 0.5 * phi) * x + 1.0 + 0.5 * phi),
-        c * (-6.0 * x2 + 6.0 * x + phi) / h,
-        c * (3.0 * x2 - 2.0 * (1.0 - 0.5 * phi) * x - 0.5 * phi),
-    ];
-    let ddw = [
-        c * (12.0 * x - 6.0) / (h * h),
-        c * (6.0 * x - 2.0 * (2.0 + 0.5 * phi)) / h,
-        c * (-12.0 * x + 6.0) / (h * h),
-        c * (6.0 * x - 2.0 * (1.0 - 0.5 * phi)) / h,
-    ];
-    let t = [
-        c * 6.0 * (x2 - x) / h,
-        c * (3.0 * x2 - (4.0 + phi) * x + 1.0 + phi),
-        -c * 6.0 * (x2 - x) / h,
-        c * (3.0 * x2 - (2.0 - phi) * x),
-    ];
-    let dt = [
-        c * 6.0 * (2.0 * x - 1.0) / (h * h),
-        c * (6.0 * x - 4.0 - phi) / h,
-        -c * 6.0 * (2.0 * x - 1.0) / (h * h),
-        c * (6.0 * x - 2.0 + phi) / h,
-    ];
-    TimoshenkoShape { w, dw, ddw, t, dt }
+/// The bending–shear split Timoshenko element (after the decomposition
+/// w = w_b + w_s, θ = w_b′, γ = w_s′ of the Timoshenko kinematics; e.g.
+/// Wang, Reddy & Lee, *Shear Deformable Beams and Plates*, Elsevier 2000,
+/// §2.4, and the "two-variable" beam elements built on it). Both parts are
+/// cubic Hermite (A3), so with the nodal DOFs
+/// [w₁, θ₁, s₁, γ₁, w₂, θ₂, s₂, γ₂] (w total deflection, θ section rotation,
+/// s = w_s, γ = w_s′ shear strain):
+///   w_b = N·[w₁ − s₁, θ₁, w₂ − s₂, θ₂],  w_s = N·[s₁, γ₁, s₂, γ₂],
+///   w = w_b + w_s = N·[w₁, θ₁ + γ₁, w₂, θ₂ + γ₂].
+/// No constraint ties γ to w and θ, so the element cannot lock in shear; w_b
+/// is H²-conforming (Hermite), so eigenvalues converge at O(h⁴) as for
+/// the Euler–Bernoulli element; with s = γ = 0 every matrix is its Hermite
+/// (A4)–(A6) counterpart (the Euler–Bernoulli limit). Four DOFs per node:
+/// the assembled band has half-width 7.
+pub fn timoshenko_point(h: f64, xbar: f64) -> TimoshenkoPoint {
+    let (n, d, dd) = (shape(h, xbar), shape_d(h, xbar), shape_dd(h, xbar));
+    let wb = |f: [f64; 4]| [f[0], f[1], -f[0], 0.0, f[2], f[3], -f[2], 0.0];
+    let ws = |f: [f64; 4]| [0.0, 0.0, f[0], f[1], 0.0, 0.0, f[2], f[3]];
+    let w = |f: [f64; 4]| [f[0], f[1], 0.0, f[1], f[2], f[3], 0.0, f[3]];
+    TimoshenkoPoint { w: w(n), dw: w(d), ddw: w(dd), rot: wb(d), drot: wb(dd), shear: ws(d) }
 }
 
-/// The bare integrals of one Timoshenko element (coefficients applied by the
-/// caller, see `model.rs`): with shear parameter g = κGA/EI (per unit length²
-/// of the element's coordinate) and φ = 12/(g h²),
-/// - `stiffness` = ∫N_θ′N_θ′ᵀ + g∫(N_w′ − N_θ)(N_w′ − N_θ)ᵀ (bending + shear,
-///   both scaled by E: they relax together);
-/// - `mass_w0` = ∫N_wN_wᵀ, `mass_w1` = ∫N_w′N_w′ᵀ (translational inertia and
-///   its nonlocal part, as in (A4));
-/// - `mass_t0` = ∫N_θN_θᵀ, `mass_t1` = ∫N_θ′N_θ′ᵀ (rotary inertia ρI and its
-///   nonlocal part: Eringen's operator acts on ρI θ̈ as on ρA ẅ);
-/// - `geometric_1` = ∫N_w″N_w″ᵀ (the (e0a)² part of the axial-force term;
-///   ∫N_w′N_w′ᵀ is `mass_w1`).
+/// The bare integrals of one Timoshenko element (coefficients applied by
+/// the caller, see `model.rs`):
+/// - `bending` = ∫θ′θ′ᵀ, `shear` = ∫γγᵀ (scaled by E and κG: they relax together);
+/// - `mass_w0` = ∫wwᵀ, `mass_w1` = ∫w′w′ᵀ (translational inertia and its
+///   nonlocal part, as in (A4));
+/// - `mass_t0` = ∫θθᵀ (rotary inertia ρI; its nonlocal part ∫θ′θ′ᵀ is
+///   `bending`: Eringen's operator acts on ρI θ̈ as on ρA ẅ);
+/// - `geometric_1` = ∫w″w″ᵀ (the (e0a)² part of the axial-force term;
+///   ∫w′w′ᵀ is `mass_w1`).
 ///
 /// By 4-point Gauss–Legendre, exact to degree 7 (integrands are of degree ≤ 6).
 #[derive(Debug, Clone, PartialEq)]
 pub struct TimoshenkoElement {
-    pub stiffness: Mat4,
-    pub mass_w0: Mat4,
-    pub mass_w1: Mat4,
-    pub mass_t0: Mat4,
-    pub mass_t1: Mat4,
-    pub geometric_1: Mat4,
+    pub bending: Mat8,
+    pub shear: Mat8,
+    pub mass_w0: Mat8,
+    pub mass_w1: Mat8,
+    pub mass_t0: Mat8,
+    pub geometric_1: Mat8,
 }
 
 /// 4-point Gauss–Legendre nodes and weights on [−1, 1].
@@ -192,23 +167,21 @@ pub const GAUSS4_X: [f64; 4] =
 pub const GAUSS4_W: [f64; 4] =
     [0.347_854_845_137_453_8, 0.652_145_154_862_546_1, 0.652_145_154_862_546_1, 0.347_854_845_137_453_8];
 
-/// The integrals of [`TimoshenkoElement`] for element length h and shear parameter g.
-pub fn timoshenko_element(h: f64, g: f64) -> TimoshenkoElement {
-    let phi = 12.0 / (g * h * h);
-    let z = [[0.0; 4]; 4];
-    let mut e = TimoshenkoElement { stiffness: z, mass_w0: z, mass_w1: z, mass_t0: z, mass_t1: z, geometric_1: z };
+/// The integrals of [`TimoshenkoElement`] for element length h.
+pub fn timoshenko_element(h: f64) -> TimoshenkoElement {
+    let z = [[0.0; 8]; 8];
+    let mut e = TimoshenkoElement { bending: z, shear: z, mass_w0: z, mass_w1: z, mass_t0: z, geometric_1: z };
     for (x, wt) in GAUSS4_X.iter().zip(GAUSS4_W) {
-        let s = timoshenko_shape(h, phi, 0.5 * h * (1.0 + x));
+        let p = timoshenko_point(h, 0.5 * h * (1.0 + x));
         let wt = 0.5 * h * wt;
-        let gamma: [f64; 4] = std::array::from_fn(|a| s.dw[a] - s.t[a]);
-        for a in 0..4 {
-            for b in 0..4 {
-                e.stiffness[a][b] += wt * (s.dt[a] * s.dt[b] + g * gamma[a] * gamma[b]);
-                e.mass_w0[a][b] += wt * s.w[a] * s.w[b];
-                e.mass_w1[a][b] += wt * s.dw[a] * s.dw[b];
-                e.mass_t0[a][b] += wt * s.t[a] * s.t[b];
-                e.mass_t1[a][b] += wt * s.dt[a] * s.dt[b];
-                e.geometric_1[a][b] += wt * s.ddw[a] * s.ddw[b];
+        for a in 0..8 {
+            for b in 0..8 {
+                e.bending[a][b] += wt * p.drot[a] * p.drot[b];
+                e.shear[a][b] += wt * p.shear[a] * p.shear[b];
+                e.mass_w0[a][b] += wt * p.w[a] * p.w[b];
+                e.mass_w1[a][b] += wt * p.dw[a] * p.dw[b];
+                e.mass_t0[a][b] += wt * p.rot[a] * p.rot[b];
+                e.geometric_1[a][b] += wt * p.ddw[a] * p.ddw[b];
             }
         }
     }
@@ -317,51 +290,29 @@ mod tests {
         assert!((p[0] + p[2] - 1.0).abs() < 1e-14);
     }
 
-    /// The Timoshenko element's stiffness is the classical closed form
-    /// EI/((1+φ)h³)·[[12, 6h, −12, 6h], [6h, (4+φ)h², −6h, (2−φ)h²], ...]
-    /// (Przemieniecki, Theory of Matrix Structural Analysis, 1968, §5.6), its
-    /// shear strain is constant on the element (no locking), and at g → ∞ every
-    /// matrix tends to its Hermite (A3–A7) counterpart.
+    /// Euler–Bernoulli limit of the Timoshenko element: restricted to the
+    /// (w, θ) DOFs (s = γ = 0, no shear strain) every matrix is its Hermite
+    /// counterpart (same 4-point rule, so equal to rounding, 1e-12 of the
+    /// largest entry); the shear matrix vanishes there; and a pure shear
+    /// deflection (w = s, γ = s′, θ = 0) has no bending energy.
     #[test]
-    fn timoshenko_element_matches_closed_form_and_euler_bernoulli_limit() {
-        for (h, g) in [(0.05, 384.0), (0.05, 1e3), (0.3, 40.0), (1.0, 7.0)] {
-            let phi = 12.0 / (g * h * h);
-            let c = 1.0 / ((1.0 + phi) * h * h * h);
-            let h2 = h * h;
-            let closed = scale(
-                [
-                    [12.0, 6.0 * h, -12.0, 6.0 * h],
-                    [6.0 * h, (4.0 + phi) * h2, -6.0 * h, (2.0 - phi) * h2],
-                    [-12.0, -6.0 * h, 12.0, -6.0 * h],
-                    [6.0 * h, (2.0 - phi) * h2, -6.0 * h, (4.0 + phi) * h2],
-                ],
-                c,
-            );
-            let e = timoshenko_element(h, g);
-            // 4-point Gauss is exact here; agreement to rounding, 1e-12 of the largest entry
-            assert_close(e.stiffness, closed, h);
-            // γ = w′ − θ is constant along the element for every DOF
-            for a in 0..4 {
-                let g0 = timoshenko_shape(h, phi, 0.0);
-                let g1 = timoshenko_shape(h, phi, 0.37 * h);
-                let (ga, gb) = (g0.dw[a] - g0.t[a], g1.dw[a] - g1.t[a]);
-                assert!((ga - gb).abs() <= 1e-12 * (1.0 + ga.abs()) / h, "γ varies: {ga} vs {gb}");
-            }
+    fn timoshenko_element_reduces_to_hermite_without_shear() {
+        for h in [0.05, 0.4, 1.0] {
+            let e = timoshenko_element(h);
+            let eb_dofs = [0, 1, 4, 5];
+            let restrict =
+                |m: &Mat8| -> Mat4 { std::array::from_fn(|i| std::array::from_fn(|j| m[eb_dofs[i]][eb_dofs[j]])) };
+            assert_close(restrict(&e.bending), curvature_integral(h), h);
+            assert_close(restrict(&e.mass_w0), mass_integral(h), h);
+            assert_close(restrict(&e.mass_w1), slope_integral(h), h);
+            assert_close(restrict(&e.mass_t0), slope_integral(h), h);
+            assert_close(restrict(&e.geometric_1), curvature_integral(h), h);
+            assert!(restrict(&e.shear).iter().flatten().all(|v| *v == 0.0));
+            // pure shear: w = s = linear, γ = slope, θ = 0 → w_b ≡ 0
+            let q = [0.0, 0.0, 0.0, 0.3, 0.3 * h, 0.0, 0.3 * h, 0.3];
+            let energy = |m: &Mat8| (0..8).map(|a| (0..8).map(|b| q[a] * m[a][b] * q[b]).sum::<f64>()).sum::<f64>();
+            assert!(energy(&e.bending).abs() < 1e-15, "{}", energy(&e.bending));
+            assert!((energy(&e.shear) - 0.09 * h).abs() < 1e-14, "{}", energy(&e.shear));
         }
-        // Euler–Bernoulli limit: φ = 12/(gh²) → 0; the matrices differ from the
-        // Hermite ones by O(φ) (shape functions are rational in φ), so at
-        // g = 1e12, h = 0.5 (φ = 4.8e-11) they agree to ~1e-10 of the largest entry.
-        let (h, g) = (0.5, 1e12);
-        let e = timoshenko_element(h, g);
-        let near = |a: Mat4, b: Mat4| {
-            let s = a.iter().flatten().chain(b.iter().flatten()).fold(0.0f64, |m, v| m.max(v.abs()));
-            a.iter().flatten().zip(b.iter().flatten()).all(|(x, y)| (x - y).abs() <= 1e-9 * s)
-        };
-        assert!(near(e.stiffness, curvature_integral(h)));
-        assert!(near(e.mass_w0, mass_integral(h)));
-        assert!(near(e.mass_w1, slope_integral(h)));
-        assert!(near(e.mass_t0, slope_integral(h)));
-        assert!(near(e.mass_t1, curvature_integral(h)));
-        assert!(near(e.geometric_1, curvature_integral(h)));
     }
 }

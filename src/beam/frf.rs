@@ -39,7 +39,7 @@ pub fn frf(
         .map(|&w| {
             let s = Complex64::new(0.0, w / model.omega_ref);
             let (g, _) = model.relaxation(s);
-            let lu = BandLu::factor(n, |i, j| {
+            let lu = BandLu::factor_kd(n, model.k.kd, |i, j| {
                 let ku = model.unrelaxed_entry(i, j);
                 s * s * model.m.get(i, j) + s * (model.c * model.m_beam.get(i, j)) + ku + g * model.k.get(i, j)
             })

@@ -34,7 +34,7 @@ use std::collections::HashMap;
 use num_complex::Complex64;
 use serde::{Deserialize, Serialize};
 
-use crate::beam::band::{ldl_factor_for_inverse_iteration, ldl_solve, BandLu, ShiftedLdl, SymBand, KD};
+use crate::beam::band::{ldl_factor_for_inverse_iteration, ldl_solve, BandLu, ShiftedLdl, SymBand};
 use crate::beam::dual::Dual;
 use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
 use crate::beam::family::{family_roots, REAL_TOL};
@@ -473,14 +473,14 @@ fn complex_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comple
         );
         if model.has_spring() {
             for &i in &model.spring_dofs {
-                t[i * (KD + 1)] += model.spring;
+                t[i * (model.k.kd + 1)] += model.spring;
             }
         }
         if let Some(ka) = &model.k_axial {
             t.iter_mut().zip(&ka.data).for_each(|(ti, &v)| *ti += v);
         }
         let tiny = Complex64::new(f64::EPSILON * (model.k.data[0] + s.norm_sqr() * model.m.data[0]), 0.0);
-        if !ldl_factor_for_inverse_iteration(&mut t, n, tiny) {
+        if !ldl_factor_for_inverse_iteration(&mut t, n, model.k.kd, tiny) {
             return Err(BeamError::numerical("T(s) factorisation broke down in RQI"));
         }
         // y = T'(s) x = (2s M̃ + c̃ M̃_beam + G'(s) K̃) x, from real products of Re x and Im x
@@ -495,7 +495,7 @@ fn complex_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comple
             mat.mul_vec_into(&im, &mut tmp);
             y.iter_mut().zip(&tmp).for_each(|(yi, v)| *yi += coef * Complex64::new(0.0, *v));
         }
-        ldl_solve(&t, n, &mut y);
+        ldl_solve(&t, n, model.k.kd, &mut y);
         let scale = y.iter().fold(0.0f64, |a, v| a.max(v.norm_sqr())).sqrt();
         if !(scale.is_finite() && scale > 0.0) {
             return Err(BeamError::numerical("RQI on T(s) broke down"));
@@ -559,7 +559,7 @@ fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comp
             return Ok(Complex64::new(s, 0.0));
         }
         let (g, dg) = model.relaxation(Complex64::new(s, 0.0));
-        let lu = BandLu::factor(model.n(), |i, j| {
+        let lu = BandLu::factor_kd(model.n(), model.k.kd, |i, j| {
             let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
             let ka = model.k_axial.as_ref().map_or(0.0, |ka| ka.get(i, j));
             s * s * model.m.get(i, j) + s * model.c * model.m_beam.get(i, j) + ks + ka + g.re * model.k.get(i, j)

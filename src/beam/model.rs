@@ -61,26 +61,31 @@ const GX: [f64; 4] =
 const GW: [f64; 4] =
     [0.347_854_845_137_453_8, 0.652_145_154_862_546_1, 0.652_145_154_862_546_1, 0.347_854_845_137_453_8];
 
-/// The Timoshenko part of a [`UnitMesh`]: with shear the element matrices
-/// depend on g̃ = κGAL²/EI, so `k`, `m0`, `m1` of the mesh are
-/// k = Σ∫(N_θ′N_θ′ᵀ + g̃ γγᵀ), m0 = Σ∫(N_wN_wᵀ + r̃²N_θN_θᵀ),
-/// m1 = Σ∫(N_w′N_w′ᵀ + r̃²N_θ′N_θ′ᵀ) (`element::timoshenko_element`), and the
-/// external viscous damping acts on the translational part only.
+/// The Timoshenko part of a [`UnitMesh`] (`element::timoshenko_point`: four
+/// DOFs per node (w, θ, s, γ), half-bandwidth 7). The mesh's `k`, `m0`, `m1` are
+/// k = Σ∫(θ′θ′ᵀ + g̃ γγᵀ), m0 = Σ∫(wwᵀ + r̃²θθᵀ), m1 = Σ∫(w′w′ᵀ + r̃²θ′θ′ᵀ),
+/// and the external viscous damping acts on the translational part only.
+/// Supports: w = 0 at a supported end, θ = 0 at a clamped one (section
+/// rotation); s₀ = 0 fixes the split's gauge (a uniform shift of w_s against
+/// w_b changes neither w nor θ nor γ).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ShearMesh {
     /// g̃ = κGAL²/EI (dimensionless shear stiffness).
     pub g: f64,
     /// r̃² = I/(AL²) (rotary inertia relative to ρAL).
     pub r2: f64,
-    /// Σ∫N_wN_wᵀ and Σ∫N_w′N_w′ᵀ (translational mass: the damping shape).
+    /// Σ∫wwᵀ and Σ∫w′w′ᵀ (translational mass: the damping shape).
     pub mt0: SymBand,
     pub mt1: SymBand,
-    /// (weight, shape values) at the 4 Gauss points of one element.
-    gauss: [(f64, element::TimoshenkoShape); 4],
+    /// (weight, fields) at the 4 Gauss points of one element.
+    gauss: [(f64, element::TimoshenkoPoint); 4],
 }
 
-/// (g̃, r̃²) of a beam with shear deformation: g̃ = κGAL²/EI = (κG/E)·16L²/d²
-/// and r̃² = I/(AL²) = d²/(16L²) for the solid circular section.
+/// DOFs per node of the Timoshenko mesh.
+const SHEAR_DPN: usize = 4;
+
+/// (g̃, r̃²) of a beam with shear deformation: g̃ = κGAL²/EI = (κG/E)·AL²/I
+/// and r̃² = I/(AL²) (solid circle: AL²/I = 16L²/d²).
 pub fn shear_params(beam: &BeamSpec) -> Option<(f64, f64)> {
     beam.shear_deformation.map(|sd| {
         let l2_over_r2 = beam.area_m2() * (beam.length_nm * 1e-9).powi(2) / beam.inertia_m4();
@@ -105,42 +110,71 @@ impl UnitMesh {
     pub fn with_shear(elements: usize, support: Support, shear: Option<(f64, f64)>) -> Self {
         let Some((g, r2)) = shear else { return Self::new(elements, support) };
         let mut mesh = Self::new(elements, support);
-        let h = 1.0 / elements as f64;
-        let te = element::timoshenko_element(h, g);
-        let comb = |a: &element::Mat4, b: &element::Mat4| -> element::Mat4 {
-            std::array::from_fn(|i| std::array::from_fn(|j| a[i][j] + r2 * b[i][j]))
-        };
-        let [k, m0, m1, mt0, mt1, g1] = mesh.assemble([
-            te.stiffness,
-            comb(&te.mass_w0, &te.mass_t0),
-            comb(&te.mass_w1, &te.mass_t1),
-            te.mass_w0,
-            te.mass_w1,
-            te.geometric_1,
-        ]);
-        let phi = 12.0 / (g * h * h);
-        let gauss = std::array::from_fn(|i| {
-            let xl = 0.5 * h * (1.0 + element::GAUSS4_X[i]);
-            (0.5 * h * element::GAUSS4_W[i], element::timoshenko_shape(h, phi, xl))
+        let last = elements;
+        let node = |i: usize, d: usize| SHEAR_DPN * i + d;
+        let mut removed = vec![node(0, 2)];
+        removed.extend(match support {
+            Support::SimplySupported => vec![node(0, 0), node(last, 0)],
+            Support::ClampedClamped => vec![node(0, 0), node(0, 1), node(last, 0), node(last, 1)],
+            Support::ClampedFree => vec![node(0, 0), node(0, 1)],
+            Support::ClampedPinned => vec![node(0, 0), node(0, 1), node(last, 0)],
         });
-        mesh.g0 = mt1.clone();
+        let mut next = 0;
+        mesh.dof_map = (0..SHEAR_DPN * (elements + 1))
+            .map(|gl| {
+                (!removed.contains(&gl)).then(|| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect();
+        let spring_global: Vec<usize> = match support {
+            Support::SimplySupported => vec![node(0, 1), node(last, 1)],
+            Support::ClampedPinned => vec![node(last, 1)],
+            Support::ClampedClamped | Support::ClampedFree => vec![],
+        };
+        mesh.spring_dofs = spring_global.iter().filter_map(|&gl| mesh.dof_map[gl]).collect();
+        let h = 1.0 / elements as f64;
+        let te = element::timoshenko_element(h);
+        let comb = |a: &element::Mat8, c: f64, b: &element::Mat8| -> element::Mat8 {
+            std::array::from_fn(|i| std::array::from_fn(|j| a[i][j] + c * b[i][j]))
+        };
+        let [k, m0, m1, mt0, mt1, g1] = mesh.assemble_shear(
+            next,
+            [
+                comb(&te.bending, g, &te.shear),
+                comb(&te.mass_w0, r2, &te.mass_t0),
+                comb(&te.mass_w1, r2, &te.bending),
+                te.mass_w0,
+                te.mass_w1,
+                te.geometric_1,
+            ],
+        );
+        mesh.gauss_shear_init(h, g, r2, mt0, mt1);
+        mesh.g0 = mesh.shear.as_ref().expect("just set").mt1.clone();
         mesh.g1 = g1;
         mesh.k = k;
         mesh.m0 = m0;
         mesh.m1 = m1;
-        mesh.shear = Some(ShearMesh { g, r2, mt0, mt1, gauss });
         mesh
     }
 
-    /// Assembles element matrices over the mesh (reduced DOFs).
-    fn assemble<const K: usize>(&self, mats: [element::Mat4; K]) -> [SymBand; K] {
-        let n = self.n();
-        let mut out: [SymBand; K] = std::array::from_fn(|_| SymBand::zeros(n));
+    fn gauss_shear_init(&mut self, h: f64, g: f64, r2: f64, mt0: SymBand, mt1: SymBand) {
+        let gauss = std::array::from_fn(|i| {
+            let xl = 0.5 * h * (1.0 + element::GAUSS4_X[i]);
+            (0.5 * h * element::GAUSS4_W[i], element::timoshenko_point(h, xl))
+        });
+        self.shear = Some(ShearMesh { g, r2, mt0, mt1, gauss });
+    }
+
+    /// Assembles 8×8 Timoshenko element matrices over the mesh (n reduced DOFs).
+    fn assemble_shear<const K: usize>(&self, n: usize, mats: [element::Mat8; K]) -> [SymBand; K] {
+        let mut out: [SymBand; K] = std::array::from_fn(|_| SymBand::zeros_kd(n, 2 * SHEAR_DPN - 1));
         for e in 0..self.elements {
-            for a in 0..4 {
-                let Some(i) = self.dof_map[2 * e + a] else { continue };
+            for a in 0..8 {
+                let Some(i) = self.dof_map[SHEAR_DPN * e + a] else { continue };
                 for b in 0..=a {
-                    let Some(j) = self.dof_map[2 * e + b] else { continue };
+                    let Some(j) = self.dof_map[SHEAR_DPN * e + b] else { continue };
                     for (band, mat) in out.iter_mut().zip(&mats) {
                         band.add(i, j, mat[a][b]);
                     }
@@ -148,6 +182,17 @@ impl UnitMesh {
             }
         }
         out
+    }
+
+    /// The element's reduced DOF indices and field coefficients of a point
+    /// field `f` (8 coefficients for Timoshenko, 4 for Euler–Bernoulli).
+    fn scatter(&self, e: usize, coef: &[f64], w: f64, v: &mut [f64]) {
+        let dpn = if self.shear.is_some() { SHEAR_DPN } else { 2 };
+        for (a, c) in coef.iter().enumerate() {
+            if let Some(i) = self.dof_map[dpn * e + a] {
+                v[i] += w * c;
+            }
+        }
     }
 
     pub fn new(elements: usize, support: Support) -> Self {
@@ -243,7 +288,7 @@ impl UnitMesh {
     /// xᵀK̃x, xᵀM̃₀x, xᵀM̃₁x (M̃ = M̃₀ + ẽ²M̃₁), the translational parts of M̃₀, M̃₁
     /// (the damping shape) and xᵀG̃₀x = ∫(w′)², xᵀG̃₁x = ∫(w″)² (axial force).
     /// Euler–Bernoulli: k = g1 = ∫(w″)², m0 = mt0 = ∫w², m1 = mt1 = g0 = ∫(w′)².
-    /// Timoshenko: k = ∫(θ′)² + g̃∫(w′ − θ)², m0 = ∫w² + r̃²∫θ², m1 = ∫(w′)² + r̃²∫(θ′)².
+    /// Timoshenko: k = ∫(θ′)² + g̃∫γ², m0 = ∫w² + r̃²∫θ², m1 = ∫(w′)² + r̃²∫(θ′)².
     pub fn energy_forms_ext<T>(&self, x: &[T]) -> [T; 7]
     where
         T: Copy + Default + std::ops::Add<Output = T> + std::ops::Mul<Output = T> + std::ops::Mul<f64, Output = T>,
@@ -254,28 +299,28 @@ impl UnitMesh {
         };
         let mut out = [T::default(); 7];
         for e in 0..self.elements {
-            let mut q = [T::default(); 4];
+            let mut q = [T::default(); 8];
             for (a, qa) in q.iter_mut().enumerate() {
-                if let Some(i) = self.dof_map[2 * e + a] {
+                if let Some(i) = self.dof_map[SHEAR_DPN * e + a] {
                     *qa = x[i];
                 }
             }
-            for (wt, s) in &sh.gauss {
-                let dot = |f: &[f64; 4]| q[0] * f[0] + q[1] * f[1] + q[2] * f[2] + q[3] * f[3];
-                let (w, w1, w2, t, t1) = (dot(&s.w), dot(&s.dw), dot(&s.ddw), dot(&s.t), dot(&s.dt));
-                let gam = w1 + t * -1.0;
+            for (wt, p) in &sh.gauss {
+                let dot = |f: &[f64; 8]| (0..8).fold(T::default(), |acc, a| acc + q[a] * f[a]);
+                let (w, w1, w2) = (dot(&p.w), dot(&p.dw), dot(&p.ddw));
+                let (t, t1, gam) = (dot(&p.rot), dot(&p.drot), dot(&p.shear));
                 out[0] = out[0] + (t1 * t1 + gam * gam * sh.g) * *wt;
-                out[3] = out[3] + w * w * *wt;
-                out[4] = out[4] + w1 * w1 * *wt;
-                out[5] = out[5] + w1 * w1 * *wt;
-                out[6] = out[6] + w2 * w2 * *wt;
                 out[1] = out[1] + t * t * *wt;
                 out[2] = out[2] + t1 * t1 * *wt;
+                out[3] = out[3] + w * w * *wt;
+                out[4] = out[4] + w1 * w1 * *wt;
+                out[6] = out[6] + w2 * w2 * *wt;
             }
         }
         // out[1], out[2] hold the rotary parts so far
         out[1] = out[3] + out[1] * sh.r2;
         out[2] = out[4] + out[2] * sh.r2;
+        out[5] = out[4];
         out
     }
 
@@ -308,10 +353,12 @@ impl UnitMesh {
     pub fn shape_vector(&self, xt: f64) -> Vec<f64> {
         let h = 1.0 / self.elements as f64;
         let (e, xl) = self.locate(xt);
-        let n = match &self.shear {
-            Some(sh) => element::timoshenko_shape(h, 12.0 / (sh.g * h * h), xl).w,
-            None => element::shape(h, xl),
-        };
+        if self.shear.is_some() {
+            let mut v = vec![0.0; self.n()];
+            self.scatter(e, &element::timoshenko_point(h, xl).w, 1.0, &mut v);
+            return v;
+        }
+        let n = element::shape(h, xl);
         let mut v = vec![0.0; self.n()];
         for a in 0..4 {
             if let Some(i) = self.dof_map[2 * e + a] {
@@ -339,14 +386,14 @@ impl UnitMesh {
             vec![(e, xl, 1.0)]
         };
         for (e, xl, w) in parts {
-            let p = match &self.shear {
-                // (A7) with the Timoshenko deflection shape: N_w − ẽ²N_w″
-                Some(sh) => {
-                    let t = element::timoshenko_shape(h, 12.0 / (sh.g * h * h), xl);
-                    std::array::from_fn(|a| t.w[a] - e_tilde * e_tilde * t.ddw[a])
-                }
-                None => element::point_load(h, xl, e_tilde),
-            };
+            if self.shear.is_some() {
+                // (A7) with the Timoshenko deflection: N_w − ẽ²N_w″
+                let t = element::timoshenko_point(h, xl);
+                let p: [f64; 8] = std::array::from_fn(|a| t.w[a] - e_tilde * e_tilde * t.ddw[a]);
+                self.scatter(e, &p, w, &mut v);
+                continue;
+            }
+            let p = element::point_load(h, xl, e_tilde);
             for a in 0..4 {
                 if let Some(i) = self.dof_map[2 * e + a] {
                     v[i] += w * p[a];
