@@ -337,3 +337,49 @@ pub fn check_physical(prior: &Prior, field: &str) -> Result<(), InputError> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::beam::Support;
+
+    fn beam() -> BeamSpec {
+        BeamSpec::from_yaml(
+            "length_nm: 8\ndiameter_nm: 1\nyoungs_modulus_pa: 1e12\ndensity_kg_m3: 2300\nsupport: clamped-free\nelements: 20\n",
+        )
+        .unwrap()
+    }
+
+    fn set(yaml: &str) -> Result<ParameterSet, InputError> {
+        let map: serde_yaml::Mapping = serde_yaml::from_str(yaml).unwrap();
+        let set = ParameterSet::from_mapping(&map)?;
+        set.check_against_beam(&beam())?;
+        Ok(set)
+    }
+
+    #[test]
+    fn axial_force_and_shear_names_act_on_the_beam() {
+        let s = set("axial_force_n: { prior: { dist: uniform, lower: -1.0e-9, upper: 5.0e-9 } }\n\
+                     shear_coefficient: { prior: { dist: uniform, lower: 0.5, upper: 1.0 } }\n\
+                     poisson_ratio: { prior: { dist: uniform, lower: 0.1, upper: 0.3 } }")
+        .unwrap();
+        let b = s.apply(&beam(), &[-2e-10, 0.8, 0.25]);
+        assert_eq!(b.support, Support::ClampedFree);
+        assert_eq!(b.axial_force_n, -2e-10);
+        let sd = b.shear_deformation.unwrap();
+        assert_eq!((sd.shear_coefficient, sd.poisson_ratio), (0.8, 0.25));
+        // κ alone turns shear on with the documented default ν
+        let s = set("shear_coefficient: { prior: { dist: uniform, lower: 0.5, upper: 1.0 } }").unwrap();
+        assert_eq!(s.apply(&beam(), &[0.7]).shear_deformation.unwrap().poisson_ratio, DEFAULT_POISSON_RATIO);
+    }
+
+    #[test]
+    fn priors_outside_the_physical_range_are_named() {
+        let e = set("shear_coefficient: { prior: { dist: uniform, lower: 0.5, upper: 1.5 } }").unwrap_err();
+        assert_eq!(e.field, "parameters.shear_coefficient.prior.upper");
+        let e = set("poisson_ratio: { prior: { dist: uniform, lower: -1.5, upper: 0.3 } }").unwrap_err();
+        assert_eq!(e.field, "parameters.poisson_ratio.prior.lower");
+        let e = set("poisson_ratio: { prior: { dist: normal, mean: 0.4, sd: 0.1 } }").unwrap_err();
+        assert_eq!(e.field, "parameters.poisson_ratio.prior.upper");
+    }
+}
