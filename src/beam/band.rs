@@ -456,8 +456,9 @@ impl<T: Scalar> BandLu<T> {
                 b.swap(k, p);
             }
             let bk = b[k];
-            for i in k + 1..=(k + kl).min(n - 1) {
-                b[i] = b[i] - self.ab[self.idx(i, k)] * bk;
+            let hi = (k + kl).min(n - 1);
+            for (i, bi) in b.iter_mut().enumerate().take(hi + 1).skip(k + 1) {
+                *bi = *bi - self.ab[self.idx(i, k)] * bk;
             }
         }
         for i in (0..n).rev() {

@@ -246,9 +246,9 @@ mod tests {
             assert_close(s, gauss(h, |x| outer(shape_d(h, x))), h);
             assert_close(k, gauss(h, |x| outer(shape_dd(h, x))), h);
             for mat in [m, s, k] {
-                for i in 0..4 {
-                    for j in 0..4 {
-                        assert_eq!(mat[i][j], mat[j][i]);
+                for (i, row) in mat.iter().enumerate() {
+                    for (j, v) in row.iter().enumerate() {
+                        assert_eq!(*v, mat[j][i]);
                     }
                 }
             }

@@ -29,6 +29,9 @@ use crate::beam::spec::{BeamSpec, Support};
 use crate::beam::BeamError;
 use crate::error::InputError;
 
+/// (weight, N, N′, N″) at one Gauss point of an Euler–Bernoulli element.
+type GaussPoint = (f64, [f64; 4], [f64; 4], [f64; 4]);
+
 /// Unit assembled integrals of a uniform mesh (depend only on elements and support).
 #[derive(Debug, Clone, PartialEq)]
 pub struct UnitMesh {
@@ -51,7 +54,7 @@ pub struct UnitMesh {
     /// Timoshenko data (shear deformation and rotary inertia); `None` = Euler–Bernoulli.
     pub shear: Option<ShearMesh>,
     /// (weight, N, N', N'') at the 4 Gauss points of one element (uniform mesh).
-    gauss: [(f64, [f64; 4], [f64; 4], [f64; 4]); 4],
+    gauss: [GaussPoint; 4],
     /// N''(0) and N''(h̃) of one element (w'' is linear on an element).
     curvature_ends: [[f64; 4]; 2],
 }
@@ -184,8 +187,8 @@ impl UnitMesh {
         out
     }
 
-    /// The element's reduced DOF indices and field coefficients of a point
-    /// field `f` (8 coefficients for Timoshenko, 4 for Euler–Bernoulli).
+    /// v += w·coef scattered from element `e`'s local DOFs to reduced DOFs
+    /// (8 coefficients for Timoshenko, 4 for Euler–Bernoulli).
     fn scatter(&self, e: usize, coef: &[f64], w: f64, v: &mut [f64]) {
         let dpn = if self.shear.is_some() { SHEAR_DPN } else { 2 };
         for (a, c) in coef.iter().enumerate() {
@@ -360,11 +363,7 @@ impl UnitMesh {
         }
         let n = element::shape(h, xl);
         let mut v = vec![0.0; self.n()];
-        for a in 0..4 {
-            if let Some(i) = self.dof_map[2 * e + a] {
-                v[i] += n[a];
-            }
-        }
+        self.scatter(e, &n, 1.0, &mut v);
         v
     }
 
@@ -394,11 +393,7 @@ impl UnitMesh {
                 continue;
             }
             let p = element::point_load(h, xl, e_tilde);
-            for a in 0..4 {
-                if let Some(i) = self.dof_map[2 * e + a] {
-                    v[i] += w * p[a];
-                }
-            }
+            self.scatter(e, &p, w, &mut v);
         }
         v
     }
