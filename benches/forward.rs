@@ -8,7 +8,9 @@
 //! steps the size of a calibration's proposals (1 % of e0a, so the pencil
 //! eigenpairs are new every call: RQI from the cached grid pencil); `warm`
 //! perturbs only E (the pencil is bitwise unchanged, as in a calibration of
-//! E, ρ, C, Δ, Ω with e0a fixed).
+//! E, ρ, C, Δ, Ω with e0a fixed). `axial_chain`, `shear_chain` (κ moves:
+//! new mesh every call) and `shear_fixed_chain` (κ fixed) do the same with the
+//! mechanisms of issue 13.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use nanobeam::beam::{modal, modal_state_space, BeamSpec, InternalVariable, ModalSolver, Support};
@@ -30,6 +32,8 @@ fn beam(n_iv: usize) -> BeamSpec {
             .to_vec(),
         support_rotational_stiffness_n_m_rad: 0.0,
         point_mass: None,
+        axial_force_n: 0.0,
+        shear_deformation: None,
     }
 }
 
@@ -97,6 +101,36 @@ fn bench(c: &mut Criterion) {
         c.bench_function(&format!("general_spring_N{n_iv}"), |bch| {
             bch.iter(|| ModalSolver::new().modal(black_box(&bs), 3).unwrap())
         });
+        // issue 13: axial force (coupled path: RQI on T(s)) and shear
+        // deformation (Timoshenko mesh, 4 DOFs/node, decoupled when C = 0 or
+        // no rotary inertia... here C > 0, so coupled too), each along a chain
+        // that moves the new parameter, E and e0a (the mesh is rebuilt whenever
+        // κ, ν, d or L move: the Timoshenko mesh depends on g̃ = κGAL²/EI)
+        for (name, axial, shear) in [("axial", 2e-9, None), ("shear", 0.0, Some(0.9)), ("shear_fixed", 0.0, Some(0.9))]
+        {
+            let mut bx = b.clone();
+            bx.axial_force_n = axial;
+            bx.shear_deformation =
+                shear.map(|k| nanobeam::beam::ShearDeformation { poisson_ratio: 0.2, shear_coefficient: k });
+            let mut solver = ModalSolver::new();
+            let mut walk = bx.clone();
+            c.bench_function(&format!("{name}_chain_N{n_iv}"), |bch| {
+                bch.iter(|| {
+                    walk.nonlocal_e0a_nm = step(walk.nonlocal_e0a_nm, bx.nonlocal_e0a_nm, uniform());
+                    walk.youngs_modulus_pa = step(walk.youngs_modulus_pa, bx.youngs_modulus_pa, uniform());
+                    if name == "axial" {
+                        walk.axial_force_n = step(walk.axial_force_n, bx.axial_force_n, uniform());
+                    }
+                    if let (Some(sd), Some(sd0)) = (walk.shear_deformation.as_mut(), bx.shear_deformation) {
+                        if name == "shear" {
+                            sd.shear_coefficient =
+                                step(sd.shear_coefficient, sd0.shear_coefficient, uniform()).min(1.0);
+                        }
+                    }
+                    solver.modal(black_box(&walk), 3).unwrap()
+                })
+            });
+        }
         c.bench_function(&format!("state_space_N{n_iv}"), |bch| {
             bch.iter(|| modal_state_space(black_box(&b), 3).unwrap())
         });

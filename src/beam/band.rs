@@ -1,6 +1,8 @@
 //! Banded matrices of half-bandwidth [`KD`] = 3 (two Hermite DOFs per node,
 //! one element couples DOFs at most 3 apart, before and after eliminating
-//! supported DOFs) and the factorisations the solvers need:
+//! supported DOFs) — or, for the Timoshenko mesh (four DOFs per node), a
+//! runtime half-bandwidth up to [`MAX_KD`] = 7 (`SymBand::kd`; the KD = 3 code
+//! paths are unchanged) — and the factorisations the solvers need:
 //!
 //! * [`SymBand::ldl_inertia`]: banded LDLᵀ of A(σ) = K − σM in dual numbers,
 //!   returning the Sylvester inertia (number of negative pivots = number of
@@ -17,54 +19,66 @@
 
 use crate::beam::dual::{Dual, Scalar};
 
-/// Half-bandwidth of every assembled beam matrix.
+/// Half-bandwidth of the Euler–Bernoulli beam matrices.
 pub const KD: usize = 3;
 const W: usize = KD + 1;
+/// Largest runtime half-bandwidth (the 4-DOF-per-node Timoshenko mesh).
+pub const MAX_KD: usize = 7;
 
-/// Symmetric band matrix, lower triangle stored: (i, i−d) at `data[i·(KD+1) + d]`.
+/// Symmetric band matrix of half-bandwidth `kd`, lower triangle stored:
+/// (i, i−d) at `data[i·(kd+1) + d]`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SymBand {
     pub n: usize,
+    pub kd: usize,
     pub data: Vec<f64>,
 }
 
 impl SymBand {
     pub fn zeros(n: usize) -> Self {
-        Self { n, data: vec![0.0; n * W] }
+        Self { n, kd: KD, data: vec![0.0; n * W] }
     }
 
-    /// Entry (i, j) for |i − j| ≤ KD (either triangle), else 0.
+    /// Zeros with half-bandwidth `kd` ≤ [`MAX_KD`].
+    pub fn zeros_kd(n: usize, kd: usize) -> Self {
+        assert!(kd <= MAX_KD, "half-bandwidth {kd} > {MAX_KD}");
+        Self { n, kd, data: vec![0.0; n * (kd + 1)] }
+    }
+
+    /// Entry (i, j) for |i − j| ≤ kd (either triangle), else 0.
     #[inline]
     pub fn get(&self, i: usize, j: usize) -> f64 {
         let (i, j) = if i >= j { (i, j) } else { (j, i) };
-        if i - j > KD {
+        if i - j > self.kd {
             0.0
         } else {
-            self.data[i * W + (i - j)]
+            self.data[i * (self.kd + 1) + (i - j)]
         }
     }
 
-    /// Adds `v` to (i, j) and, by symmetry, (j, i). Requires |i − j| ≤ KD.
+    /// Adds `v` to (i, j) and, by symmetry, (j, i). Requires |i − j| ≤ kd.
     #[inline]
     pub fn add(&mut self, i: usize, j: usize, v: f64) {
         let (i, j) = if i >= j { (i, j) } else { (j, i) };
-        debug_assert!(i - j <= KD);
-        self.data[i * W + (i - j)] += v;
+        debug_assert!(i - j <= self.kd);
+        self.data[i * (self.kd + 1) + (i - j)] += v;
     }
 
-    /// self + c·other (same size).
+    /// self + c·other (same size and bandwidth).
     pub fn plus_scaled(&self, c: f64, other: &SymBand) -> SymBand {
+        debug_assert_eq!(self.kd, other.kd);
         let data = self.data.iter().zip(&other.data).map(|(a, b)| a + c * b).collect();
-        SymBand { n: self.n, data }
+        SymBand { n: self.n, kd: self.kd, data }
     }
 
     /// xᵀ A y.
     pub fn bilinear(&self, x: &[f64], y: &[f64]) -> f64 {
         let mut s = 0.0;
+        let w = self.kd + 1;
         for i in 0..self.n {
-            let lo = i.saturating_sub(KD);
+            let lo = i.saturating_sub(self.kd);
             for j in lo..=i {
-                let a = self.data[i * W + (i - j)];
+                let a = self.data[i * w + (i - j)];
                 s += if i == j { a * x[i] * y[i] } else { a * (x[i] * y[j] + x[j] * y[i]) };
             }
         }
@@ -86,6 +100,22 @@ impl SymBand {
         y.clear();
         y.resize(n, 0.0);
         let a = &self.data;
+        if self.kd != KD {
+            let (kd, w) = (self.kd, self.kd + 1);
+            for (i, yi) in y.iter_mut().enumerate() {
+                let mut s = a[i * w] * x[i];
+                for d in 1..=kd {
+                    if d <= i {
+                        s += a[i * w + d] * x[i - d];
+                    }
+                    if i + d < n {
+                        s += a[(i + d) * w + d] * x[i + d];
+                    }
+                }
+                *yi = s;
+            }
+            return;
+        }
         let general = |i: usize| {
             let mut s = a[i * W] * x[i];
             for d in 1..=KD {
@@ -132,7 +162,7 @@ impl SymBand {
         work.extend(self.data.iter().zip(&m.data).map(|(k, mm)| Dual::new(k - sigma * mm, -mm)));
         let mut negatives = 0;
         let mut dlog = 0.0;
-        ldl_in_place(work, self.n, false, |d| {
+        ldl_in_place(work, self.n, self.kd, false, |d| {
             if d.v == 0.0 || !d.v.is_finite() {
                 return None;
             }
@@ -150,20 +180,27 @@ impl SymBand {
 /// returns false). With `store`, the
 /// multipliers L(i, j) = A(i, j)/dⱼ replace the sub-diagonal entries (for
 /// [`ShiftedLdl::solve`]); otherwise they are left as the Schur values.
-fn ldl_in_place<T: Scalar>(a: &mut [T], n: usize, store: bool, mut pivot: impl FnMut(T) -> Option<T>) -> bool {
+fn ldl_in_place<T: Scalar>(
+    a: &mut [T],
+    n: usize,
+    kd: usize,
+    store: bool,
+    mut pivot: impl FnMut(T) -> Option<T>,
+) -> bool {
+    let w = kd + 1;
     for j in 0..n {
-        let Some(d) = pivot(a[j * W]) else { return false };
-        a[j * W] = d;
+        let Some(d) = pivot(a[j * w]) else { return false };
+        a[j * w] = d;
         // column j below the diagonal: (j + 1 + r, j) sits at row j+1+r, offset r+1
-        let below = KD.min(n - 1 - j);
-        let mut col = [T::zero(); KD];
+        let below = kd.min(n - 1 - j);
+        let mut col = [T::zero(); MAX_KD];
         for (r, c) in col.iter_mut().enumerate().take(below) {
-            *c = a[(j + 1 + r) * W + r + 1];
+            *c = a[(j + 1 + r) * w + r + 1];
         }
         // Schur complement of the trailing block: A(i,k) −= A(i,j) A(k,j) / d
         for r in 0..below {
             let l = col[r] / d;
-            let row = &mut a[(j + 1 + r) * W..(j + 1 + r) * W + r + 2];
+            let row = &mut a[(j + 1 + r) * w..(j + 1 + r) * w + r + 2];
             if store {
                 row[r + 1] = l;
             }
@@ -186,6 +223,7 @@ fn ldl_in_place<T: Scalar>(a: &mut [T], n: usize, store: bool, mut pivot: impl F
 #[derive(Debug, Clone, Default)]
 pub struct ShiftedLdl {
     n: usize,
+    kd: usize,
     a: Vec<f64>,
     negatives: usize,
 }
@@ -210,10 +248,12 @@ impl ShiftedLdl {
     fn factor_with(&mut self, k: &SymBand, m: &SymBand, sigma: f64, tiny: Option<f64>) -> bool {
         let n = k.n;
         self.n = n;
+        self.kd = k.kd;
         self.a.clear();
         self.a.extend(k.data.iter().zip(&m.data).map(|(kk, mm)| kk - sigma * mm));
         let mut negatives = 0;
-        let full = n.saturating_sub(KD);
+        // the unrolled block below is for KD = 3; other bandwidths take the generic loop
+        let full = if k.kd == KD { n.saturating_sub(KD) } else { 0 };
         for j in 0..full {
             let blk: &mut [f64; 4 * W] = (&mut self.a[j * W..(j + 4) * W]).try_into().expect("4 rows");
             let mut d = blk[0];
@@ -243,7 +283,7 @@ impl ShiftedLdl {
             blk[3 * W] -= l2 * c2;
         }
         let tail = &mut self.a[full * W..];
-        let ok = ldl_in_place(tail, n - full, true, |d| {
+        let ok = ldl_in_place(tail, n - full, k.kd, true, |d| {
             let d = if d == 0.0 { tiny.unwrap_or(d) } else { d };
             negatives += usize::from(d < 0.0);
             (d != 0.0 && d.is_finite()).then_some(d)
@@ -259,7 +299,7 @@ impl ShiftedLdl {
 
     /// Solves (K − σM) x = b in place.
     pub fn solve(&self, b: &mut [f64]) {
-        ldl_solve(&self.a, self.n, b);
+        ldl_solve(&self.a, self.n, self.kd, b);
     }
 }
 
@@ -268,8 +308,8 @@ impl ShiftedLdl {
 /// iteration: an exactly zero pivot is replaced by `tiny` (see
 /// [`ShiftedLdl::factor_for_inverse_iteration`]). False on a non-finite pivot.
 /// Same caveat as [`ShiftedLdl`]: callers verify what they compute.
-pub fn ldl_factor_for_inverse_iteration<T: Scalar>(a: &mut [T], n: usize, tiny: T) -> bool {
-    ldl_in_place(a, n, true, |d| {
+pub fn ldl_factor_for_inverse_iteration<T: Scalar>(a: &mut [T], n: usize, kd: usize, tiny: T) -> bool {
+    ldl_in_place(a, n, kd, true, |d| {
         let d = if d.magnitude() == 0.0 { tiny } else { d };
         (d.magnitude() != 0.0 && d.magnitude().is_finite()).then_some(d)
     })
@@ -277,24 +317,25 @@ pub fn ldl_factor_for_inverse_iteration<T: Scalar>(a: &mut [T], n: usize, tiny: 
 
 /// Solves A x = b in place with a factorisation from [`ldl_in_place`] with
 /// stored multipliers: L z = b, D y = z, Lᵀ x = y.
-pub fn ldl_solve<T: Scalar>(a: &[T], n: usize, b: &mut [T]) {
+pub fn ldl_solve<T: Scalar>(a: &[T], n: usize, kd: usize, b: &mut [T]) {
+    let w = kd + 1;
     for i in 0..n {
-        let row = &a[i * W..i * W + W];
+        let row = &a[i * w..i * w + w];
         let mut s = b[i];
         // the newest unknown last: one multiply-add on the dependency chain
-        for d in (1..=KD.min(i)).rev() {
+        for d in (1..=kd.min(i)).rev() {
             s = s - row[d] * b[i - d];
         }
         b[i] = s;
     }
     for i in 0..n {
-        b[i] = b[i] / a[i * W];
+        b[i] = b[i] / a[i * w];
     }
     // back substitution with Lᵀ: x_i = y_i − Σ_d L(i+d, i) x_{i+d}
     for i in (0..n).rev() {
         let mut s = b[i];
-        for d in (1..=KD.min(n - 1 - i)).rev() {
-            s = s - a[(i + d) * W + d] * b[i + d];
+        for d in (1..=kd.min(n - 1 - i)).rev() {
+            s = s - a[(i + d) * w + d] * b[i + d];
         }
         b[i] = s;
     }
@@ -305,44 +346,49 @@ pub fn ldl_solve<T: Scalar>(a: &[T], n: usize, b: &mut [T]) {
 #[derive(Debug, Clone)]
 pub struct BandLu<T> {
     n: usize,
+    /// kl = kd sub-diagonals, 2·kd super-diagonals, row width kl + 2kd + 1.
+    kd: usize,
     ab: Vec<T>,
     piv: Vec<usize>,
 }
 
-const KL: usize = KD;
-const KU2: usize = 2 * KD;
-const WG: usize = KL + KU2 + 1;
-
 impl<T: Scalar> BandLu<T> {
-    /// Builds the band matrix from `entry(i, j)` for |i − j| ≤ KD and factorises it.
-    /// Returns `None` if a pivot column is exactly zero (singular matrix).
-    pub fn factor(n: usize, entry: impl FnMut(usize, usize) -> T) -> Option<Self> {
-        Self::factor_with(n, entry, None)
+    /// Builds the band matrix of half-bandwidth `kd` ≤ [`MAX_KD`] from
+    /// `entry(i, j)` for |i − j| ≤ kd and factorises it. Returns `None` if a
+    /// pivot column is exactly zero (singular matrix).
+    pub fn factor_kd(n: usize, kd: usize, entry: impl FnMut(usize, usize) -> T) -> Option<Self> {
+        Self::factor_with(n, kd, entry, None)
     }
 
     /// For inverse iteration at a (numerically) exact eigenvalue: an exactly
     /// zero pivot is replaced by `tiny` (the classic remedy: the solve then
     /// returns a huge multiple of the eigenvector, which is what is wanted).
-    pub fn factor_for_inverse_iteration(n: usize, entry: impl FnMut(usize, usize) -> T, tiny: T) -> Option<Self> {
-        Self::factor_with(n, entry, Some(tiny))
+    pub fn factor_for_inverse_iteration(
+        n: usize,
+        kd: usize,
+        entry: impl FnMut(usize, usize) -> T,
+        tiny: T,
+    ) -> Option<Self> {
+        Self::factor_with(n, kd, entry, Some(tiny))
     }
 
-    fn factor_with(n: usize, mut entry: impl FnMut(usize, usize) -> T, tiny: Option<T>) -> Option<Self> {
-        let mut ab = vec![T::zero(); n * WG];
+    fn factor_with(n: usize, kd: usize, mut entry: impl FnMut(usize, usize) -> T, tiny: Option<T>) -> Option<Self> {
+        let wg = 3 * kd + 1;
+        let mut ab = vec![T::zero(); n * wg];
         for i in 0..n {
-            let lo = i.saturating_sub(KD);
-            let hi = (i + KD).min(n.saturating_sub(1));
+            let lo = i.saturating_sub(kd);
+            let hi = (i + kd).min(n.saturating_sub(1));
             for j in lo..=hi {
-                ab[i * WG + (j + KL - i)] = entry(i, j);
+                ab[i * wg + (j + kd - i)] = entry(i, j);
             }
         }
-        let mut lu = BandLu { n, ab, piv: vec![0; n] };
+        let mut lu = BandLu { n, kd, ab, piv: vec![0; n] };
         lu.factor_in_place(tiny).then_some(lu)
     }
 
     #[inline]
-    fn idx(i: usize, j: usize) -> usize {
-        i * WG + (j + KL - i)
+    fn idx(&self, i: usize, j: usize) -> usize {
+        i * (3 * self.kd + 1) + (j + self.kd - i)
     }
 
     /// Row-major band storage: row i holds columns i−KL ..= i+KU2 at offsets
@@ -350,13 +396,14 @@ impl<T: Scalar> BandLu<T> {
     /// index arithmetic or bounds checks in the inner loops).
     fn factor_in_place(&mut self, tiny: Option<T>) -> bool {
         let n = self.n;
+        let (kl, kd, wg) = (self.kd, self.kd, 3 * self.kd + 1);
         for k in 0..n {
-            let last_row = (k + KL).min(n - 1);
-            let last_col = (k + KL + KD).min(n - 1);
+            let last_row = (k + kl).min(n - 1);
+            let last_col = (k + kl + kd).min(n - 1);
             let mut p = k;
-            let mut best = self.ab[Self::idx(k, k)].magnitude();
+            let mut best = self.ab[self.idx(k, k)].magnitude();
             for i in k + 1..=last_row {
-                let m = self.ab[Self::idx(i, k)].magnitude();
+                let m = self.ab[self.idx(i, k)].magnitude();
                 if m > best {
                     best = m;
                     p = i;
@@ -367,24 +414,27 @@ impl<T: Scalar> BandLu<T> {
             }
             if best == 0.0 {
                 match tiny {
-                    Some(t) => self.ab[Self::idx(k, k)] = t,
+                    Some(t) => {
+                        let kk = self.idx(k, k);
+                        self.ab[kk] = t;
+                    }
                     None => return false,
                 }
             }
             self.piv[k] = p;
             let len = last_col - k + 1;
             if p != k {
-                // row k: columns k.. at offset KL; row p: at offset KL − (p − k)
-                let (head, tail) = self.ab.split_at_mut(p * WG);
-                let rk = &mut head[k * WG + KL..k * WG + KL + len];
-                let rp = &mut tail[KL - (p - k)..KL - (p - k) + len];
+                // row k: columns k.. at offset kl; row p: at offset kl − (p − k)
+                let (head, tail) = self.ab.split_at_mut(p * wg);
+                let rk = &mut head[k * wg + kl..k * wg + kl + len];
+                let rp = &mut tail[kl - (p - k)..kl - (p - k) + len];
                 rk.swap_with_slice(rp);
             }
-            let (head, tail) = self.ab.split_at_mut((k + 1) * WG);
-            let rk = &head[k * WG + KL..k * WG + KL + len];
+            let (head, tail) = self.ab.split_at_mut((k + 1) * wg);
+            let rk = &head[k * wg + kl..k * wg + kl + len];
             let pivot = rk[0];
-            for (r, row) in tail.chunks_exact_mut(WG).take(last_row - k).enumerate() {
-                let off = KL - (r + 1); // column k in row k + r + 1
+            for (r, row) in tail.chunks_exact_mut(wg).take(last_row - k).enumerate() {
+                let off = kl - (r + 1); // column k in row k + r + 1
                 let ri = &mut row[off..off + len];
                 let l = ri[0] / pivot;
                 ri[0] = l;
@@ -399,19 +449,21 @@ impl<T: Scalar> BandLu<T> {
     /// Solves A x = b in place.
     pub fn solve(&self, b: &mut [T]) {
         let n = self.n;
+        let (kl, ku2, wg) = (self.kd, 2 * self.kd, 3 * self.kd + 1);
         for k in 0..n {
             let p = self.piv[k];
             if p != k {
                 b.swap(k, p);
             }
             let bk = b[k];
-            for i in k + 1..=(k + KL).min(n - 1) {
-                b[i] = b[i] - self.ab[Self::idx(i, k)] * bk;
+            let hi = (k + kl).min(n - 1);
+            for (i, bi) in b.iter_mut().enumerate().take(hi + 1).skip(k + 1) {
+                *bi = *bi - self.ab[self.idx(i, k)] * bk;
             }
         }
         for i in (0..n).rev() {
-            let hi = (i + KU2).min(n - 1);
-            let row = &self.ab[i * WG + KL..i * WG + KL + (hi - i) + 1];
+            let hi = (i + ku2).min(n - 1);
+            let row = &self.ab[i * wg + kl..i * wg + kl + (hi - i) + 1];
             let mut s = b[i];
             for (&a, &x) in row[1..].iter().zip(&b[i + 1..=hi]) {
                 s = s - a * x;
@@ -448,7 +500,7 @@ mod tests {
         let b = random_band(n, 7);
         // nonsymmetric complex matrix A + i·B with a skew part
         let entry = |i: usize, j: usize| Complex64::new(a.get(i, j) + 0.3 * (i as f64 - j as f64), b.get(i, j));
-        let lu = BandLu::factor(n, entry).unwrap();
+        let lu = BandLu::factor_kd(n, KD, entry).unwrap();
         let dense =
             nalgebra::DMatrix::from_fn(
                 n,

@@ -228,7 +228,7 @@ pub fn eigenvector(k: &SymBand, m: &SymBand, lambda: f64) -> Result<Vec<f64>, Be
     use crate::beam::band::BandLu;
     let n = k.n;
     let tiny = f64::EPSILON * (k.get(0, 0).abs() + lambda * m.get(0, 0).abs());
-    let lu = BandLu::factor_for_inverse_iteration(n, |i, j| k.get(i, j) - lambda * m.get(i, j), tiny)
+    let lu = BandLu::factor_for_inverse_iteration(n, k.kd, |i, j| k.get(i, j) - lambda * m.get(i, j), tiny)
         .ok_or_else(|| BeamError::numerical("singular shifted pencil in inverse iteration"))?;
     let mut x: Vec<f64> = (0..n).map(|i| 1.0 + 0.01 * i as f64).collect();
     for _ in 0..1 {

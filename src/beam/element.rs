@@ -102,6 +102,92 @@ pub fn point_load(h: f64, xbar: f64, e0a: f64) -> [f64; 4] {
     [n[0] - e2 * dd[0], n[1] - e2 * dd[1], n[2] - e2 * dd[2], n[3] - e2 * dd[3]]
 }
 
+/// 8×8 element matrix of the Timoshenko element.
+pub type Mat8 = [[f64; 8]; 8];
+
+/// The fields of the Timoshenko element at one point, each as its 8 DOF
+/// coefficients: deflection w, w′, w″, section rotation θ = w_b′ and θ′ = w_b″,
+/// shear strain γ = w_s′.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimoshenkoPoint {
+    pub w: [f64; 8],
+    pub dw: [f64; 8],
+    pub ddw: [f64; 8],
+    pub rot: [f64; 8],
+    pub drot: [f64; 8],
+    pub shear: [f64; 8],
+}
+
+/// The bending–shear split Timoshenko element (after the decomposition
+/// w = w_b + w_s, θ = w_b′, γ = w_s′ of the Timoshenko kinematics; e.g.
+/// Wang, Reddy & Lee, *Shear Deformable Beams and Plates*, Elsevier 2000,
+/// §2.4, and the "two-variable" beam elements built on it). Both parts are
+/// cubic Hermite (A3), so with the nodal DOFs
+/// [w₁, θ₁, s₁, γ₁, w₂, θ₂, s₂, γ₂] (w total deflection, θ section rotation,
+/// s = w_s, γ = w_s′ shear strain):
+///   w_b = N·[w₁ − s₁, θ₁, w₂ − s₂, θ₂],  w_s = N·[s₁, γ₁, s₂, γ₂],
+///   w = w_b + w_s = N·[w₁, θ₁ + γ₁, w₂, θ₂ + γ₂].
+/// No constraint ties γ to w and θ, so the element cannot lock in shear; w_b
+/// is H²-conforming (Hermite), so eigenvalues converge at O(h⁴) as for
+/// the Euler–Bernoulli element; with s = γ = 0 every matrix is its Hermite
+/// (A4)–(A6) counterpart (the Euler–Bernoulli limit). Four DOFs per node:
+/// the assembled band has half-width 7.
+pub fn timoshenko_point(h: f64, xbar: f64) -> TimoshenkoPoint {
+    let (n, d, dd) = (shape(h, xbar), shape_d(h, xbar), shape_dd(h, xbar));
+    let wb = |f: [f64; 4]| [f[0], f[1], -f[0], 0.0, f[2], f[3], -f[2], 0.0];
+    let ws = |f: [f64; 4]| [0.0, 0.0, f[0], f[1], 0.0, 0.0, f[2], f[3]];
+    let w = |f: [f64; 4]| [f[0], f[1], 0.0, f[1], f[2], f[3], 0.0, f[3]];
+    TimoshenkoPoint { w: w(n), dw: w(d), ddw: w(dd), rot: wb(d), drot: wb(dd), shear: ws(d) }
+}
+
+/// The bare integrals of one Timoshenko element (coefficients applied by
+/// the caller, see `model.rs`):
+/// - `bending` = ∫θ′θ′ᵀ, `shear` = ∫γγᵀ (scaled by E and κG: they relax together);
+/// - `mass_w0` = ∫wwᵀ, `mass_w1` = ∫w′w′ᵀ (translational inertia and its
+///   nonlocal part, as in (A4));
+/// - `mass_t0` = ∫θθᵀ (rotary inertia ρI; its nonlocal part ∫θ′θ′ᵀ is
+///   `bending`: Eringen's operator acts on ρI θ̈ as on ρA ẅ);
+/// - `geometric_1` = ∫w″w″ᵀ (the (e0a)² part of the axial-force term;
+///   ∫w′w′ᵀ is `mass_w1`).
+///
+/// By 4-point Gauss–Legendre, exact to degree 7 (integrands are of degree ≤ 6).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimoshenkoElement {
+    pub bending: Mat8,
+    pub shear: Mat8,
+    pub mass_w0: Mat8,
+    pub mass_w1: Mat8,
+    pub mass_t0: Mat8,
+    pub geometric_1: Mat8,
+}
+
+/// 4-point Gauss–Legendre nodes and weights on [−1, 1].
+pub const GAUSS4_X: [f64; 4] =
+    [-0.861_136_311_594_052_6, -0.339_981_043_584_856_3, 0.339_981_043_584_856_3, 0.861_136_311_594_052_6];
+pub const GAUSS4_W: [f64; 4] =
+    [0.347_854_845_137_453_8, 0.652_145_154_862_546_1, 0.652_145_154_862_546_1, 0.347_854_845_137_453_8];
+
+/// The integrals of [`TimoshenkoElement`] for element length h.
+pub fn timoshenko_element(h: f64) -> TimoshenkoElement {
+    let z = [[0.0; 8]; 8];
+    let mut e = TimoshenkoElement { bending: z, shear: z, mass_w0: z, mass_w1: z, mass_t0: z, geometric_1: z };
+    for (x, wt) in GAUSS4_X.iter().zip(GAUSS4_W) {
+        let p = timoshenko_point(h, 0.5 * h * (1.0 + x));
+        let wt = 0.5 * h * wt;
+        for a in 0..8 {
+            for b in 0..8 {
+                e.bending[a][b] += wt * p.drot[a] * p.drot[b];
+                e.shear[a][b] += wt * p.shear[a] * p.shear[b];
+                e.mass_w0[a][b] += wt * p.w[a] * p.w[b];
+                e.mass_w1[a][b] += wt * p.dw[a] * p.dw[b];
+                e.mass_t0[a][b] += wt * p.rot[a] * p.rot[b];
+                e.geometric_1[a][b] += wt * p.ddw[a] * p.ddw[b];
+            }
+        }
+    }
+    e
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -160,9 +246,9 @@ mod tests {
             assert_close(s, gauss(h, |x| outer(shape_d(h, x))), h);
             assert_close(k, gauss(h, |x| outer(shape_dd(h, x))), h);
             for mat in [m, s, k] {
-                for i in 0..4 {
-                    for j in 0..4 {
-                        assert_eq!(mat[i][j], mat[j][i]);
+                for (i, row) in mat.iter().enumerate() {
+                    for (j, v) in row.iter().enumerate() {
+                        assert_eq!(*v, mat[j][i]);
                     }
                 }
             }
@@ -202,5 +288,31 @@ mod tests {
         // ΣN₁+N₃ = 1 (partition of unity) and ΣN''₁+N''₃ = 0 so the translational resultant is F
         let p = point_load(2.0, 0.3, 0.8);
         assert!((p[0] + p[2] - 1.0).abs() < 1e-14);
+    }
+
+    /// Euler–Bernoulli limit of the Timoshenko element: restricted to the
+    /// (w, θ) DOFs (s = γ = 0, no shear strain) every matrix is its Hermite
+    /// counterpart (same 4-point rule, so equal to rounding, 1e-12 of the
+    /// largest entry); the shear matrix vanishes there; and a pure shear
+    /// deflection (w = s, γ = s′, θ = 0) has no bending energy.
+    #[test]
+    fn timoshenko_element_reduces_to_hermite_without_shear() {
+        for h in [0.05, 0.4, 1.0] {
+            let e = timoshenko_element(h);
+            let eb_dofs = [0, 1, 4, 5];
+            let restrict =
+                |m: &Mat8| -> Mat4 { std::array::from_fn(|i| std::array::from_fn(|j| m[eb_dofs[i]][eb_dofs[j]])) };
+            assert_close(restrict(&e.bending), curvature_integral(h), h);
+            assert_close(restrict(&e.mass_w0), mass_integral(h), h);
+            assert_close(restrict(&e.mass_w1), slope_integral(h), h);
+            assert_close(restrict(&e.mass_t0), slope_integral(h), h);
+            assert_close(restrict(&e.geometric_1), curvature_integral(h), h);
+            assert!(restrict(&e.shear).iter().flatten().all(|v| *v == 0.0));
+            // pure shear: w = s = linear, γ = slope, θ = 0 → w_b ≡ 0
+            let q = [0.0, 0.0, 0.0, 0.3, 0.3 * h, 0.0, 0.3 * h, 0.3];
+            let energy = |m: &Mat8| (0..8).map(|a| (0..8).map(|b| q[a] * m[a][b] * q[b]).sum::<f64>()).sum::<f64>();
+            assert!(energy(&e.bending).abs() < 1e-15, "{}", energy(&e.bending));
+            assert!((energy(&e.shear) - 0.09 * h).abs() < 1e-14, "{}", energy(&e.shear));
+        }
     }
 }

@@ -1,6 +1,6 @@
 //! Frequency response between a point force and a point displacement:
 //! H(ω) = N(x_out)ᵀ T(iω)⁻¹ P(x_in) in m/N, with
-//! T(s) = s²M + sD + K_spring + G(s)K (see `modal.rs`) and P the nodal load
+//! T(s) = s²M + sD + K_spring + K_N + G(s)K (see `modal.rs`) and P the nodal load
 //! of a unit force (A7). One banded complex LU per frequency: exact for every
 //! model extension. In scaled units T = (EI/L³)·T̃(s/ω_ref), so
 //! H = (L³/EI)·Nᵀ T̃⁻¹ P.
@@ -28,21 +28,20 @@ pub fn frf(
             return Err(InputError::new(format!("omega_rad_s[{i}]"), w, ">= 0 (finite)").into());
         }
     }
-    let mesh = UnitMesh::new(beam.elements, beam.support);
+    let mesh = UnitMesh::for_beam(beam);
     let model = ScaledModel::new(beam, &mesh);
     let load = mesh.load_vector(xi, model.e_tilde);
     let out = mesh.shape_vector(xo);
     let n = model.n();
-    let spring = if model.has_spring() { model.spring } else { 0.0 };
     let mut rhs = vec![Complex64::new(0.0, 0.0); n];
     omega_rad_s
         .iter()
         .map(|&w| {
             let s = Complex64::new(0.0, w / model.omega_ref);
             let (g, _) = model.relaxation(s);
-            let lu = BandLu::factor(n, |i, j| {
-                let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
-                s * s * model.m.get(i, j) + s * (model.c * model.m_beam.get(i, j)) + ks + g * model.k.get(i, j)
+            let lu = BandLu::factor_kd(n, model.k.kd, |i, j| {
+                let ku = model.unrelaxed_entry(i, j);
+                s * s * model.m.get(i, j) + s * (model.c * model.m_beam.get(i, j)) + ku + g * model.k.get(i, j)
             })
             .ok_or_else(|| BeamError::numerical(format!("T(iω) singular at ω = {w} rad/s (undamped resonance)")))?;
             for (r, &p) in rhs.iter_mut().zip(&load) {

@@ -22,4 +22,5 @@ mod state_space;
 pub use error::BeamError;
 pub use frf::frf;
 pub use modal::{modal, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode, SolverPath};
-pub use spec::{BeamSpec, InternalVariable, PointMass, Support};
+pub use model::buckling_load_n;
+pub use spec::{BeamSpec, InternalVariable, PointMass, ShearDeformation, Support};

@@ -34,7 +34,7 @@ use std::collections::HashMap;
 use num_complex::Complex64;
 use serde::{Deserialize, Serialize};
 
-use crate::beam::band::{ldl_factor_for_inverse_iteration, ldl_solve, BandLu, ShiftedLdl, SymBand, KD};
+use crate::beam::band::{ldl_factor_for_inverse_iteration, ldl_solve, BandLu, ShiftedLdl, SymBand};
 use crate::beam::dual::Dual;
 use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
 use crate::beam::family::{family_roots, REAL_TOL};
@@ -110,9 +110,9 @@ const GRID_CACHE: usize = 1024;
 struct EigenCache {
     work: Vec<Dual<f64>>,
     ldl: ShiftedLdl,
-    exact: Option<([u64; 4], Vec<EigenPair>)>,
+    exact: Option<([u64; 5], Vec<EigenPair>)>,
     /// Grid pencil eigenvectors keyed by [`PencilParams::bits`] of the grid point.
-    grid: HashMap<[u64; 4], Vec<GridVector>>,
+    grid: HashMap<[u64; 5], Vec<GridVector>>,
     /// How the last [`EigenCache::lowest`] call got its answer (for tests).
     last_method: Option<EigenMethod>,
 }
@@ -127,7 +127,7 @@ enum EigenMethod {
 /// An eigenvector of a grid pencil with the parameter-free pieces of its
 /// products, so that its RQI start on any pencil of the mesh costs O(n):
 /// M̃x = M̃₀x + ẽ²M̃₁x + μ̃N(Nᵀx), xᵀM̃x = xᵀM̃₀x + ẽ²xᵀM̃₁x + μ̃(Nᵀx)²,
-/// xᵀ(K̃ + K̃_spring)x = xᵀK̃x + k̃_r Σ_spring xᵢ².
+/// xᵀ(K̃ + K̃_spring + K̃_N)x = xᵀK̃x + k̃_r Σ_spring xᵢ² + ñ(xᵀG̃₀x + ẽ²xᵀG̃₁x).
 #[derive(Debug, Clone)]
 struct GridVector {
     vector: Vec<f64>,
@@ -137,6 +137,8 @@ struct GridVector {
     m0_form: f64,
     m1_form: f64,
     spring_sq: f64,
+    /// xᵀG̃₀x and xᵀG̃₁x (axial-force forms; 0 when the mesh pencil has no force).
+    g_forms: (f64, f64),
 }
 
 impl GridVector {
@@ -150,6 +152,10 @@ impl GridVector {
             m0_form: dot(&vector, &m0x),
             m1_form: dot(&vector, &m1x),
             spring_sq: mesh.spring_dofs.iter().map(|&i| vector[i] * vector[i]).sum(),
+            g_forms: {
+                let f = mesh.energy_forms_ext(&vector);
+                (f[5], f[6])
+            },
             vector,
             m0x,
             m1x,
@@ -165,7 +171,8 @@ impl GridVector {
             mx.iter_mut().zip(nv).for_each(|(y, a)| *y += mu * w * a);
             m_form += mu * w * w;
         }
-        let rho = (self.k_form + params.spring * self.spring_sq) / m_form;
+        let k_n = if params.axial != 0.0 { params.axial * (self.g_forms.0 + e2 * self.g_forms.1) } else { 0.0 };
+        let rho = (self.k_form + params.spring * self.spring_sq + k_n) / m_form;
         RqiStart { vector: self.vector.clone(), mx, rho }
     }
 }
@@ -185,7 +192,7 @@ impl EigenCache {
         // exact reuse only for the same count: certification depends on it,
         // and a different count must give what a fresh solve would.
         if !matches!(&self.exact, Some((kk, p)) if *kk == key && p.len() == count) {
-            let rq = |x: &[f64]| mesh.pencil_stiffness(params.spring, x);
+            let rq = |x: &[f64]| mesh.pencil_stiffness(params, x);
             let starts: Option<Vec<RqiStart>> = self
                 .grid_starts(mesh, params.snapped(), count)
                 .map(|grid| grid.iter().map(|g| g.start(params, point_mass)).collect());
@@ -215,8 +222,7 @@ impl EigenCache {
         let hit = matches!(self.grid.get(&key), Some(e) if e.len() >= count);
         if !hit {
             let (kg, mg) = mesh.pencil(&g);
-            let pairs =
-                lowest_eigenpairs(&kg, &mg, count, &mut self.work, &|x| mesh.pencil_stiffness(g.spring, x)).ok()?;
+            let pairs = lowest_eigenpairs(&kg, &mg, count, &mut self.work, &|x| mesh.pencil_stiffness(&g, x)).ok()?;
             if self.grid.len() >= GRID_CACHE {
                 // wholesale reset: the cache only changes speed, never results
                 self.grid.clear();
@@ -241,9 +247,9 @@ impl ModalSolver {
     /// applies, otherwise RQI on T(s) (falling back to the state space).
     pub fn modal(&mut self, beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
         beam.validate()?;
-        let stale = !matches!(&self.mesh, Some(m) if m.elements == beam.elements && m.support == beam.support);
+        let stale = !matches!(&self.mesh, Some(m) if m.matches(beam));
         if stale {
-            self.mesh = Some(UnitMesh::new(beam.elements, beam.support));
+            self.mesh = Some(UnitMesh::for_beam(beam));
             self.eigen = EigenCache::default();
         }
         let Self { mesh, eigen, last_path } = self;
@@ -286,7 +292,7 @@ pub fn modal(beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> 
 /// Modal parameters from the eigenvalues of the state matrix (A15) (reference).
 pub fn modal_state_space(beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
     beam.validate()?;
-    let mesh = UnitMesh::new(beam.elements, beam.support);
+    let mesh = UnitMesh::for_beam(beam);
     let model = ScaledModel::new(beam, &mesh);
     check_mode_count(n_modes, model.n())?;
     state_space_modal(&model, n_modes)
@@ -296,7 +302,7 @@ pub fn modal_state_space(beam: &BeamSpec, n_modes: usize) -> Result<ModalResult,
 /// Count (2 + N)·n, n = free DOFs, N = number of internal variables.
 pub fn poles_state_space(beam: &BeamSpec) -> Result<Vec<Complex64>, BeamError> {
     beam.validate()?;
-    let mesh = UnitMesh::new(beam.elements, beam.support);
+    let mesh = UnitMesh::for_beam(beam);
     let model = ScaledModel::new(beam, &mesh);
     Ok(state_space::scaled_poles(&model)?.into_iter().map(|p| p * model.omega_ref).collect())
 }
@@ -467,11 +473,14 @@ fn complex_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comple
         );
         if model.has_spring() {
             for &i in &model.spring_dofs {
-                t[i * (KD + 1)] += model.spring;
+                t[i * (model.k.kd + 1)] += model.spring;
             }
         }
+        if let Some(ka) = &model.k_axial {
+            t.iter_mut().zip(&ka.data).for_each(|(ti, &v)| *ti += v);
+        }
         let tiny = Complex64::new(f64::EPSILON * (model.k.data[0] + s.norm_sqr() * model.m.data[0]), 0.0);
-        if !ldl_factor_for_inverse_iteration(&mut t, n, tiny) {
+        if !ldl_factor_for_inverse_iteration(&mut t, n, model.k.kd, tiny) {
             return Err(BeamError::numerical("T(s) factorisation broke down in RQI"));
         }
         // y = T'(s) x = (2s M̃ + c̃ M̃_beam + G'(s) K̃) x, from real products of Re x and Im x
@@ -486,7 +495,7 @@ fn complex_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comple
             mat.mul_vec_into(&im, &mut tmp);
             y.iter_mut().zip(&tmp).for_each(|(yi, v)| *yi += coef * Complex64::new(0.0, *v));
         }
-        ldl_solve(&t, n, &mut y);
+        ldl_solve(&t, n, model.k.kd, &mut y);
         let scale = y.iter().fold(0.0f64, |a, v| a.max(v.norm_sqr())).sqrt();
         if !(scale.is_finite() && scale > 0.0) {
             return Err(BeamError::numerical("RQI on T(s) broke down"));
@@ -550,9 +559,10 @@ fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comp
             return Ok(Complex64::new(s, 0.0));
         }
         let (g, dg) = model.relaxation(Complex64::new(s, 0.0));
-        let lu = BandLu::factor(model.n(), |i, j| {
+        let lu = BandLu::factor_kd(model.n(), model.k.kd, |i, j| {
             let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
-            s * s * model.m.get(i, j) + s * model.c * model.m_beam.get(i, j) + ks + g.re * model.k.get(i, j)
+            let ka = model.k_axial.as_ref().map_or(0.0, |ka| ka.get(i, j));
+            s * s * model.m.get(i, j) + s * model.c * model.m_beam.get(i, j) + ks + ka + g.re * model.k.get(i, j)
         });
         let Some(lu) = lu else { return Ok(Complex64::new(s, 0.0)) };
         let (mx, mbx, kx) = (model.m.mul_vec(&x), model.m_beam.mul_vec(&x), model.k.mul_vec(&x));
@@ -661,6 +671,8 @@ mod tests {
             internal_variables: vec![InternalVariable { delta: 0.3, omega_rad_s: 4e11 }],
             support_rotational_stiffness_n_m_rad: spring,
             point_mass: mass.map(|(mass_kg, x_nm)| PointMass { mass_kg, x_nm }),
+            axial_force_n: 0.0,
+            shear_deformation: None,
         }
     }
 
@@ -695,8 +707,7 @@ mod tests {
             let refined = eigen.lowest(mesh, &params, &kt, &model.m, model.point_mass.as_ref(), 4).unwrap().to_vec();
             assert_eq!(eigen.last_method, Some(EigenMethod::Refined), "{b:?}");
             let scratch =
-                lowest_eigenpairs(&kt, &model.m, 4, &mut Vec::new(), &|x| mesh.pencil_stiffness(params.spring, x))
-                    .unwrap();
+                lowest_eigenpairs(&kt, &model.m, 4, &mut Vec::new(), &|x| mesh.pencil_stiffness(&params, x)).unwrap();
             for (r, s) in refined.iter().zip(&scratch) {
                 // both are Rayleigh quotients of vectors converged far below
                 // 1e-6 (error quadratic in it); what remains is the rounding of
@@ -716,6 +727,39 @@ mod tests {
             for other in all.iter().filter(|o| o.support == target.support).take(1 + i % 5) {
                 let mut near = other.clone();
                 near.nonlocal_e0a_nm = target.nonlocal_e0a_nm * 1.003;
+                shared.modal(&near, 3).unwrap();
+                shared.modal(other, 3).unwrap();
+            }
+            let seen = shared.modal(target, 3).unwrap();
+            let fresh = ModalSolver::new().modal(target, 3).unwrap();
+            assert_eq!(seen, fresh, "history changed the bits for {target:?}");
+        }
+    }
+
+    /// The invariant of [`ModalSolver`] with the issue-13 mechanisms: a
+    /// history of other axial forces, shear parameters (a different mesh) and
+    /// nearby pencils leaves the bits of every result unchanged.
+    #[test]
+    fn results_with_axial_force_and_shear_do_not_depend_on_history() {
+        use crate::beam::spec::ShearDeformation;
+        let shear = |k: f64| Some(ShearDeformation { poisson_ratio: 0.2, shear_coefficient: k });
+        let mut all = Vec::new();
+        for support in Support::ALL {
+            for (axial, sh) in
+                [(2e-10, None), (-1e-9, None), (0.0, shear(0.9)), (3e-9, shear(0.7)), (-5e-10, shear(0.9))]
+            {
+                let mut b = beam(support, 0.8, 0.0, None);
+                b.axial_force_n = axial;
+                b.shear_deformation = sh;
+                all.push(b);
+            }
+        }
+        let mut shared = ModalSolver::new();
+        for (i, target) in all.iter().enumerate() {
+            for other in all.iter().filter(|o| o.support == target.support).take(1 + i % 5) {
+                let mut near = other.clone();
+                near.axial_force_n = target.axial_force_n * 0.97;
+                near.nonlocal_e0a_nm *= 1.003;
                 shared.modal(&near, 3).unwrap();
                 shared.modal(other, 3).unwrap();
             }

@@ -29,6 +29,9 @@ use crate::beam::spec::{BeamSpec, Support};
 use crate::beam::BeamError;
 use crate::error::InputError;
 
+/// (weight, N, N′, N″) at one Gauss point of an Euler–Bernoulli element.
+type GaussPoint = (f64, [f64; 4], [f64; 4], [f64; 4]);
+
 /// Unit assembled integrals of a uniform mesh (depend only on elements and support).
 #[derive(Debug, Clone, PartialEq)]
 pub struct UnitMesh {
@@ -44,8 +47,14 @@ pub struct UnitMesh {
     pub m1: SymBand,
     /// Reduced indices of rotations carrying a support spring.
     pub spring_dofs: Vec<usize>,
+    /// Σ∫N_w′N_w′ᵀ dx̃ and Σ∫N_w″N_w″ᵀ dx̃: the axial-force (geometric) stiffness
+    /// K̃_N = ñ(G̃₀ + ẽ²G̃₁) (for Euler–Bernoulli these are `m1` and `k`).
+    pub g0: SymBand,
+    pub g1: SymBand,
+    /// Timoshenko data (shear deformation and rotary inertia); `None` = Euler–Bernoulli.
+    pub shear: Option<ShearMesh>,
     /// (weight, N, N', N'') at the 4 Gauss points of one element (uniform mesh).
-    gauss: [(f64, [f64; 4], [f64; 4], [f64; 4]); 4],
+    gauss: [GaussPoint; 4],
     /// N''(0) and N''(h̃) of one element (w'' is linear on an element).
     curvature_ends: [[f64; 4]; 2],
 }
@@ -55,7 +64,140 @@ const GX: [f64; 4] =
 const GW: [f64; 4] =
     [0.347_854_845_137_453_8, 0.652_145_154_862_546_1, 0.652_145_154_862_546_1, 0.347_854_845_137_453_8];
 
+/// The Timoshenko part of a [`UnitMesh`] (`element::timoshenko_point`: four
+/// DOFs per node (w, θ, s, γ), half-bandwidth 7). The mesh's `k`, `m0`, `m1` are
+/// k = Σ∫(θ′θ′ᵀ + g̃ γγᵀ), m0 = Σ∫(wwᵀ + r̃²θθᵀ), m1 = Σ∫(w′w′ᵀ + r̃²θ′θ′ᵀ),
+/// and the external viscous damping acts on the translational part only.
+/// Supports: w = 0 at a supported end, θ = 0 at a clamped one (section
+/// rotation); s₀ = 0 fixes the split's gauge (a uniform shift of w_s against
+/// w_b changes neither w nor θ nor γ).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShearMesh {
+    /// g̃ = κGAL²/EI (dimensionless shear stiffness).
+    pub g: f64,
+    /// r̃² = I/(AL²) (rotary inertia relative to ρAL).
+    pub r2: f64,
+    /// Σ∫wwᵀ and Σ∫w′w′ᵀ (translational mass: the damping shape).
+    pub mt0: SymBand,
+    pub mt1: SymBand,
+    /// (weight, fields) at the 4 Gauss points of one element.
+    gauss: [(f64, element::TimoshenkoPoint); 4],
+}
+
+/// DOFs per node of the Timoshenko mesh.
+const SHEAR_DPN: usize = 4;
+
+/// (g̃, r̃²) of a beam with shear deformation: g̃ = κGAL²/EI = (κG/E)·AL²/I
+/// and r̃² = I/(AL²) (solid circle: AL²/I = 16L²/d²).
+pub fn shear_params(beam: &BeamSpec) -> Option<(f64, f64)> {
+    beam.shear_deformation.map(|sd| {
+        let l2_over_r2 = beam.area_m2() * (beam.length_nm * 1e-9).powi(2) / beam.inertia_m4();
+        (sd.shear_to_youngs() * l2_over_r2, 1.0 / l2_over_r2)
+    })
+}
+
 impl UnitMesh {
+    /// The mesh of a beam: Euler–Bernoulli, or Timoshenko with its (g̃, r̃²).
+    pub fn for_beam(beam: &BeamSpec) -> Self {
+        Self::with_shear(beam.elements, beam.support, shear_params(beam))
+    }
+
+    /// True when this mesh is the one [`Self::for_beam`] would build (bitwise).
+    pub fn matches(&self, beam: &BeamSpec) -> bool {
+        let mine = self.shear.as_ref().map(|s| (s.g.to_bits(), s.r2.to_bits()));
+        let theirs = shear_params(beam).map(|(g, r2)| (g.to_bits(), r2.to_bits()));
+        self.elements == beam.elements && self.support == beam.support && mine == theirs
+    }
+
+    /// Timoshenko mesh with shear parameters (g̃, r̃²), or Euler–Bernoulli for `None`.
+    pub fn with_shear(elements: usize, support: Support, shear: Option<(f64, f64)>) -> Self {
+        let Some((g, r2)) = shear else { return Self::new(elements, support) };
+        let mut mesh = Self::new(elements, support);
+        let last = elements;
+        let node = |i: usize, d: usize| SHEAR_DPN * i + d;
+        let mut removed = vec![node(0, 2)];
+        removed.extend(match support {
+            Support::SimplySupported => vec![node(0, 0), node(last, 0)],
+            Support::ClampedClamped => vec![node(0, 0), node(0, 1), node(last, 0), node(last, 1)],
+            Support::ClampedFree => vec![node(0, 0), node(0, 1)],
+            Support::ClampedPinned => vec![node(0, 0), node(0, 1), node(last, 0)],
+        });
+        let mut next = 0;
+        mesh.dof_map = (0..SHEAR_DPN * (elements + 1))
+            .map(|gl| {
+                (!removed.contains(&gl)).then(|| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect();
+        let spring_global: Vec<usize> = match support {
+            Support::SimplySupported => vec![node(0, 1), node(last, 1)],
+            Support::ClampedPinned => vec![node(last, 1)],
+            Support::ClampedClamped | Support::ClampedFree => vec![],
+        };
+        mesh.spring_dofs = spring_global.iter().filter_map(|&gl| mesh.dof_map[gl]).collect();
+        let h = 1.0 / elements as f64;
+        let te = element::timoshenko_element(h);
+        let comb = |a: &element::Mat8, c: f64, b: &element::Mat8| -> element::Mat8 {
+            std::array::from_fn(|i| std::array::from_fn(|j| a[i][j] + c * b[i][j]))
+        };
+        let [k, m0, m1, mt0, mt1, g1] = mesh.assemble_shear(
+            next,
+            [
+                comb(&te.bending, g, &te.shear),
+                comb(&te.mass_w0, r2, &te.mass_t0),
+                comb(&te.mass_w1, r2, &te.bending),
+                te.mass_w0,
+                te.mass_w1,
+                te.geometric_1,
+            ],
+        );
+        mesh.gauss_shear_init(h, g, r2, mt0, mt1);
+        mesh.g0 = mesh.shear.as_ref().expect("just set").mt1.clone();
+        mesh.g1 = g1;
+        mesh.k = k;
+        mesh.m0 = m0;
+        mesh.m1 = m1;
+        mesh
+    }
+
+    fn gauss_shear_init(&mut self, h: f64, g: f64, r2: f64, mt0: SymBand, mt1: SymBand) {
+        let gauss = std::array::from_fn(|i| {
+            let xl = 0.5 * h * (1.0 + element::GAUSS4_X[i]);
+            (0.5 * h * element::GAUSS4_W[i], element::timoshenko_point(h, xl))
+        });
+        self.shear = Some(ShearMesh { g, r2, mt0, mt1, gauss });
+    }
+
+    /// Assembles 8×8 Timoshenko element matrices over the mesh (n reduced DOFs).
+    fn assemble_shear<const K: usize>(&self, n: usize, mats: [element::Mat8; K]) -> [SymBand; K] {
+        let mut out: [SymBand; K] = std::array::from_fn(|_| SymBand::zeros_kd(n, 2 * SHEAR_DPN - 1));
+        for e in 0..self.elements {
+            for a in 0..8 {
+                let Some(i) = self.dof_map[SHEAR_DPN * e + a] else { continue };
+                for b in 0..=a {
+                    let Some(j) = self.dof_map[SHEAR_DPN * e + b] else { continue };
+                    for (band, mat) in out.iter_mut().zip(&mats) {
+                        band.add(i, j, mat[a][b]);
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// v += w·coef scattered from element `e`'s local DOFs to reduced DOFs
+    /// (8 coefficients for Timoshenko, 4 for Euler–Bernoulli).
+    fn scatter(&self, e: usize, coef: &[f64], w: f64, v: &mut [f64]) {
+        let dpn = if self.shear.is_some() { SHEAR_DPN } else { 2 };
+        for (a, c) in coef.iter().enumerate() {
+            if let Some(i) = self.dof_map[dpn * e + a] {
+                v[i] += w * c;
+            }
+        }
+    }
+
     pub fn new(elements: usize, support: Support) -> Self {
         let ndof = 2 * (elements + 1);
         let last = elements;
@@ -99,7 +241,8 @@ impl UnitMesh {
             (0.5 * h * GW[g], element::shape(h, xl), element::shape_d(h, xl), element::shape_dd(h, xl))
         });
         let curvature_ends = [element::shape_dd(h, 0.0), element::shape_dd(h, h)];
-        Self { elements, support, dof_map, k, m0, m1, spring_dofs, gauss, curvature_ends }
+        let (g0, g1) = (m1.clone(), k.clone());
+        Self { elements, support, dof_map, k, m0, m1, g0, g1, shear: None, spring_dofs, gauss, curvature_ends }
     }
 
     pub fn n(&self) -> usize {
@@ -143,12 +286,56 @@ impl UnitMesh {
         out
     }
 
+    /// Every form a model needs, element by element with 4-point Gauss (same
+    /// accuracy argument as [`Self::energy_forms`]): [k, m0, m1, mt0, mt1, g0, g1] =
+    /// xᵀK̃x, xᵀM̃₀x, xᵀM̃₁x (M̃ = M̃₀ + ẽ²M̃₁), the translational parts of M̃₀, M̃₁
+    /// (the damping shape) and xᵀG̃₀x = ∫(w′)², xᵀG̃₁x = ∫(w″)² (axial force).
+    /// Euler–Bernoulli: k = g1 = ∫(w″)², m0 = mt0 = ∫w², m1 = mt1 = g0 = ∫(w′)².
+    /// Timoshenko: k = ∫(θ′)² + g̃∫γ², m0 = ∫w² + r̃²∫θ², m1 = ∫(w′)² + r̃²∫(θ′)².
+    pub fn energy_forms_ext<T>(&self, x: &[T]) -> [T; 7]
+    where
+        T: Copy + Default + std::ops::Add<Output = T> + std::ops::Mul<Output = T> + std::ops::Mul<f64, Output = T>,
+    {
+        let Some(sh) = &self.shear else {
+            let [k, m0, m1] = self.energy_forms(x);
+            return [k, m0, m1, m0, m1, m1, k];
+        };
+        let mut out = [T::default(); 7];
+        for e in 0..self.elements {
+            let mut q = [T::default(); 8];
+            for (a, qa) in q.iter_mut().enumerate() {
+                if let Some(i) = self.dof_map[SHEAR_DPN * e + a] {
+                    *qa = x[i];
+                }
+            }
+            for (wt, p) in &sh.gauss {
+                let dot = |f: &[f64; 8]| (0..8).fold(T::default(), |acc, a| acc + q[a] * f[a]);
+                let (w, w1, w2) = (dot(&p.w), dot(&p.dw), dot(&p.ddw));
+                let (t, t1, gam) = (dot(&p.rot), dot(&p.drot), dot(&p.shear));
+                out[0] = out[0] + (t1 * t1 + gam * gam * sh.g) * *wt;
+                out[1] = out[1] + t * t * *wt;
+                out[2] = out[2] + t1 * t1 * *wt;
+                out[3] = out[3] + w * w * *wt;
+                out[4] = out[4] + w1 * w1 * *wt;
+                out[6] = out[6] + w2 * w2 * *wt;
+            }
+        }
+        // out[1], out[2] hold the rotary parts so far
+        out[1] = out[3] + out[1] * sh.r2;
+        out[2] = out[4] + out[2] * sh.r2;
+        out[5] = out[4];
+        out
+    }
+
     /// xᵀK̃x = ∫₀¹ (w'')² dx̃ element by element in closed form: w'' is linear
     /// on an element, so with a, b its end values ∫ (w'')² = h̃(a² + ab + b²)/3.
     /// Same accuracy argument as [`Self::energy_forms`] (no cancellation
     /// between assembled entries; a² + ab + b² ≥ (a² + b²)/2 has none either),
     /// at a tenth of its cost: this is the numerator of every Rayleigh quotient.
     pub fn stiffness_form(&self, x: &[f64]) -> f64 {
+        if self.shear.is_some() {
+            return self.energy_forms_ext(x)[0];
+        }
         let h = 1.0 / self.elements as f64;
         let [n0, n1] = &self.curvature_ends;
         let mut sum = 0.0;
@@ -169,13 +356,14 @@ impl UnitMesh {
     pub fn shape_vector(&self, xt: f64) -> Vec<f64> {
         let h = 1.0 / self.elements as f64;
         let (e, xl) = self.locate(xt);
+        if self.shear.is_some() {
+            let mut v = vec![0.0; self.n()];
+            self.scatter(e, &element::timoshenko_point(h, xl).w, 1.0, &mut v);
+            return v;
+        }
         let n = element::shape(h, xl);
         let mut v = vec![0.0; self.n()];
-        for a in 0..4 {
-            if let Some(i) = self.dof_map[2 * e + a] {
-                v[i] += n[a];
-            }
-        }
+        self.scatter(e, &n, 1.0, &mut v);
         v
     }
 
@@ -197,12 +385,15 @@ impl UnitMesh {
             vec![(e, xl, 1.0)]
         };
         for (e, xl, w) in parts {
-            let p = element::point_load(h, xl, e_tilde);
-            for a in 0..4 {
-                if let Some(i) = self.dof_map[2 * e + a] {
-                    v[i] += w * p[a];
-                }
+            if self.shear.is_some() {
+                // (A7) with the Timoshenko deflection: N_w − ẽ²N_w″
+                let t = element::timoshenko_point(h, xl);
+                let p: [f64; 8] = std::array::from_fn(|a| t.w[a] - e_tilde * e_tilde * t.ddw[a]);
+                self.scatter(e, &p, w, &mut v);
+                continue;
             }
+            let p = element::point_load(h, xl, e_tilde);
+            self.scatter(e, &p, w, &mut v);
         }
         v
     }
@@ -219,6 +410,8 @@ pub struct PencilParams {
     pub point_mass: Option<(f64, f64)>,
     /// k̃_r on the spring DOFs (0 = none).
     pub spring: f64,
+    /// ñ = NL²/EI, the axial force (0 = none).
+    pub axial: f64,
 }
 
 /// Grid of [`PencilParams::snapped`]: steps in ẽ², ln μ̃, x̃ and ln k̃_r.
@@ -233,12 +426,17 @@ pub struct PencilParams {
 const GRID_E2: f64 = 1e-3;
 const GRID_LN: f64 = 0.25;
 const GRID_X: f64 = 0.05;
+/// Step of ñ = NL²/EI on the grid (the simply supported buckling load is
+/// ñ = −π²(1 + …) ≈ −10; a step of 0.25 moves λ₁ ≈ π⁴ + ñπ² by ≲ 2.5 %).
+/// Snapped towards 0, so a compressed grid pencil is never past buckling
+/// when the pencil itself is not.
+const GRID_N: f64 = 0.25;
 
 impl PencilParams {
     /// Bitwise identity.
-    pub fn bits(&self) -> [u64; 4] {
+    pub fn bits(&self) -> [u64; 5] {
         let (mu, x) = self.point_mass.unwrap_or((0.0, 0.0));
-        [self.e_tilde.to_bits(), mu.to_bits(), x.to_bits(), self.spring.to_bits()]
+        [self.e_tilde.to_bits(), mu.to_bits(), x.to_bits(), self.spring.to_bits(), self.axial.to_bits()]
     }
 
     /// The nearest grid point: a pencil whose eigenpairs serve as RQI starts
@@ -252,6 +450,7 @@ impl PencilParams {
             e_tilde: e2.sqrt(),
             point_mass: self.point_mass.map(|(mu, x)| (ln_snap(mu), ((x / GRID_X).round() * GRID_X).clamp(0.0, 1.0))),
             spring: if self.spring > 0.0 { ln_snap(self.spring) } else { 0.0 },
+            axial: (self.axial / GRID_N).trunc() * GRID_N,
         }
     }
 }
@@ -265,6 +464,9 @@ impl UnitMesh {
                 k.add(i, i, p.spring);
             }
         }
+        if p.axial != 0.0 {
+            k = k.plus_scaled(1.0, &self.geometric(p.axial, p.e_tilde));
+        }
         let mut m = self.m0.plus_scaled(p.e_tilde * p.e_tilde, &self.m1);
         if let Some((mu, x)) = p.point_mass {
             add_point_mass(&mut m, mu, &self.shape_vector(x));
@@ -275,9 +477,24 @@ impl UnitMesh {
     /// xᵀ(K̃ + K̃_spring)x with the beam part from [`Self::stiffness_form`]:
     /// the numerator of the pencil's Rayleigh quotients (the denominator
     /// xᵀM̃x has no such cancellation: M̃ ≻ 0 with a modest condition number).
-    pub fn pencil_stiffness(&self, spring: f64, x: &[f64]) -> f64 {
+    pub fn pencil_stiffness(&self, p: &PencilParams, x: &[f64]) -> f64 {
+        let spring = p.spring;
         let ks: f64 = if spring > 0.0 { self.spring_dofs.iter().map(|&i| spring * x[i] * x[i]).sum() } else { 0.0 };
+        if p.axial != 0.0 {
+            let f = self.energy_forms_ext(x);
+            return f[0] + ks + p.axial * (f[5] + p.e_tilde * p.e_tilde * f[6]);
+        }
         self.stiffness_form(x) + ks
+    }
+
+    /// K̃_N = ñ(G̃₀ + ẽ²G̃₁): the axial force N·(∫N′N′ᵀ + (e0a)²∫N″N″ᵀ) with
+    /// Eringen's operator acting on the axial-force term, N w″ → (1 − (e0a)²∂²)N w″
+    /// (Reddy, "Nonlocal theories for bending, buckling and vibration of beams",
+    /// Int. J. Eng. Sci. 45 (2007) 288–307, eq. (28)), in units of EI/L³.
+    pub fn geometric(&self, axial: f64, e_tilde: f64) -> SymBand {
+        let mut g = self.g0.plus_scaled(e_tilde * e_tilde, &self.g1);
+        g.data.iter_mut().for_each(|v| *v *= axial);
+        g
     }
 }
 
@@ -303,8 +520,16 @@ pub struct ScaledModel<'a> {
     pub point_mass: Option<(f64, Vec<f64>)>,
     /// M̃ including the point mass.
     pub m: SymBand,
-    /// M̃ of the beam alone (the viscous damping is c̃ times this).
+    /// The damping shape: the viscous damping matrix is c̃ times this. It is
+    /// the translational nonlocal mass of the beam (A5): M̃ of the beam alone
+    /// for Euler–Bernoulli, without the rotary inertia for Timoshenko.
     pub m_beam: SymBand,
+    /// K̃_N = ñ(G̃₀ + ẽ²G̃₁), the axial-force stiffness (elastic, not relaxed).
+    pub k_axial: Option<SymBand>,
+    /// ñ = NL²/EI.
+    pub axial: f64,
+    /// True for a Timoshenko beam (rotary inertia: D̃ ∝ M̃ only if c̃ = 0).
+    pub has_rotary: bool,
     /// k̃_r on each spring DOF (0 = no spring).
     pub spring: f64,
     pub spring_dofs: Vec<usize>,
@@ -329,8 +554,14 @@ impl<'a> ScaledModel<'a> {
         let rho_a = beam.density_kg_m3 * beam.area_m2();
         let omega_ref = (ei / rho_a).sqrt() / (l * l);
         let e_tilde = beam.nonlocal_e0a_nm / beam.length_nm;
-        let m_beam = mesh.m0.plus_scaled(e_tilde * e_tilde, &mesh.m1);
-        let mut m = m_beam.clone();
+        let m_all = mesh.m0.plus_scaled(e_tilde * e_tilde, &mesh.m1);
+        let m_beam = match &mesh.shear {
+            Some(sh) => sh.mt0.plus_scaled(e_tilde * e_tilde, &sh.mt1),
+            None => m_all.clone(),
+        };
+        let mut m = m_all;
+        let axial = beam.axial_force_n * l * l / ei;
+        let k_axial = (axial != 0.0).then(|| mesh.geometric(axial, e_tilde));
         let mut point_mass = None;
         if let Some(pm) = &beam.point_mass {
             let mu = pm.mass_kg / (rho_a * l);
@@ -347,6 +578,9 @@ impl<'a> ScaledModel<'a> {
             point_mass,
             m,
             m_beam,
+            k_axial,
+            axial,
+            has_rotary: mesh.shear.is_some(),
             spring,
             spring_dofs: mesh.spring_dofs.clone(),
             c: beam.viscous_damping_n_s_m2 / (rho_a * omega_ref),
@@ -370,6 +604,7 @@ impl<'a> ScaledModel<'a> {
             e_tilde: self.e_tilde,
             point_mass: self.point_mass.as_ref().map(|(mu, _)| (*mu, self.point_mass_x)),
             spring: if self.has_spring() { self.spring } else { 0.0 },
+            axial: self.axial,
         }
     }
 
@@ -378,9 +613,10 @@ impl<'a> ScaledModel<'a> {
     }
 
     /// True when the pencil decouples exactly (proof in `modal.rs`): no spring,
-    /// and no point mass unless C = 0.
+    /// no axial force (both are elastic stiffness not ∝ the relaxed K̃), and
+    /// D̃ ∝ M̃: no point mass and no rotary inertia unless C = 0.
     pub fn decouples(&self) -> bool {
-        !self.has_spring() && (!self.has_point_mass || self.c == 0.0)
+        !self.has_spring() && self.k_axial.is_none() && (!(self.has_point_mass || self.has_rotary) || self.c == 0.0)
     }
 
     /// K̃ + K̃_spring (the elastic stiffness of the undamped, relaxed pencil).
@@ -391,18 +627,34 @@ impl<'a> ScaledModel<'a> {
                 k.add(i, i, self.spring);
             }
         }
+        if let Some(ka) = &self.k_axial {
+            k = k.plus_scaled(1.0, ka);
+        }
         k
     }
 
-    /// Bilinear forms of x: (xᵀK̃x, xᵀM̃x, xᵀM̃_beam x, xᵀK̃_spring x), the
-    /// first three from element energies (see [`UnitMesh::energy_forms`]).
+    /// The entry (i, j) of the unrelaxed elastic stiffness K̃_spring + K̃_N.
+    pub fn unrelaxed_entry(&self, i: usize, j: usize) -> f64 {
+        let ks = if i == j && self.has_spring() && self.spring_dofs.contains(&i) { self.spring } else { 0.0 };
+        ks + self.k_axial.as_ref().map_or(0.0, |ka| ka.get(i, j))
+    }
+
+    /// Bilinear forms of x: (xᵀK̃x, xᵀM̃x, xᵀM̃_beam x, xᵀ(K̃_spring + K̃_N)x), the
+    /// first three (and the axial part of the last) from element energies
+    /// (see [`UnitMesh::energy_forms`]).
     pub fn forms<T>(&self, x: &[T]) -> (T, T, T, T)
     where
         T: Copy + Default + std::ops::Add<Output = T> + std::ops::Mul<Output = T> + std::ops::Mul<f64, Output = T>,
     {
-        let [k, m0, m1] = self.mesh.energy_forms(x);
-        let mb = m0 + m1 * (self.e_tilde * self.e_tilde);
-        let mut m = mb;
+        let e2 = self.e_tilde * self.e_tilde;
+        let (k, mut m, mb, k_n) = if self.mesh.shear.is_none() && self.k_axial.is_none() {
+            let [k, m0, m1] = self.mesh.energy_forms(x);
+            let mb = m0 + m1 * e2;
+            (k, mb, mb, T::default())
+        } else {
+            let [k, m0, m1, mt0, mt1, g0, g1] = self.mesh.energy_forms_ext(x);
+            (k, m0 + m1 * e2, mt0 + mt1 * e2, (g0 + g1 * e2) * self.axial)
+        };
         if let Some((mu, nv)) = &self.point_mass {
             let mut w = T::default();
             for (a, b) in nv.iter().zip(x) {
@@ -412,7 +664,7 @@ impl<'a> ScaledModel<'a> {
             }
             m = m + w * w * *mu;
         }
-        let mut ks = T::default();
+        let mut ks = k_n;
         if self.has_spring() {
             for &i in &self.spring_dofs {
                 ks = ks + x[i] * x[i] * self.spring;
@@ -442,4 +694,56 @@ pub fn check_position(field: &str, x_nm: f64, length_nm: f64) -> Result<f64, Bea
     } else {
         Err(InputError::new(field, x_nm, format!("0 <= x <= length_nm = {length_nm}")).into())
     }
+}
+
+/// Rejects a compressive axial force at or beyond the buckling load of this
+/// beam's mesh and support: the lowest eigenvalue ñ_cr of the geometric-
+/// stiffness pencil (K̃ + K̃_spring) φ = ñ_cr (G̃₀ + ẽ²G̃₁) φ, i.e. the smallest
+/// compression −N at which K̃ + K̃_spring + K̃_N loses positive definiteness
+/// (the static limit ω → 0 of every mode; the relaxed and unrelaxed K̃ differ
+/// by the factor 1 + ΣΔᵢ ≥ 1, so the relaxed, static one is the binding bound).
+/// Simply supported, continuum: N_cr = −EIα₁²/(1 + μα₁²), α₁ = π/L
+/// (tested in `tests/beam_axial_shear.rs`).
+///
+/// Cost: one mesh and one banded LDLᵀ inertia count; the bound itself (an
+/// eigen-solve) is computed only for the error message.
+pub fn check_buckling(beam: &BeamSpec) -> Result<(), InputError> {
+    if beam.axial_force_n >= 0.0 {
+        return Ok(());
+    }
+    let (k_el, kg, to_newton) = buckling_pencil(beam);
+    // inertia of K_el − σG with σ = −ñ > 0: no negative pivot ⇔ stable
+    let n_tilde = beam.axial_force_n / to_newton;
+    if matches!(k_el.ldl_inertia(&kg, -n_tilde, &mut Vec::new()), Some((0, _))) {
+        return Ok(());
+    }
+    let allowed = match buckling_load_n(beam) {
+        Ok(n_cr) => format!(
+            "> {n_cr:.6e} N (buckling load of this beam: {}, {} elements, e0a = {} nm)",
+            beam.support.name(),
+            beam.elements,
+            beam.nonlocal_e0a_nm
+        ),
+        Err(_) => "above the buckling load of this beam (tension > 0)".to_string(),
+    };
+    Err(InputError::new("axial_force_n", beam.axial_force_n, allowed))
+}
+
+/// The buckling load N_cr < 0 (newtons) of this beam's mesh and support (see
+/// [`check_buckling`]); the axial force of `beam` itself is ignored.
+pub fn buckling_load_n(beam: &BeamSpec) -> Result<f64, BeamError> {
+    let (k_el, kg, to_newton) = buckling_pencil(beam);
+    let pairs = crate::beam::eigen::lowest_eigenpairs(&k_el, &kg, 1, &mut Vec::new(), &|x| k_el.bilinear(x, x))?;
+    Ok(-pairs[0].lambda * to_newton)
+}
+
+/// (K̃ + K̃_spring, G̃₀ + ẽ²G̃₁, EI/L²): the buckling pencil and the factor from ñ to newtons.
+fn buckling_pencil(beam: &BeamSpec) -> (SymBand, SymBand, f64) {
+    let mesh = UnitMesh::for_beam(beam);
+    let mut free = beam.clone();
+    free.axial_force_n = 0.0;
+    let model = ScaledModel::new(&free, &mesh);
+    let kg = mesh.g0.plus_scaled(model.e_tilde * model.e_tilde, &mesh.g1);
+    let l = beam.length_nm * 1e-9;
+    (model.k_total(), kg, beam.youngs_modulus_pa * beam.inertia_m4() / (l * l))
 }

@@ -57,6 +57,30 @@ pub struct PointMass {
     pub x_nm: f64,
 }
 
+/// Shear deformation and rotary inertia (nonlocal Timoshenko beam, extension,
+/// default off). The shear modulus is G = E/(2(1 + ν)); E and G relax
+/// together (ν is constant), so the relaxation factor multiplies the whole
+/// elastic stiffness (bending + shear).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShearDeformation {
+    /// Poisson's ratio ν, −1 < ν ≤ 0.5 (isotropic elasticity).
+    pub poisson_ratio: f64,
+    /// Timoshenko shear coefficient κ, 0 < κ ≤ 1 (solid circle: 6(1+ν)/(7+6ν) ≈ 0.9).
+    pub shear_coefficient: f64,
+}
+
+impl ShearDeformation {
+    /// κG/E = κ/(2(1 + ν)).
+    pub fn shear_to_youngs(&self) -> f64 {
+        self.shear_coefficient / (2.0 * (1.0 + self.poisson_ratio))
+    }
+}
+
+fn is_zero(v: &f64) -> bool {
+    *v == 0.0
+}
+
 /// A beam as written in YAML.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -84,6 +108,15 @@ pub struct BeamSpec {
     /// Attached point mass (extension, default none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub point_mass: Option<PointMass>,
+    /// Axial force N in newtons, tension > 0, compression < 0 (extension,
+    /// default 0). Elastic: not multiplied by the relaxation factor.
+    /// Compression must stay above the (nonlocal) buckling load of the
+    /// beam's mesh and support (checked by [`BeamSpec::validate`]).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub axial_force_n: f64,
+    /// Shear deformation and rotary inertia (Timoshenko beam; default off).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shear_deformation: Option<ShearDeformation>,
 }
 
 /// Largest element count accepted: far beyond convergence, keeps dense paths bounded.
@@ -115,6 +148,29 @@ impl BeamSpec {
                     format!("0 <= x_nm <= length_nm = {}", self.length_nm),
                 ));
             }
+        }
+        self.validate_extensions()?;
+        Ok(())
+    }
+
+    /// The axial force and shear-deformation fields (issue 13), including the
+    /// buckling bound of a compressive force.
+    fn validate_extensions(&self) -> Result<(), InputError> {
+        if !self.axial_force_n.is_finite() {
+            return Err(InputError::new("axial_force_n", self.axial_force_n, "finite (tension > 0, compression < 0)"));
+        }
+        if let Some(sd) = &self.shear_deformation {
+            let nu = sd.poisson_ratio;
+            if !(nu.is_finite() && nu > -1.0 && nu <= 0.5) {
+                return Err(InputError::new("shear_deformation.poisson_ratio", nu, "-1 < poisson_ratio <= 0.5"));
+            }
+            let k = sd.shear_coefficient;
+            if !(k.is_finite() && k > 0.0 && k <= 1.0) {
+                return Err(InputError::new("shear_deformation.shear_coefficient", k, "0 < shear_coefficient <= 1"));
+            }
+        }
+        if self.axial_force_n < 0.0 {
+            crate::beam::model::check_buckling(self)?;
         }
         Ok(())
     }

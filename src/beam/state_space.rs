@@ -12,7 +12,8 @@
 //! With xa = [q; q̄₁ … q̄_N; q̇]:
 //!   d/dt q  = q̇
 //!   d/dt q̄ᵢ = Ωᵢ q − Ωᵢ q̄ᵢ
-//!   d/dt q̇  = −M⁻¹[(1+ΣΔᵢ)K + K_spring] q + Σ M⁻¹ΔᵢK q̄ᵢ − M⁻¹D q̇.
+//!   d/dt q̇  = −M⁻¹[(1+ΣΔᵢ)K + K_spring + K_N] q + Σ M⁻¹ΔᵢK q̄ᵢ − M⁻¹D q̇
+//! (K_N the axial-force stiffness, elastic like the support spring).
 //! Dimension (2 + N)·n. Laplace transform: q̄ᵢ = Ωᵢ/(s+Ωᵢ) q, so the elastic
 //! force becomes K(1 + ΣΔᵢ − ΣΔᵢΩᵢ/(s+Ωᵢ)) = K(1 + ΣΔᵢ s/(s+Ωᵢ)) — eq. (9).
 //!
@@ -63,6 +64,9 @@ pub fn state_matrix(model: &ScaledModel) -> Result<DMatrix<f64>, BeamError> {
         for &i in &model.spring_dofs {
             k_el[(i, i)] += model.spring;
         }
+    }
+    if let Some(ka) = &model.k_axial {
+        k_el += ka.to_dense();
     }
     let minv_kel = chol.solve(&k_el);
     let minv_k = chol.solve(&k);

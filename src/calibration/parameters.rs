@@ -7,7 +7,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::bayes::prior::Prior;
-use crate::beam::{BeamSpec, InternalVariable, PointMass};
+use crate::beam::{BeamSpec, InternalVariable, PointMass, ShearDeformation};
 use crate::error::InputError;
 
 /// What a named parameter acts on.
@@ -30,13 +30,20 @@ pub enum Target {
     YoungsModulus,
     Density,
     Length,
+    /// Axial force N in newtons (tension > 0, compression < 0).
+    AxialForce,
+    /// Timoshenko shear coefficient κ (turns shear deformation on).
+    ShearCoefficient,
+    /// Poisson's ratio ν of the shear modulus G = E/(2(1 + ν)) (turns shear deformation on).
+    PoissonRatio,
 }
 
 /// Names accepted in `parameters`, with the allowed form. `delta`/`omega_rad_s`
 /// are the first internal variable; `delta_2`, `omega_2_rad_s`, ... further ones.
 pub const KNOWN_NAMES: &str = "nonlocal_e0a_nm, delta, omega_rad_s, delta_K, omega_K_rad_s (K >= 2), \
 diameter_nm, beta_squared, viscous_damping_n_s_m2, support_rotational_stiffness_n_m_rad, \
-point_mass_kg, point_mass_x_nm, youngs_modulus_pa, density_kg_m3, length_nm";
+point_mass_kg, point_mass_x_nm, youngs_modulus_pa, density_kg_m3, length_nm, axial_force_n, \
+shear_coefficient, poisson_ratio";
 
 impl Target {
     pub fn from_name(name: &str) -> Option<Target> {
@@ -53,6 +60,9 @@ impl Target {
             "youngs_modulus_pa" => Target::YoungsModulus,
             "density_kg_m3" => Target::Density,
             "length_nm" => Target::Length,
+            "axial_force_n" => Target::AxialForce,
+            "shear_coefficient" => Target::ShearCoefficient,
+            "poisson_ratio" => Target::PoissonRatio,
             _ => {
                 if let Some(k) = name.strip_prefix("delta_") {
                     let k: usize = k.parse().ok().filter(|&k| k >= 2)?;
@@ -176,7 +186,7 @@ impl ParameterSet {
                     ));
                 }
             }
-            check_physical(&p.prior, &field)?;
+            check_range(p, &field)?;
             if p.target == Target::PointMassXnm {
                 let (_, hi) = p.prior.support();
                 if hi > beam.length_nm {
@@ -221,6 +231,9 @@ impl ParameterSet {
                 Target::YoungsModulus => beam.youngs_modulus_pa = v,
                 Target::Density => beam.density_kg_m3 = v,
                 Target::Length => beam.length_nm = v,
+                Target::AxialForce => beam.axial_force_n = v,
+                Target::ShearCoefficient => shear_mut(beam).shear_coefficient = v,
+                Target::PoissonRatio => shear_mut(beam).poisson_ratio = v,
             }
         }
     }
@@ -236,6 +249,54 @@ fn iv_mut(beam: &mut BeamSpec, i: usize) -> &mut InternalVariable {
 fn point_mass_mut(beam: &mut BeamSpec) -> &mut PointMass {
     let half = beam.length_nm / 2.0;
     beam.point_mass.get_or_insert(PointMass { mass_kg: 0.0, x_nm: half })
+}
+
+/// Default Poisson's ratio when a calibration turns shear deformation on
+/// for a beam that has none: ν = 0.2, within the 0.14–0.28 reported for
+/// carbon nanotubes (Lu, Phys. Rev. Lett. 79 (1997) 1297: 0.28; graphene's
+/// in-plane 0.16–0.19). Only G = E/(2(1 + ν)) depends on it, through κG.
+pub const DEFAULT_POISSON_RATIO: f64 = 0.2;
+
+/// Default shear coefficient likewise: the solid circle's 6(1+ν)/(7+6ν) at ν = 0.2
+/// (Cowper, J. Appl. Mech. 33 (1966) 335–340).
+pub const DEFAULT_SHEAR_COEFFICIENT: f64 = 6.0 * 1.2 / 8.2;
+
+fn shear_mut(beam: &mut BeamSpec) -> &mut ShearDeformation {
+    beam.shear_deformation.get_or_insert(ShearDeformation {
+        poisson_ratio: DEFAULT_POISSON_RATIO,
+        shear_coefficient: DEFAULT_SHEAR_COEFFICIENT,
+    })
+}
+
+/// The prior's support must lie in the parameter's physical range: [0, ∞)
+/// for most ([`check_physical`]); any real for the axial force (the
+/// buckling bound depends on the other parameters, so draws beyond it are
+/// rejected by the model, like any invalid beam); (0, 1] for κ; (−1, 0.5] for ν.
+fn check_range(p: &Parameter, field: &str) -> Result<(), InputError> {
+    // a normal prior: its ±4 sd range (as `check_physical` does for ≥ 0)
+    let (lo, hi) = match p.prior {
+        Prior::Normal { mean, sd } => (mean - 4.0 * sd, mean + 4.0 * sd),
+        _ => p.prior.support(),
+    };
+    let within = |lo_ok: bool, hi_ok: bool, allowed: &str| {
+        if !lo_ok {
+            Err(InputError::new(format!("{field}.prior.lower"), lo, allowed.to_string()))
+        } else if !hi_ok {
+            Err(InputError::new(format!("{field}.prior.upper"), hi, allowed.to_string()))
+        } else {
+            Ok(())
+        }
+    };
+    match p.target {
+        Target::AxialForce => Ok(()),
+        Target::ShearCoefficient => {
+            within(lo >= 0.0, hi <= 1.0, "a support within the physical range 0 < shear_coefficient <= 1")
+        }
+        Target::PoissonRatio => {
+            within(lo >= -1.0, hi <= 0.5, "a support within the physical range -1 < poisson_ratio <= 0.5")
+        }
+        _ => check_physical(&p.prior, field),
+    }
 }
 
 /// 1 % of the prior's scale (support width for bounded priors, sd otherwise):
@@ -275,4 +336,50 @@ pub fn check_physical(prior: &Prior, field: &str) -> Result<(), InputError> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::beam::Support;
+
+    fn beam() -> BeamSpec {
+        BeamSpec::from_yaml(
+            "length_nm: 8\ndiameter_nm: 1\nyoungs_modulus_pa: 1e12\ndensity_kg_m3: 2300\nsupport: clamped-free\nelements: 20\n",
+        )
+        .unwrap()
+    }
+
+    fn set(yaml: &str) -> Result<ParameterSet, InputError> {
+        let map: serde_yaml::Mapping = serde_yaml::from_str(yaml).unwrap();
+        let set = ParameterSet::from_mapping(&map)?;
+        set.check_against_beam(&beam())?;
+        Ok(set)
+    }
+
+    #[test]
+    fn axial_force_and_shear_names_act_on_the_beam() {
+        let s = set("axial_force_n: { prior: { dist: uniform, lower: -1.0e-9, upper: 5.0e-9 } }\n\
+                     shear_coefficient: { prior: { dist: uniform, lower: 0.5, upper: 1.0 } }\n\
+                     poisson_ratio: { prior: { dist: uniform, lower: 0.1, upper: 0.3 } }")
+        .unwrap();
+        let b = s.apply(&beam(), &[-2e-10, 0.8, 0.25]);
+        assert_eq!(b.support, Support::ClampedFree);
+        assert_eq!(b.axial_force_n, -2e-10);
+        let sd = b.shear_deformation.unwrap();
+        assert_eq!((sd.shear_coefficient, sd.poisson_ratio), (0.8, 0.25));
+        // κ alone turns shear on with the documented default ν
+        let s = set("shear_coefficient: { prior: { dist: uniform, lower: 0.5, upper: 1.0 } }").unwrap();
+        assert_eq!(s.apply(&beam(), &[0.7]).shear_deformation.unwrap().poisson_ratio, DEFAULT_POISSON_RATIO);
+    }
+
+    #[test]
+    fn priors_outside_the_physical_range_are_named() {
+        let e = set("shear_coefficient: { prior: { dist: uniform, lower: 0.5, upper: 1.5 } }").unwrap_err();
+        assert_eq!(e.field, "parameters.shear_coefficient.prior.upper");
+        let e = set("poisson_ratio: { prior: { dist: uniform, lower: -1.5, upper: 0.3 } }").unwrap_err();
+        assert_eq!(e.field, "parameters.poisson_ratio.prior.lower");
+        let e = set("poisson_ratio: { prior: { dist: normal, mean: 0.4, sd: 0.1 } }").unwrap_err();
+        assert_eq!(e.field, "parameters.poisson_ratio.prior.upper");
+    }
 }

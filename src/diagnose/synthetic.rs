@@ -62,6 +62,8 @@ pub fn nominal_beam() -> BeamSpec {
         internal_variables: vec![],
         support_rotational_stiffness_n_m_rad: 0.0,
         point_mass: None,
+        axial_force_n: 0.0,
+        shear_deformation: None,
     }
 }
 

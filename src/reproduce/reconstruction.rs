@@ -226,6 +226,8 @@ pub fn reconstruct(spec: &ReconstructionSpec, published: &Published) -> Reconstr
         internal_variables: vec![],
         support_rotational_stiffness_n_m_rad: 0.0,
         point_mass: None,
+        axial_force_n: 0.0,
+        shear_deformation: None,
     };
     let p14 = ParameterSet::from_mapping(&spec.table_1_4_parameters).expect("validated");
     let n = spec.multistart_points;
