@@ -84,7 +84,7 @@ pub fn predict_modes(beam: &BeamSpec, modes: &[usize], n_modes: usize) -> Option
     let result = beam::modal(beam, n_modes).ok()?;
     let mut y = vec![0.0; 2 * modes.len()];
     for (k, &m) in modes.iter().enumerate() {
-        let mode = result.modes.get(m - 1)?;
+        let mode = result.mode(m)?;
         y[k] = mode.omega_rad_s;
         y[modes.len() + k] = mode.zeta;
     }

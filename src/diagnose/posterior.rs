@@ -71,6 +71,9 @@ pub struct ModalPair {
 /// produce them (overdamped mode, invalid parameters).
 pub fn predict(beam: &BeamSpec, n_modes: usize) -> Result<Vec<ModalPair>, String> {
     let r = crate::beam::modal(beam, n_modes).map_err(|e| e.to_string())?;
+    if let Some(o) = r.overdamped.first() {
+        return Err(format!("mode {} is overdamped", o.mode));
+    }
     Ok(r.modes.iter().map(|m| ModalPair { omega_rad_s: m.omega_rad_s, zeta: m.zeta }).collect())
 }
 
