@@ -70,6 +70,16 @@ impl BeamPosterior {
         predict_modes(&self.beam_at(theta), &self.modes, self.n_modes)
     }
 
+    /// Highest mode number the forward model computes.
+    pub fn max_mode(&self) -> usize {
+        self.n_modes
+    }
+
+    /// The fitted (1-based, physical) mode numbers.
+    pub fn fitted_modes(&self) -> &[usize] {
+        &self.modes
+    }
+
     pub fn observed(&self) -> &[f64] {
         &self.observed
     }

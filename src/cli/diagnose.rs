@@ -24,6 +24,9 @@ pub struct DiagnoseArgs {
 }
 
 pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    if let Some(dir) = &args.out {
+        crate::report::render::check_out_dir(dir).map_err(|e| crate::cli::calibrate::out_dir_error(dir, e))?;
+    }
     let settings = DiagnoseSettings { samples: args.samples, ..DiagnoseSettings::default() };
     run_to(&args.measured, args.out.as_deref(), args.json, &settings, out)
 }

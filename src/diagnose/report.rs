@@ -262,36 +262,14 @@ pub fn write_report(dir: &Path, run: &DiagnosisRun, data: &MeasuredData, s: &Dia
     write_dir_atomically(dir, &files).map_err(|e| format!("writing {}: {e}", dir.display()))
 }
 
-/// Writes `files` into a sibling temporary directory, then swaps it into place.
-/// On any error the temporary directory is removed and `dir` is left as it was.
-pub fn write_dir_atomically(dir: &Path, files: &[(&str, String)]) -> std::io::Result<()> {
-    let parent = dir.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    std::fs::create_dir_all(parent)?;
-    let name = dir.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_else(|| "out".into());
-    let tmp = parent.join(format!(".{name}.tmp-{}", std::process::id()));
-    let result = (|| {
-        if tmp.exists() {
-            std::fs::remove_dir_all(&tmp)?;
-        }
-        std::fs::create_dir(&tmp)?;
+/// Writes `files` through the shared atomic writer
+/// ([`crate::report::render::write_dir_atomically`]: marker file, swap lock,
+/// signal cleanup); `dir` is left as it was on any error.
+pub fn write_dir_atomically(dir: &Path, files: &[(&str, String)]) -> Result<(), crate::report::ReportError> {
+    crate::report::render::write_dir_atomically(dir, |tmp| {
         for (f, content) in files {
-            std::fs::write(tmp.join(f), content)?;
-        }
-        if dir.exists() {
-            let old = parent.join(format!(".{name}.old-{}", std::process::id()));
-            std::fs::rename(dir, &old)?;
-            if let Err(e) = std::fs::rename(&tmp, dir) {
-                std::fs::rename(&old, dir)?;
-                return Err(e);
-            }
-            std::fs::remove_dir_all(&old)?;
-        } else {
-            std::fs::rename(&tmp, dir)?;
+            std::fs::write(tmp.join(f), content).map_err(|e| crate::report::ReportError::Io { path: tmp.join(f), source: e })?;
         }
         Ok(())
-    })();
-    if result.is_err() && tmp.exists() {
-        let _ = std::fs::remove_dir_all(&tmp);
-    }
-    result
+    })
 }
