@@ -76,7 +76,10 @@ pub fn parse_yaml<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, Input
 /// [`parse_yaml`] for an already parsed YAML value found at `prefix` (e.g.
 /// `parameters.delta`): the error's field path starts with `prefix`.
 pub fn from_yaml_value<T: serde::de::DeserializeOwned>(prefix: &str, value: serde_yaml::Value) -> Result<T, InputError> {
-    serde_yaml::from_value(value).map_err(|e| serde_error(prefix, &e.to_string()))
+    // Through text, so that serde_yaml tracks the path inside the value
+    // (`from_value` reports none: `parameters.delta.prior.mean` became `parameters.delta.mean`).
+    let text = serde_yaml::to_string(&value).map_err(|e| serde_error(prefix, &e.to_string()))?;
+    serde_yaml::from_str(&text).map_err(|e| serde_error(prefix, &e.to_string()))
 }
 
 /// Largest finite `f64`, as written in messages.

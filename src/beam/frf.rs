@@ -15,10 +15,11 @@ use crate::error::{fmt_num, InputError};
 
 /// Largest dimensionless frequency ω/ω_ref accepted: T̃(iω̃) has entries
 /// ω̃²·M̃ᵢⱼ (|M̃ᵢⱼ| ≤ 1 + ẽ²·12·elements ≤ 4e5 for ẽ ≤ 10, 300 elements) next
-/// to K̃ᵢⱼ ≤ 12·elements³ ≈ 3.2e8; with ω̃ ≤ 1e100 every entry and every
-/// product of two in the band LU stays below 1e206·… ≪ f64::MAX, so a
-/// singular or non-finite solve can only be a true resonance, never overflow.
-pub const MAX_OMEGA_TILDE: f64 = 1e100;
+/// to K̃ᵢⱼ ≤ 12·elements³ ≈ 3.2e8. The band LU forms products of two entries
+/// (and their squares in its pivot test): with ω̃ ≤ 1e60 those stay below
+/// (1e120·4e5)² ≈ 1e251 ≪ f64::MAX, so a singular or non-finite solve can
+/// only be a true resonance, never overflow (1e100 overflowed: tested).
+pub const MAX_OMEGA_TILDE: f64 = 1e60;
 
 /// The largest ω (rad/s) [`frf`] accepts for this beam: `MAX_OMEGA_TILDE`·ω_ref.
 pub fn max_frequency_rad_s(beam: &BeamSpec) -> Result<f64, BeamError> {

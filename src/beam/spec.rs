@@ -146,8 +146,14 @@ impl BeamSpec {
         in_window("diameter_nm", self.diameter_nm, false)?;
         in_window("youngs_modulus_pa", self.youngs_modulus_pa, false)?;
         in_window("density_kg_m3", self.density_kg_m3, false)?;
-        if self.elements == 0 || self.elements > MAX_ELEMENTS {
-            return Err(InputError::new("elements", self.elements, format!("1..={MAX_ELEMENTS}")));
+        // a clamped-clamped single element has no free DOF (every node fixed)
+        let min_elements = if self.support == Support::ClampedClamped { 2 } else { 1 };
+        if self.elements < min_elements || self.elements > MAX_ELEMENTS {
+            return Err(InputError::new(
+                "elements",
+                self.elements,
+                format!("{min_elements}..={MAX_ELEMENTS} (for support {})", self.support.name()),
+            ));
         }
         non_negative("nonlocal_e0a_nm", self.nonlocal_e0a_nm)?;
         non_negative("viscous_damping_n_s_m2", self.viscous_damping_n_s_m2)?;

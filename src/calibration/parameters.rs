@@ -145,7 +145,14 @@ impl ParameterSet {
             if params.iter().any(|p: &Parameter| p.target == target) {
                 return Err(InputError::new(&field, &name, "each parameter once"));
             }
-            let entry: ParameterEntry = crate::error::from_yaml_value(&field, value.clone())?;
+            let entry: ParameterEntry = crate::error::from_yaml_value(&field, value.clone()).map_err(|e| {
+                // serde reports errors inside the internally tagged `Prior`
+                // without its path: parse the prior alone to name it
+                match value.get("prior") {
+                    Some(p) => crate::error::from_yaml_value::<Prior>(&format!("{field}.prior"), p.clone()).err().unwrap_or(e),
+                    None => e,
+                }
+            })?;
             entry.prior.validate(&format!("{field}.prior"))?;
             check_prior_range(&entry.prior, &format!("{field}.prior"))?;
             let proposal_sd = match entry.proposal_sd {
