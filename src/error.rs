@@ -75,7 +75,10 @@ pub fn parse_yaml<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, Input
 
 /// [`parse_yaml`] for an already parsed YAML value found at `prefix` (e.g.
 /// `parameters.delta`): the error's field path starts with `prefix`.
-pub fn from_yaml_value<T: serde::de::DeserializeOwned>(prefix: &str, value: serde_yaml::Value) -> Result<T, InputError> {
+pub fn from_yaml_value<T: serde::de::DeserializeOwned>(
+    prefix: &str,
+    value: serde_yaml::Value,
+) -> Result<T, InputError> {
     // Through text, so that serde_yaml tracks the path inside the value
     // (`from_value` reports none: `parameters.delta.prior.mean` became `parameters.delta.mean`).
     let text = serde_yaml::to_string(&value).map_err(|e| serde_error(prefix, &e.to_string()))?;
@@ -110,7 +113,8 @@ pub fn serde_error(prefix: &str, msg: &str) -> InputError {
     };
     let here = join(path, None);
     if let Some(name) = backticked(what, "unknown field `") {
-        return InputError::new(join(path, Some(&name)), "(unknown field)", format!("a known field: {}", expected(what)));
+        let allowed = format!("a known field: {}", expected(what));
+        return InputError::new(join(path, Some(&name)), name, allowed);
     }
     if let Some(name) = backticked(what, "missing field `") {
         return InputError::new(join(path, Some(&name)), "(missing)", "a value: this field is required");

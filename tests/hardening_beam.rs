@@ -4,7 +4,7 @@
 use std::time::{Duration, Instant};
 
 use nanobeam::beam::spec::{
-    MAX_C_TILDE, MAX_DELTA, MAX_E_TILDE, MAX_ELEMENTS, MAX_MASS_TILDE, MAX_SPRING_TILDE, OMEGA_TILDE_RANGE,
+    MAX_C_TILDE, MAX_DELTA, MAX_ELEMENTS, MAX_E_TILDE, MAX_MASS_TILDE, MAX_SPRING_TILDE, OMEGA_TILDE_RANGE,
 };
 use nanobeam::beam::{
     frf, frf_each, max_frequency_rad_s, modal, modal_state_space, BeamError, BeamSpec, InternalVariable, ModalSolver,

@@ -80,7 +80,8 @@ fn nanobeam() -> Command {
 fn complete(dir: &Path, reference: &[String]) -> bool {
     dir.is_dir()
         && names(dir) == reference
-        && serde_json::from_str::<serde_json::Value>(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).is_ok()
+        && serde_json::from_str::<serde_json::Value>(&std::fs::read_to_string(dir.join("summary.json")).unwrap())
+            .is_ok()
 }
 
 fn setup() -> (tempfile::TempDir, String, Vec<String>) {
@@ -102,7 +103,9 @@ fn an_unusable_out_is_refused_before_computing() {
     let notes = root.path().join("notes.txt");
     std::fs::write(&notes, "mine").unwrap();
     // a long run: 60 000 draws in 4 chains would take many seconds
-    let long = cli_cases::MEASURED.replace("draws_per_chain: 1000", "draws_per_chain: 60000").replace("chains: 2", "chains: 4");
+    let long = cli_cases::MEASURED
+        .replace("draws_per_chain: 1000", "draws_per_chain: 60000")
+        .replace("chains: 2", "chains: 4");
     std::fs::write(&m, long).unwrap();
     for out in [notes.clone(), notes.join("sub")] {
         let t = Instant::now();

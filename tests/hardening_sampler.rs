@@ -30,7 +30,14 @@ impl Posterior for Gauss {
 
 #[test]
 fn an_underflowing_proposal_covariance_does_not_panic() {
-    let s = DramSettings { draws: 300, burn_in: 10, nonadapt_n0: 100, adapt_start: 100, cov_skip: 50, ..Default::default() };
+    let s = DramSettings {
+        draws: 300,
+        burn_in: 10,
+        nonadapt_n0: 100,
+        adapt_start: 100,
+        cov_skip: 50,
+        ..Default::default()
+    };
     // sd² = 1e-400 underflows to 0: C0 = diag(sd²) is not factorisable
     let out = run_chain(&Gauss(2), &s, &[1e-200, 1e-200], &[0.5, 0.5], &mut chain_rng(1, 0), None);
     assert_eq!(out.draws.len(), 300);

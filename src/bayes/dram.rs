@@ -262,7 +262,9 @@ pub fn run_chain(
     let sd = settings.sd.unwrap_or(2.4 * 2.4 / d as f64);
     let c0 = DMatrix::from_diagonal(&DVector::from_iterator(d, c0_sd.iter().map(|s| s * s)));
     let regulariser = &c0 * (sd * settings.lambda);
-    let mut proposal = Proposal::diagonal(c0_sd);
+    // Cholesky of diag(sd²) where it exists (bit-identical to earlier runs);
+    // diag(sd) itself when sd² underflows and the factorisation fails.
+    let mut proposal = Proposal::from_covariance(&c0).unwrap_or_else(|| Proposal::diagonal(c0_sd));
     let mut current_cov = c0.clone();
 
     let mut out = ChainOutput {

@@ -592,7 +592,8 @@ fn state_space_modal(model: &ScaledModel, n_modes: usize) -> Result<ModalResult,
     let mut next_pair = complex.iter();
     for (j, &pair) in has_pair.iter().enumerate() {
         if pair {
-            let s = next_pair.next().ok_or_else(|| BeamError::numerical("state space has fewer pairs than families"))?;
+            let s =
+                next_pair.next().ok_or_else(|| BeamError::numerical("state space has fewer pairs than families"))?;
             families[j].push(*s);
         }
     }

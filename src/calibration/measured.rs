@@ -11,10 +11,10 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::beam::spec::{RAW_MAX, RAW_MIN};
 use crate::beam::BeamSpec;
 use crate::calibration::parameters::ParameterSet;
 use crate::calibration::sampler::SamplerSpec;
-use crate::beam::spec::{RAW_MAX, RAW_MIN};
 use crate::error::{fmt_num, InputError};
 
 /// One measured mode: natural frequency and damping ratio with their

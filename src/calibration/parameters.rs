@@ -140,7 +140,11 @@ impl ParameterSet {
             let target = Target::from_name(&name)
                 .ok_or_else(|| InputError::new("parameters", &name, format!("one of: {KNOWN_NAMES}")))?;
             if params.len() >= MAX_PARAMETERS {
-                return Err(InputError::new("parameters", format!("({} entries)", map.len()), format!("at most {MAX_PARAMETERS} parameters")));
+                return Err(InputError::new(
+                    "parameters",
+                    format!("({} entries)", map.len()),
+                    format!("at most {MAX_PARAMETERS} parameters"),
+                ));
             }
             if params.iter().any(|p: &Parameter| p.target == target) {
                 return Err(InputError::new(&field, &name, "each parameter once"));
@@ -149,7 +153,9 @@ impl ParameterSet {
                 // serde reports errors inside the internally tagged `Prior`
                 // without its path: parse the prior alone to name it
                 match value.get("prior") {
-                    Some(p) => crate::error::from_yaml_value::<Prior>(&format!("{field}.prior"), p.clone()).err().unwrap_or(e),
+                    Some(p) => {
+                        crate::error::from_yaml_value::<Prior>(&format!("{field}.prior"), p.clone()).err().unwrap_or(e)
+                    }
                     None => e,
                 }
             })?;
@@ -288,7 +294,9 @@ fn prior_scale(prior: &Prior) -> f64 {
 pub fn check_prior_range(prior: &Prior, field: &str) -> Result<(), InputError> {
     use crate::error::fmt_num;
     let values: Vec<(&str, f64)> = match *prior {
-        Prior::Uniform { lower, upper } | Prior::LogUniform { lower, upper } => vec![("lower", lower), ("upper", upper)],
+        Prior::Uniform { lower, upper } | Prior::LogUniform { lower, upper } => {
+            vec![("lower", lower), ("upper", upper)]
+        }
         Prior::Normal { mean, sd } => vec![("mean", mean), ("sd", sd)],
         Prior::InverseGamma { shape, scale } => vec![("shape", shape), ("scale", scale)],
     };
@@ -307,10 +315,14 @@ pub fn check_prior_range(prior: &Prior, field: &str) -> Result<(), InputError> {
         return Ok(());
     }
     let scale = prior_scale(prior);
-    let location = values.iter().take(if matches!(prior, Prior::Normal { .. }) { 1 } else { 2 }).fold(0.0f64, |a, v| a.max(v.1.abs()));
+    let location = values
+        .iter()
+        .take(if matches!(prior, Prior::Normal { .. }) { 1 } else { 2 })
+        .fold(0.0f64, |a, v| a.max(v.1.abs()));
     let min_scale = PRIOR_MIN_SCALE.max(PRIOR_MIN_RELATIVE_SCALE * location);
     if !(scale >= min_scale) {
-        let (name, v) = if matches!(prior, Prior::Normal { .. }) { ("sd", values[1].1) } else { ("upper", values[1].1) };
+        let (name, v) =
+            if matches!(prior, Prior::Normal { .. }) { ("sd", values[1].1) } else { ("upper", values[1].1) };
         let what = if name == "sd" { "sd" } else { "upper - lower" };
         return Err(InputError::new(
             format!("{field}.{name}"),

@@ -250,8 +250,7 @@ fn sampling_health(
             ),
         });
     }
-    let frozen: Vec<usize> =
-        (0..kept.len()).filter(|&c| kept[c].windows(2).all(|w| w[0] == w[1])).collect();
+    let frozen: Vec<usize> = (0..kept.len()).filter(|&c| kept[c].windows(2).all(|w| w[0] == w[1])).collect();
     if frozen.len() == kept.len() {
         return Err(SamplingError::Frozen { reason: "every chain stayed constant after burn-in".into() });
     }
@@ -266,7 +265,8 @@ fn sampling_health(
     }
     let rate = accepted as f64 / steps.max(1) as f64;
     if rate < LOW_ACCEPTANCE {
-        warnings.push(format!("acceptance {rate:.4} < {LOW_ACCEPTANCE}: proposal_sd likely far too large or too small"));
+        warnings
+            .push(format!("acceptance {rate:.4} < {LOW_ACCEPTANCE}: proposal_sd likely far too large or too small"));
     }
     for p in &summary.parameters {
         if !(p.rhat <= RHAT_WARN) {

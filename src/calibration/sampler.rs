@@ -89,7 +89,10 @@ impl SamplerSpec {
             return Err(InputError::new(
                 f("draws_per_chain"),
                 self.draws_per_chain,
-                format!(">= burn_in + {MIN_KEPT_DRAWS} = {} (draws kept for the diagnostics)", self.burn_in + MIN_KEPT_DRAWS),
+                format!(
+                    ">= burn_in + {MIN_KEPT_DRAWS} = {} (draws kept for the diagnostics)",
+                    self.burn_in + MIN_KEPT_DRAWS
+                ),
             ));
         }
         if self.nonadaptive_draws >= self.draws_per_chain {

@@ -9,8 +9,8 @@ use crate::calibration::{calibrate, CalibrateOptions};
 use crate::cli::{read_measured, write_out, CliError};
 use crate::error::InputError;
 use crate::report::render::{check_out_dir, write_dir_atomically};
-use crate::report::ReportError;
 use crate::report::table::Table;
+use crate::report::ReportError;
 
 #[derive(Debug, Args)]
 pub struct CalibrateArgs {

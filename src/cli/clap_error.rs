@@ -41,7 +41,10 @@ pub fn one_line(e: &clap::Error) -> Option<String> {
         _ => {
             let first = e.render().to_string();
             let first = first.lines().next().unwrap_or("").trim_start_matches("error: ").to_string();
-            format!("invalid {} = ({first}): allowed the usage shown by --help", arg.unwrap_or_else(|| "arguments".into()))
+            format!(
+                "invalid {} = ({first}): allowed the usage shown by --help",
+                arg.unwrap_or_else(|| "arguments".into())
+            )
         }
     };
     Some(line)

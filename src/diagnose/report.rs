@@ -268,7 +268,8 @@ pub fn write_report(dir: &Path, run: &DiagnosisRun, data: &MeasuredData, s: &Dia
 pub fn write_dir_atomically(dir: &Path, files: &[(&str, String)]) -> Result<(), crate::report::ReportError> {
     crate::report::render::write_dir_atomically(dir, |tmp| {
         for (f, content) in files {
-            std::fs::write(tmp.join(f), content).map_err(|e| crate::report::ReportError::Io { path: tmp.join(f), source: e })?;
+            std::fs::write(tmp.join(f), content)
+                .map_err(|e| crate::report::ReportError::Io { path: tmp.join(f), source: e })?;
         }
         Ok(())
     })

@@ -86,13 +86,12 @@ fn parent_of(dest: &Path) -> PathBuf {
 }
 
 fn file_name_of(dest: &Path) -> Result<String> {
-    dest.file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .filter(|n| n != "." && n != "..")
-        .ok_or_else(|| ReportError::OutPath {
+    dest.file_name().map(|n| n.to_string_lossy().into_owned()).filter(|n| n != "." && n != "..").ok_or_else(|| {
+        ReportError::OutPath {
             path: dest.to_path_buf(),
             reason: "it has no final file name (use a path like DIR/results)".into(),
-        })
+        }
+    })
 }
 
 /// A fresh, not yet existing sibling path of `dest`: `.<name>.<tag>-<pid>-<n>`.

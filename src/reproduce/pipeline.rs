@@ -384,7 +384,12 @@ fn synthetic_observations(truth: &BeamSpec, published: &Published, set: &str, se
         .collect()
 }
 
-fn run_case(spec: &CaseSpec, rec: &Reconstruction, published: &Published, quick: bool) -> Result<CaseOutcome, ReproduceError> {
+fn run_case(
+    spec: &CaseSpec,
+    rec: &Reconstruction,
+    published: &Published,
+    quick: bool,
+) -> Result<CaseOutcome, ReproduceError> {
     let t = Instant::now();
     let truth = match spec.truth {
         Truth::Table4 => &rec.truth_table_4,
