@@ -320,7 +320,7 @@ pub fn check_prior_range(prior: &Prior, field: &str) -> Result<(), InputError> {
         .take(if matches!(prior, Prior::Normal { .. }) { 1 } else { 2 })
         .fold(0.0f64, |a, v| a.max(v.1.abs()));
     let min_scale = PRIOR_MIN_SCALE.max(PRIOR_MIN_RELATIVE_SCALE * location);
-    if !(scale >= min_scale) {
+    if scale.is_nan() || scale < min_scale {
         let (name, v) =
             if matches!(prior, Prior::Normal { .. }) { ("sd", values[1].1) } else { ("upper", values[1].1) };
         let what = if name == "sd" { "sd" } else { "upper - lower" };

@@ -269,11 +269,11 @@ fn sampling_health(
             .push(format!("acceptance {rate:.4} < {LOW_ACCEPTANCE}: proposal_sd likely far too large or too small"));
     }
     for p in &summary.parameters {
-        if !(p.rhat <= RHAT_WARN) {
+        if p.rhat.is_nan() || p.rhat > RHAT_WARN {
             warnings.push(format!("{}: R-hat {:.3} > {RHAT_WARN} (chains disagree; run longer)", p.name, p.rhat));
         }
         let ess = p.ess_bulk.min(p.ess_tail);
-        if !(ess >= ESS_WARN) {
+        if ess.is_nan() || ess < ESS_WARN {
             warnings.push(format!("{}: ESS {:.0} < {ESS_WARN} (run longer)", p.name, ess));
         }
     }
