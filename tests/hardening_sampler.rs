@@ -127,4 +127,20 @@ fn a_healthy_run_has_no_warnings_and_they_reach_the_json() {
     assert!(r.warnings.is_empty(), "{:?}", r.warnings);
     let json = serde_json::to_value(r.json()).unwrap();
     assert_eq!(json["warnings"], serde_json::json!([]));
+    assert_eq!(nanobeam::calibration::output::summary_json(&r)["warnings"], serde_json::json!([]));
+}
+
+#[test]
+fn a_doubtful_run_warns_and_says_so_in_the_json() {
+    // 2 chains of 40 kept draws with a step 1e-3 of the posterior's scale:
+    // nothing mixes, R-hat and ESS are flagged but the numbers are finite
+    let mut s = small();
+    s.draws_per_chain = 140;
+    s.nonadaptive_draws = 139;
+    s.adaptation_start = 139;
+    s.covariance_skip = 100;
+    let r = calibrate_posterior(&Gauss(1), &[1e-3], &s, &CalibrateOptions::default()).unwrap();
+    assert!(r.warnings.iter().any(|w| w.contains("ESS")), "{:?}", r.warnings);
+    let json = serde_json::to_value(r.json()).unwrap();
+    assert_eq!(json["warnings"].as_array().unwrap().len(), r.warnings.len());
 }
