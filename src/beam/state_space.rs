@@ -38,7 +38,7 @@ pub fn scaled_poles(model: &ScaledModel) -> Result<Vec<Complex64>, BeamError> {
     if dim > MAX_DENSE_DIM {
         return Err(BeamError::numerical(format!(
             "the banded solver failed and the dense state-space reference is limited to dimension {MAX_DENSE_DIM} \
-             (this model: (2 + {} internal variables) x {} DOFs = {dim}); use fewer elements",
+             (this model: (2 + {} internal variables) x {} DOFs = {dim}); use fewer elements or request fewer modes",
             model.ivs_all.len(),
             model.n()
         )));
