@@ -29,12 +29,24 @@ impl InputError {
     }
 }
 
+/// A number as a user wrote it, short: plain when that takes at most 12
+/// characters, otherwise scientific with the digits that round-trip
+/// (`1e308`, not 309 digits; `2.5e-300`).
+pub fn fmt_num(value: f64) -> String {
+    let plain = value.to_string();
+    if plain.len() <= 12 {
+        plain
+    } else {
+        format!("{value:e}")
+    }
+}
+
 /// Checks `value > 0` and finite.
 pub fn positive(field: &str, value: f64) -> Result<(), InputError> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(InputError::new(field, value, "> 0 (finite)"))
+        Err(InputError::new(field, fmt_num(value), "> 0 (finite)"))
     }
 }
 
@@ -43,34 +55,155 @@ pub fn non_negative(field: &str, value: f64) -> Result<(), InputError> {
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
-        Err(InputError::new(field, value, ">= 0 (finite)"))
+        Err(InputError::new(field, fmt_num(value), ">= 0 (finite)"))
     }
 }
 
 /// Parses YAML into `T`, turning serde's message (unknown field, missing field,
-/// unknown variant, wrong type) into an [`InputError`] that names the field.
+/// unknown variant, wrong type, syntax, alias bombs) into a one-line
+/// [`InputError`] that names the full field path, the value and what is allowed.
 pub fn parse_yaml<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, InputError> {
-    serde_yaml::from_str(text).map_err(|e| {
-        let msg = e.to_string();
-        let field = serde_field_of(&msg).unwrap_or_else(|| "<document>".to_string());
-        InputError::new(field, "(see message)", msg)
-    })
+    serde_yaml::from_str(text).map_err(|e| serde_error("", &e.to_string()))
 }
 
-/// Extracts the field named in a serde error message ("unknown field `x`",
-/// "missing field `x`", or the "path.to.field:" prefix serde_yaml adds).
-fn serde_field_of(msg: &str) -> Option<String> {
-    for key in ["unknown field `", "missing field `"] {
-        if let Some(start) = msg.find(key) {
-            let rest = &msg[start + key.len()..];
-            let name = rest.split('`').next()?;
-            let prefix = msg.split(": ").next().filter(|p| !p.contains(' ') && !p.is_empty());
-            return Some(match prefix {
-                Some(p) if p != name => format!("{p}.{name}"),
-                _ => name.to_string(),
-            });
+/// [`parse_yaml`] for an already parsed YAML value found at `prefix` (e.g.
+/// `parameters.delta`): the error's field path starts with `prefix`.
+pub fn from_yaml_value<T: serde::de::DeserializeOwned>(
+    prefix: &str,
+    value: serde_yaml::Value,
+) -> Result<T, InputError> {
+    // Through text, so that serde_yaml tracks the path inside the value
+    // (`from_value` reports none: `parameters.delta.prior.mean` became `parameters.delta.mean`).
+    let text = serde_yaml::to_string(&value).map_err(|e| serde_error(prefix, &e.to_string()))?;
+    serde_yaml::from_str(&text).map_err(|e| serde_error(prefix, &e.to_string()))
+}
+
+/// Largest finite `f64`, as written in messages.
+const F64_MAX_TEXT: &str = "1.7976931348623157e308";
+
+/// One serde_yaml message → `invalid <path> = <value>: allowed <range>`.
+///
+/// serde_yaml writes `[path: ]<what>[ at line L column C]`, where `path` is
+/// the dotted field path with sequence indices (`modes[3].zeta_sd`).
+pub fn serde_error(prefix: &str, msg: &str) -> InputError {
+    let msg = msg.lines().next().unwrap_or("").trim();
+    let (body, location) = match msg.rfind(" at line ") {
+        Some(i) => (&msg[..i], Some(msg[i + 1..].to_string())),
+        None => (msg, None),
+    };
+    let (path, what) = split_path(body);
+    let join = |p: &str, name: Option<&str>| {
+        let mut parts: Vec<&str> = [prefix, p].into_iter().filter(|x| !x.is_empty()).collect();
+        if let Some(n) = name {
+            parts.push(n);
+        }
+        let joined = parts.join(".").replace(".[", "[");
+        if joined.is_empty() {
+            "<document>".to_string()
+        } else {
+            joined
+        }
+    };
+    let here = join(path, None);
+    if let Some(name) = backticked(what, "unknown field `") {
+        let allowed = format!("a known field: {}", expected(what));
+        return InputError::new(join(path, Some(&name)), name, allowed);
+    }
+    if let Some(name) = backticked(what, "missing field `") {
+        return InputError::new(join(path, Some(&name)), "(missing)", "a value: this field is required");
+    }
+    if let Some(name) = backticked(what, "duplicate field `") {
+        return InputError::new(join(path, Some(&name)), "(given twice)", "each field once");
+    }
+    if let Some(name) = backticked(what, "unknown variant `") {
+        return InputError::new(here, name, expected(what));
+    }
+    if let Some(rest) = what.strip_prefix("invalid type: ").or_else(|| what.strip_prefix("invalid value: ")) {
+        let (found, exp) = rest.split_once(", expected ").unwrap_or((rest, ""));
+        let value = found_value(found);
+        if exp == "f64" && looks_like_overflowing_number(&value) {
+            return InputError::new(here, value, format!("a finite number, |x| <= {F64_MAX_TEXT}"));
+        }
+        return InputError::new(here, value, expected_kind(exp));
+    }
+    if let Some(rest) = what.strip_prefix("invalid length ") {
+        let (n, exp) = rest.split_once(", expected ").unwrap_or((rest, ""));
+        return InputError::new(here, format!("{n} items"), exp.to_string());
+    }
+    if what.contains("repetition limit exceeded") {
+        return InputError::new(
+            here,
+            "(alias expansion)",
+            "a document whose anchors/aliases expand to a bounded size (alias bomb refused)",
+        );
+    }
+    if what.contains("recursion limit exceeded") {
+        return InputError::new(here, "(nesting too deep)", "at most 128 nested levels");
+    }
+    let at = location.map(|l| format!(" {l}")).unwrap_or_default();
+    InputError::new(here, format!("(not valid YAML{at})"), format!("well-formed YAML: {}", what.replace('\n', " ")))
+}
+
+/// Splits `path: rest` when the head is a field path (no spaces).
+fn split_path(body: &str) -> (&str, &str) {
+    match body.split_once(": ") {
+        Some((p, rest)) if !p.is_empty() && !p.contains(' ') && !p.contains('`') => (p, rest),
+        _ => ("", body),
+    }
+}
+
+/// The name between `key` and the next backtick.
+fn backticked(what: &str, key: &str) -> Option<String> {
+    let start = what.find(key)? + key.len();
+    what[start..].split('`').next().map(str::to_string)
+}
+
+/// What follows `expected ` in a serde message, or `no fields` for `there are no fields`.
+fn expected(what: &str) -> String {
+    if let Some(i) = what.find("expected ") {
+        what[i + "expected ".len()..].to_string()
+    } else if what.contains("there are no fields") {
+        "no fields here".to_string()
+    } else {
+        what.to_string()
+    }
+}
+
+/// serde's `string "x"`, `integer `3``, `floating point `2.5``, `sequence` → the value as written.
+fn found_value(found: &str) -> String {
+    for kind in ["string ", "integer ", "floating point ", "boolean ", "unit value", "char "] {
+        if let Some(v) = found.strip_prefix(kind) {
+            return v.trim_matches(|c| c == '"' || c == '`').to_string();
         }
     }
-    let prefix = msg.split(": ").next()?;
-    (!prefix.contains(' ') && !prefix.is_empty()).then(|| prefix.to_string())
+    match found {
+        "sequence" => "(a list)".to_string(),
+        "map" => "(a mapping)".to_string(),
+        "unit value" => "(empty)".to_string(),
+        other => other.to_string(),
+    }
+}
+
+/// A plain-words range for serde's expected Rust type.
+fn expected_kind(exp: &str) -> String {
+    match exp {
+        "f64" | "f32" => "a finite number".to_string(),
+        "usize" | "u64" | "u32" => "a whole number >= 0".to_string(),
+        "i64" | "i32" => "a whole number".to_string(),
+        "a boolean" | "bool" => "true or false".to_string(),
+        "a string" => "a string".to_string(),
+        e if e.starts_with("struct ") => format!("a mapping of fields ({})", &e["struct ".len()..]),
+        e if e.starts_with("a sequence") => "a list".to_string(),
+        "" => "a value of the documented type".to_string(),
+        e => e.to_string(),
+    }
+}
+
+/// `1e400`, `-2.5e999`: a number too large for f64 (serde_yaml reads it as a string).
+fn looks_like_overflowing_number(v: &str) -> bool {
+    let t = v.trim_start_matches(['+', '-']);
+    let numeric = !t.is_empty()
+        && t.chars().all(|c| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-'))
+        && t.starts_with(|c: char| c.is_ascii_digit() || c == '.');
+    numeric && v.parse::<f64>().is_ok_and(|x| x.is_infinite())
 }

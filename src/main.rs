@@ -1,9 +1,7 @@
 //! `nanobeam` CLI: parse, dispatch to `nanobeam::cli`, map errors to exit codes.
 
-use clap::Parser;
-
 fn main() {
-    let cli = nanobeam::cli::Cli::parse();
+    let cli: nanobeam::cli::Cli = nanobeam::cli::clap_error::parse_or_exit();
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     if let Err(e) = nanobeam::cli::run(cli, &mut out) {

@@ -63,13 +63,25 @@ impl Default for DramSettings {
     }
 }
 
+/// Most states one chain may hold: 2^27 ≈ 1.3e8 states of even one
+/// parameter are ≥ 6 GiB (48-byte `Vec` + 8-byte log posterior each); the
+/// caller's per-run budget (`calibration::sampler`) is tighter.
+pub const MAX_DRAWS: usize = 1 << 27;
+
 impl DramSettings {
     pub fn validate(&self) -> Result<(), InputError> {
-        if self.draws == 0 {
-            return Err(InputError::new("sampler.draws", 0, ">= 1"));
+        if self.draws == 0 || self.draws > MAX_DRAWS {
+            return Err(InputError::new("sampler.draws", self.draws, format!("1..={MAX_DRAWS}")));
         }
         if self.burn_in >= self.draws {
             return Err(InputError::new("sampler.burn_in", self.burn_in, format!("< draws = {}", self.draws)));
+        }
+        if self.nonadapt_n0 >= self.draws || self.adapt_start >= self.draws {
+            return Err(InputError::new(
+                "sampler.nonadapt_n0",
+                self.nonadapt_n0.max(self.adapt_start),
+                format!("< draws = {} (otherwise adaptation never starts)", self.draws),
+            ));
         }
         if self.cov_skip > self.adapt_start {
             return Err(InputError::new(
@@ -131,6 +143,12 @@ struct Proposal {
 impl Proposal {
     fn from_covariance(c: &DMatrix<f64>) -> Option<Self> {
         c.clone().cholesky().map(|ch| Proposal { chol_l: ch.l() })
+    }
+
+    /// C0 = diag(sd²): its Cholesky factor is diag(sd) exactly, so no
+    /// factorisation (which would fail when sd² underflows to 0) is needed.
+    fn diagonal(sd: &[f64]) -> Self {
+        Proposal { chol_l: DMatrix::from_diagonal(&DVector::from_column_slice(sd)) }
     }
 
     /// Quadratic form (x − x0)ᵀ (LLᵀ)⁻¹ (x − x0).
@@ -244,7 +262,9 @@ pub fn run_chain(
     let sd = settings.sd.unwrap_or(2.4 * 2.4 / d as f64);
     let c0 = DMatrix::from_diagonal(&DVector::from_iterator(d, c0_sd.iter().map(|s| s * s)));
     let regulariser = &c0 * (sd * settings.lambda);
-    let mut proposal = Proposal::from_covariance(&c0).expect("C0 = diag(sd²) with sd > 0 is positive definite");
+    // Cholesky of diag(sd²) where it exists (bit-identical to earlier runs);
+    // diag(sd) itself when sd² underflows and the factorisation fails.
+    let mut proposal = Proposal::from_covariance(&c0).unwrap_or_else(|| Proposal::diagonal(c0_sd));
     let mut current_cov = c0.clone();
 
     let mut out = ChainOutput {

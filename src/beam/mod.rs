@@ -20,7 +20,7 @@ pub mod spec;
 mod state_space;
 
 pub use error::BeamError;
-pub use frf::frf;
+pub use frf::{frf, frf_each, max_frequency_rad_s, MAX_OMEGA_TILDE};
 pub use modal::{modal, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode, SolverPath};
 pub use model::buckling_load_n;
 pub use spec::{BeamSpec, InternalVariable, PointMass, ShearDeformation, Support};

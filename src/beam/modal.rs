@@ -23,11 +23,15 @@
 //! (nonlinear Rayleigh-quotient iteration).
 //!
 //! # What is reported
-//! Modes are the complex-conjugate pairs (the Im > 0 member), sorted by |s|;
-//! ωᵣ = |sᵣ| (34), ζᵣ = −Re sᵣ/|sᵣ| (35). Real poles (relaxation, overdamped)
-//! are reported separately: those of the modal families that were examined
-//! (families 1..m, m the smallest count that yields the requested number of
-//! pairs; m = n_modes unless a family is overdamped).
+//! Physical mode r is modal family r: the r-th eigenpair of the undamped,
+//! relaxed pencil (K̃ + K̃_spring, M̃) (for an undamped or lightly damped
+//! beam the same order as increasing |s|). Its oscillatory pair (the Im > 0
+//! member; with several internal variables the pair of largest |s|) gives
+//! ωᵣ = |sᵣ| (34), ζᵣ = −Re sᵣ/|sᵣ| (35). A family without a complex pair is
+//! an overdamped mode: it keeps its number and is reported with its real
+//! poles in [`ModalResult::overdamped`], so a measured "mode 2" is always
+//! physical mode 2. All real poles (relaxation, overdamped) of families
+//! 1..=n_modes are also listed in `real_poles_rad_s`.
 
 use std::collections::HashMap;
 
@@ -56,12 +60,35 @@ pub struct Mode {
     pub pole: Complex64,
 }
 
-/// Modes and, separately, the real poles of the examined modal families.
+/// An overdamped mode: its family has only real poles.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OverdampedMode {
+    /// Physical mode number (1-based family index).
+    pub mode: usize,
+    /// The family's real poles in rad/s, sorted by magnitude.
+    pub poles_rad_s: Vec<f64>,
+}
+
+/// Physical modes 1..=n_modes: oscillatory ones in `modes`, overdamped ones
+/// in `overdamped` (each number in exactly one of them), and separately the
+/// real poles of those modal families.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ModalResult {
+    /// Oscillatory modes in increasing mode number (gaps where overdamped).
     pub modes: Vec<Mode>,
     /// Negative reals in rad/s, sorted by magnitude.
     pub real_poles_rad_s: Vec<f64>,
+    /// Overdamped modes in increasing mode number.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub overdamped: Vec<OverdampedMode>,
+}
+
+impl ModalResult {
+    /// Oscillatory physical mode `number` (1-based); `None` when it is
+    /// overdamped or was not computed.
+    pub fn mode(&self, number: usize) -> Option<&Mode> {
+        self.modes.iter().find(|m| m.mode == number)
+    }
 }
 
 /// Reusable solver: caches the unit mesh integrals (they depend only on the
@@ -314,54 +341,39 @@ fn check_mode_count(n_modes: usize, n: usize) -> Result<(), BeamError> {
     Ok(())
 }
 
-/// Sorts the complex pairs (Im > 0 members) of the given families by |s| and
-/// keeps `n_modes`; `None` if there are fewer pairs than that.
-fn assemble(families: &[Vec<Complex64>], n_modes: usize, omega_ref: f64) -> Option<ModalResult> {
-    let mut pairs: Vec<Complex64> = families.iter().flatten().copied().filter(|s| s.im > 0.0).collect();
-    if pairs.len() < n_modes {
-        return None;
+/// Physical modes 1..=n_modes from the roots of families 1..=n_modes (in
+/// eigenpair order): each family's oscillatory pair (largest |s| if there
+/// are several) or, without one, an overdamped mode with its real roots.
+fn assemble(families: &[Vec<Complex64>], n_modes: usize, omega_ref: f64) -> ModalResult {
+    let mut modes = Vec::with_capacity(n_modes);
+    let mut overdamped = Vec::new();
+    for (j, fam) in families.iter().take(n_modes).enumerate() {
+        let pair = fam.iter().copied().filter(|s| s.im > 0.0).max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()));
+        match pair {
+            Some(s) => {
+                let s = s * omega_ref;
+                modes.push(Mode { mode: j + 1, omega_rad_s: s.norm(), zeta: -s.re / s.norm(), pole: s });
+            }
+            None => {
+                let mut poles: Vec<f64> = fam.iter().filter(|s| s.im == 0.0).map(|s| s.re * omega_ref).collect();
+                poles.sort_by(|a, b| a.abs().total_cmp(&b.abs()));
+                overdamped.push(OverdampedMode { mode: j + 1, poles_rad_s: poles });
+            }
+        }
     }
-    pairs.sort_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()));
-    let modes = pairs
-        .iter()
-        .take(n_modes)
-        .enumerate()
-        .map(|(i, &s)| {
-            let s = s * omega_ref;
-            Mode { mode: i + 1, omega_rad_s: s.norm(), zeta: -s.re / s.norm(), pole: s }
-        })
-        .collect();
-    let mut real: Vec<f64> = families.iter().flatten().filter(|s| s.im == 0.0).map(|s| s.re * omega_ref).collect();
+    let mut real: Vec<f64> =
+        families.iter().take(n_modes).flatten().filter(|s| s.im == 0.0).map(|s| s.re * omega_ref).collect();
     real.sort_by(|a, b| a.abs().total_cmp(&b.abs()));
-    Some(ModalResult { modes, real_poles_rad_s: real })
-}
-
-fn too_few_modes(n_modes: usize, found: usize) -> BeamError {
-    InputError::new(
-        "n_modes",
-        n_modes,
-        format!("<= {found} (oscillatory modes of this model; the rest are overdamped)"),
-    )
-    .into()
+    ModalResult { modes, real_poles_rad_s: real, overdamped }
 }
 
 /// Path (b): exact decoupling.
 fn decoupled_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -> Result<ModalResult, BeamError> {
-    let n = model.n();
     let params = model.pencil_params();
-    let mut count = n_modes;
-    loop {
-        let pairs = eigen.lowest(model.mesh, &params, model.k, &model.m, model.point_mass.as_ref(), count)?;
-        let families =
-            pairs.iter().map(|p| family_roots(0.0, p.lambda, model.c, &model.ivs)).collect::<Result<Vec<_>, _>>()?;
-        if let Some(r) = assemble(&families, n_modes, model.omega_ref) {
-            return Ok(r);
-        }
-        if count == n {
-            return Err(too_few_modes(n_modes, families.iter().flatten().filter(|s| s.im > 0.0).count()));
-        }
-        count = (count + n_modes).min(n);
-    }
+    let pairs = eigen.lowest(model.mesh, &params, model.k, &model.m, model.point_mass.as_ref(), n_modes)?;
+    let families =
+        pairs.iter().map(|p| family_roots(0.0, p.lambda, model.c, &model.ivs)).collect::<Result<Vec<_>, _>>()?;
+    Ok(assemble(&families, n_modes, model.omega_ref))
 }
 
 /// One-term modal approximation of family j of a coupled model: with φ the
@@ -388,9 +400,8 @@ fn rayleigh_of(model: &ScaledModel, phi: &[f64]) -> (f64, (f64, f64, f64)) {
 /// approximation of its family (root and eigenvector of (K̃ + K̃_spring, M̃)).
 /// Any failure → the caller falls back to (a).
 fn general_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -> Result<ModalResult, BeamError> {
-    let n = model.n();
-    let mut count = n_modes;
-    loop {
+    {
+        let count = n_modes;
         let approx = family_approximations(model, count, eigen)?;
         let mut found: Vec<Complex64> = Vec::new();
         let mut families = Vec::with_capacity(count);
@@ -428,13 +439,7 @@ fn general_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -> 
             }
             families.push(fam);
         }
-        if let Some(r) = assemble(&families, n_modes, model.omega_ref) {
-            return Ok(r);
-        }
-        if count == n {
-            return Err(too_few_modes(n_modes, families.iter().flatten().filter(|s| s.im > 0.0).count()));
-        }
-        count = (count + n_modes).min(n);
+        Ok(assemble(&families, n_modes, model.omega_ref))
     }
 }
 
@@ -577,28 +582,31 @@ fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comp
     Err(BeamError::numerical("nonlinear RQI did not converge"))
 }
 
-/// Path (a) turned into modal parameters. Real poles are assigned to the
-/// family whose one-term equation they satisfy best (exact when decoupled);
-/// the uncoupled poles −Ωᵢ of variables with Δᵢ = 0 are dropped.
+/// Path (a) turned into modal parameters with physical numbers: family j
+/// (one-term approximation from the dense eigenvectors, exact when
+/// decoupled) has a pair or not; the k-th complex pole by |s| goes to the k-th
+/// family that has one, each real pole to the family whose one-term equation
+/// it satisfies best; the uncoupled poles −Ωᵢ of variables with Δᵢ = 0 are
+/// dropped.
 fn state_space_modal(model: &ScaledModel, n_modes: usize) -> Result<ModalResult, BeamError> {
     let poles = state_space::scaled_poles(model)?;
-    let n = model.n();
     let approx = dense_family_approximations(model)?;
-    // m: smallest family count whose one-term roots contain n_modes pairs.
-    let mut m = 0;
-    let mut pairs = 0;
-    while m < n && pairs < n_modes {
-        let (a, b, c) = approx[m];
-        pairs += family_roots(a, b, c, &model.ivs)?.iter().filter(|s| s.im > 0.0).count();
-        m += 1;
+    let mut has_pair = Vec::with_capacity(n_modes);
+    for &(a, b, c) in approx.iter().take(n_modes) {
+        has_pair.push(family_roots(a, b, c, &model.ivs)?.iter().any(|s| s.im > 0.0));
     }
-    let mut modes_s: Vec<Complex64> = poles.iter().copied().filter(|s| s.im > REAL_TOL * s.norm()).collect();
-    modes_s.sort_by(|a, b| a.norm().total_cmp(&b.norm()));
-    if modes_s.len() < n_modes {
-        return Err(too_few_modes(n_modes, modes_s.len()));
-    }
+    let mut complex: Vec<Complex64> = poles.iter().copied().filter(|s| s.im > REAL_TOL * s.norm()).collect();
+    complex.sort_by(|a, b| a.norm().total_cmp(&b.norm()));
     let uncoupled = |s: f64| model.ivs_all.iter().any(|&(d, om)| d == 0.0 && (s + om).abs() <= 1e-6 * om);
-    let mut real = Vec::new();
+    let mut families: Vec<Vec<Complex64>> = vec![Vec::new(); n_modes];
+    let mut next_pair = complex.iter();
+    for (j, &pair) in has_pair.iter().enumerate() {
+        if pair {
+            let s =
+                next_pair.next().ok_or_else(|| BeamError::numerical("state space has fewer pairs than families"))?;
+            families[j].push(*s);
+        }
+    }
     for s in poles.iter().filter(|s| s.im.abs() <= REAL_TOL * s.norm()) {
         let x = s.re;
         if uncoupled(x) {
@@ -612,21 +620,11 @@ fn state_space_modal(model: &ScaledModel, n_modes: usize) -> Result<ModalResult,
             .map(|(j, &(a, b, c))| (j, ((sc * sc + c * sc + a + b * g).norm() / (x * x + a + b))))
             .min_by(|p, q| p.1.total_cmp(&q.1))
             .map(|p| p.0);
-        if matches!(best, Some(j) if j < m) {
-            real.push(x * model.omega_ref);
+        if let Some(j) = best.filter(|&j| j < n_modes) {
+            families[j].push(Complex64::new(x, 0.0));
         }
     }
-    real.sort_by(|a, b| a.abs().total_cmp(&b.abs()));
-    let modes = modes_s
-        .iter()
-        .take(n_modes)
-        .enumerate()
-        .map(|(i, &s)| {
-            let s = s * model.omega_ref;
-            Mode { mode: i + 1, omega_rad_s: s.norm(), zeta: -s.re / s.norm(), pole: s }
-        })
-        .collect();
-    Ok(ModalResult { modes, real_poles_rad_s: real })
+    Ok(assemble(&families, n_modes, model.omega_ref))
 }
 
 /// (a, b, c) of every family from a dense symmetric eigen-decomposition.

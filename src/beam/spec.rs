@@ -6,7 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::{non_negative, positive, InputError};
+use crate::error::{fmt_num, non_negative, positive, InputError};
 
 /// Boundary conditions at x = 0 and x = L.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -119,21 +119,90 @@ pub struct BeamSpec {
     pub shear_deformation: Option<ShearDeformation>,
 }
 
-/// Largest element count accepted: far beyond convergence, keeps dense paths bounded.
-pub const MAX_ELEMENTS: usize = 2000;
+/// Largest element count accepted. The banded eigen path (Newton–Maehly on
+/// det(K̃ − σM̃), certified by inertia counts) works to a noise floor of
+/// ~eps·λ_max/λ₁ ∝ elements⁴ relative; measured over every support with and
+/// without internal variables, e0a, spring and point mass, it certifies the
+/// lowest eigenpairs up to 300 elements and starts failing (then the dense
+/// state-space fallback, O(((2+N)·n)³), takes minutes) from ~350 elements on
+/// a cantilever. 300 elements is also far beyond convergence: the Hermite
+/// cubic eigenvalue error ≈ (jπ/elements)⁴/720 relative is < 1e-8 for the
+/// first 20 modes.
+pub const MAX_ELEMENTS: usize = 300;
+
+/// Most internal variables: the family-polynomial root finder works on a
+/// fixed buffer of this size (`family::family_roots`).
+pub const MAX_INTERNAL_VARIABLES: usize = 16;
+
+/// Window for every dimensional input, in its file unit (nm for lengths,
+/// SI otherwise): `RAW_MIN <= v <= RAW_MAX`. Derivation (all products the
+/// scaled model forms stay normal f64, |x| in [2.2e-308, 1.8e308]): with
+/// d, L in m within [1e-39, 1e21], d⁴ ∈ [1e-156, 1e84], EI ∈ [1e-186, 1e114],
+/// ρA ∈ [1e-108, 1e72], ω_ref = (d/4)√(E/ρ)/L² ∈ [1e-112, 1e129],
+/// L³/EI ∈ [1e-231, 1e249]; every dimensionless group below is a ratio of
+/// two such numbers. (A length of 1e308 nm or E = 1e-300 made ω_ref or
+/// L³/EI overflow to inf/0 and the solver chase NaNs.)
+pub const RAW_MIN: f64 = 1e-30;
+pub const RAW_MAX: f64 = 1e30;
+
+/// Bounds on the dimensionless groups the scaled solver sees (`model.rs`),
+/// the range over which its root finders are tested (`tests/hardening_beam.rs`
+/// runs every corner): ẽ = e0a/L; Δᵢ; Ω̃ᵢ = Ωᵢ/ω_ref; c̃ = C/(ρA ω_ref);
+/// k̃_r = k_r L/EI; μ̃ = m/(ρA L). These are the limits at which every
+/// corner (each group alone at its bound, on every support, at 2 and 300
+/// elements, and at the corners of the raw window) was measured to give
+/// finite modes in milliseconds; they keep the pole magnitudes within
+/// ~1e13 of each other (relaxation poles near −Ω̃ᵢ/(1+Δᵢ) against
+/// oscillatory ones near √λ̃ ≥ 3.5), which double-precision root finding
+/// separates. All extremes *at once* on a 300-element mesh are not covered:
+/// there the banded path can fail and the result is a clean numerical
+/// failure (exit 1, see `state_space::MAX_DENSE_DIM`), never a hang.
+/// Physically the limits are far outside a beam (e0a ≤ 10 L, relaxed/
+/// unrelaxed modulus ≤ 1001, a spring 1e12 times stiffer than the beam is a
+/// clamp, a mass 1e6 times the beam's).
+pub const MAX_E_TILDE: f64 = 10.0;
+pub const MAX_DELTA: f64 = 1e3;
+pub const OMEGA_TILDE_RANGE: (f64, f64) = (1e-8, 1e10);
+pub const MAX_C_TILDE: f64 = 1e4;
+pub const MAX_SPRING_TILDE: f64 = 1e12;
+pub const MAX_MASS_TILDE: f64 = 1e6;
+
+/// `RAW_MIN <= value <= RAW_MAX` (or exactly 0 when `zero_ok`).
+fn in_window(field: &str, value: f64, zero_ok: bool) -> Result<(), InputError> {
+    let ok = value.is_finite() && ((RAW_MIN..=RAW_MAX).contains(&value) || (zero_ok && value == 0.0));
+    if ok {
+        Ok(())
+    } else {
+        let zero = if zero_ok { "0 or " } else { "" };
+        Err(InputError::new(field, fmt_num(value), format!("{zero}{RAW_MIN:e} <= x <= {RAW_MAX:e}")))
+    }
+}
 
 impl BeamSpec {
     /// Checks every documented range; the error names the field, value and allowed range.
     pub fn validate(&self) -> Result<(), InputError> {
-        positive("length_nm", self.length_nm)?;
-        positive("diameter_nm", self.diameter_nm)?;
-        positive("youngs_modulus_pa", self.youngs_modulus_pa)?;
-        positive("density_kg_m3", self.density_kg_m3)?;
-        if self.elements == 0 || self.elements > MAX_ELEMENTS {
-            return Err(InputError::new("elements", self.elements, format!("1..={MAX_ELEMENTS}")));
+        in_window("length_nm", self.length_nm, false)?;
+        in_window("diameter_nm", self.diameter_nm, false)?;
+        in_window("youngs_modulus_pa", self.youngs_modulus_pa, false)?;
+        in_window("density_kg_m3", self.density_kg_m3, false)?;
+        // a clamped-clamped single element has no free DOF (every node fixed)
+        let min_elements = if self.support == Support::ClampedClamped { 2 } else { 1 };
+        if self.elements < min_elements || self.elements > MAX_ELEMENTS {
+            return Err(InputError::new(
+                "elements",
+                self.elements,
+                format!("{min_elements}..={MAX_ELEMENTS} (for support {})", self.support.name()),
+            ));
         }
         non_negative("nonlocal_e0a_nm", self.nonlocal_e0a_nm)?;
         non_negative("viscous_damping_n_s_m2", self.viscous_damping_n_s_m2)?;
+        if self.internal_variables.len() > MAX_INTERNAL_VARIABLES {
+            return Err(InputError::new(
+                "internal_variables",
+                format!("({} entries)", self.internal_variables.len()),
+                format!("at most {MAX_INTERNAL_VARIABLES} entries"),
+            ));
+        }
         for (i, iv) in self.internal_variables.iter().enumerate() {
             non_negative(&format!("internal_variables[{i}].delta"), iv.delta)?;
             positive(&format!("internal_variables[{i}].omega_rad_s"), iv.omega_rad_s)?;
@@ -149,8 +218,8 @@ impl BeamSpec {
                 ));
             }
         }
-        self.validate_extensions()?;
-        Ok(())
+        self.validate_scaled_groups()?;
+        self.validate_extensions()
     }
 
     /// The axial force and shear-deformation fields (issue 13), including the
@@ -173,6 +242,74 @@ impl BeamSpec {
             crate::beam::model::check_buckling(self)?;
         }
         Ok(())
+    }
+
+    /// The dimensionless groups of the scaled model within the solver's
+    /// tested range (see [`MAX_E_TILDE`] and the constants after it).
+    fn validate_scaled_groups(&self) -> Result<(), InputError> {
+        let l = self.length_nm * 1e-9;
+        let ei = self.youngs_modulus_pa * self.inertia_m4();
+        let rho_a = self.density_kg_m3 * self.area_m2();
+        let omega_ref = (ei / rho_a).sqrt() / (l * l);
+        let at_most = |field: &str, value: f64, group: &str, max_group: f64, unit: f64| {
+            if value <= max_group * unit {
+                Ok(())
+            } else {
+                Err(InputError::new(
+                    field,
+                    fmt_num(value),
+                    format!("<= {:e} ({group} <= {max_group:e})", max_group * unit),
+                ))
+            }
+        };
+        at_most("nonlocal_e0a_nm", self.nonlocal_e0a_nm, "e0a/L", MAX_E_TILDE, self.length_nm)?;
+        let (lo, hi) = OMEGA_TILDE_RANGE;
+        for (i, iv) in self.internal_variables.iter().enumerate() {
+            at_most(&format!("internal_variables[{i}].delta"), iv.delta, "delta", MAX_DELTA, 1.0)?;
+            let w = iv.omega_rad_s / omega_ref;
+            if !(lo..=hi).contains(&w) {
+                return Err(InputError::new(
+                    format!("internal_variables[{i}].omega_rad_s"),
+                    fmt_num(iv.omega_rad_s),
+                    format!(
+                        "{:e} ..= {:e} ({lo:e} <= omega/omega_ref <= {hi:e}, omega_ref = sqrt(EI/rhoA)/L^2 = {omega_ref:e} rad/s)",
+                        lo * omega_ref,
+                        hi * omega_ref
+                    ),
+                ));
+            }
+        }
+        at_most(
+            "viscous_damping_n_s_m2",
+            self.viscous_damping_n_s_m2,
+            "C/(rhoA omega_ref)",
+            MAX_C_TILDE,
+            rho_a * omega_ref,
+        )?;
+        at_most(
+            "support_rotational_stiffness_n_m_rad",
+            self.support_rotational_stiffness_n_m_rad,
+            "k_r L/EI",
+            MAX_SPRING_TILDE,
+            ei / l,
+        )?;
+        if let Some(pm) = &self.point_mass {
+            at_most("point_mass.mass_kg", pm.mass_kg, "m/(rhoA L)", MAX_MASS_TILDE, rho_a * l)?;
+        }
+        Ok(())
+    }
+
+    /// Free DOFs of the FE mesh (2 per node minus those fixed by the
+    /// supports, as in `model::UnitMesh`): the number of physical modes the
+    /// model has.
+    pub fn free_dofs(&self) -> usize {
+        let fixed = match self.support {
+            Support::SimplySupported => 2,
+            Support::ClampedClamped => 4,
+            Support::ClampedFree => 2,
+            Support::ClampedPinned => 3,
+        };
+        (2 * (self.elements + 1)).saturating_sub(fixed)
     }
 
     /// Cross-section area in m².

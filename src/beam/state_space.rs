@@ -27,9 +27,27 @@ use num_complex::Complex64;
 use crate::beam::model::ScaledModel;
 use crate::beam::BeamError;
 
+/// Largest state dimension (2 + N)·n the dense reference handles: the real
+/// Schur decomposition costs ~25·dim³ flops (≈ 2.7e10 at 1024, a few seconds
+/// here); beyond it a fallback to the dense path would run for minutes, so it
+/// is a numerical failure instead (exit 1, never a hang).
+pub const MAX_DENSE_DIM: usize = 1024;
+
 /// All poles in scaled units (s̃ = s/ω_ref).
 pub fn scaled_poles(model: &ScaledModel) -> Result<Vec<Complex64>, BeamError> {
+    let dim = (2 + model.ivs_all.len()) * model.n();
+    if dim > MAX_DENSE_DIM {
+        return Err(BeamError::numerical(format!(
+            "the banded solver failed and the dense state-space reference is limited to dimension {MAX_DENSE_DIM} \
+             (this model: (2 + {} internal variables) x {} DOFs = {dim}); use fewer elements or request fewer modes",
+            model.ivs_all.len(),
+            model.n()
+        )));
+    }
     let a = state_matrix(model)?;
+    if a.iter().any(|v| !v.is_finite()) {
+        return Err(BeamError::numerical("the state matrix has non-finite entries (scaled parameters out of range)"));
+    }
     let a = balance(a);
     let dim = a.nrows();
     // nalgebra deflates a subdiagonal only when |h| ≤ tol·(|h_ii| + |h_jj|)

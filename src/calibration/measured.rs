@@ -11,10 +11,11 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::beam::spec::{RAW_MAX, RAW_MIN};
 use crate::beam::BeamSpec;
 use crate::calibration::parameters::ParameterSet;
 use crate::calibration::sampler::SamplerSpec;
-use crate::error::{positive, InputError};
+use crate::error::{fmt_num, InputError};
 
 /// One measured mode: natural frequency and damping ratio with their
 /// measurement standard deviations (the diagonal of Σεε, eq. 38).
@@ -65,11 +66,16 @@ impl MeasuredData {
         if file.modes.is_empty() {
             return Err(InputError::new("modes", "[]", "at least one mode"));
         }
-        validate_modes("modes", &file.modes)?;
-        validate_modes("held_out_modes", &file.held_out_modes)?;
-        for h in &file.held_out_modes {
+        let dofs = file.beam.free_dofs();
+        validate_modes("modes", &file.modes, dofs)?;
+        validate_modes("held_out_modes", &file.held_out_modes, dofs)?;
+        for (i, h) in file.held_out_modes.iter().enumerate() {
             if file.modes.iter().any(|m| m.mode == h.mode) {
-                return Err(InputError::new("held_out_modes.mode", h.mode, "a mode not already listed in `modes`"));
+                return Err(InputError::new(
+                    format!("held_out_modes[{i}].mode"),
+                    h.mode,
+                    "a mode not already listed in `modes`",
+                ));
             }
         }
         let parameters = match &file.parameters {
@@ -88,24 +94,35 @@ impl MeasuredData {
     }
 }
 
-/// Mode numbers >= 1, each listed once (across the list), positive sds and
-/// finite values.
-fn validate_modes(field: &str, modes: &[ModeObservation]) -> Result<(), InputError> {
+/// Mode numbers 1..=dofs (the beam model has as many physical modes as free
+/// DOFs), each listed once (across the list), positive sds and finite values.
+fn validate_modes(field: &str, modes: &[ModeObservation], dofs: usize) -> Result<(), InputError> {
     let mut seen = std::collections::BTreeSet::new();
     for (i, m) in modes.iter().enumerate() {
         let f = |name: &str| format!("{field}[{i}].{name}");
-        if m.mode == 0 {
-            return Err(InputError::new(f("mode"), m.mode, ">= 1 (mode numbers are 1-based)"));
+        if m.mode == 0 || m.mode > dofs {
+            return Err(InputError::new(
+                f("mode"),
+                m.mode,
+                format!("1..={dofs} (1-based physical modes; the beam's mesh has {dofs} free DOFs)"),
+            ));
         }
         if !seen.insert(m.mode) {
             return Err(InputError::new(f("mode"), m.mode, "each mode listed once"));
         }
-        positive(&f("omega_rad_s"), m.omega_rad_s)?;
-        positive(&f("omega_sd_rad_s"), m.omega_sd_rad_s)?;
-        if !(m.zeta.is_finite() && m.zeta > 0.0 && m.zeta < 1.0) {
-            return Err(InputError::new(f("zeta"), m.zeta, "0 < zeta < 1 (underdamped mode)"));
+        // the window of every dimensional input (beam::spec::RAW_MIN..=RAW_MAX):
+        // residuals (ω − ω_model)/sd then stay within 1e60, their squares normal
+        for (name, v) in [("omega_rad_s", m.omega_rad_s), ("omega_sd_rad_s", m.omega_sd_rad_s)] {
+            if !(v.is_finite() && (RAW_MIN..=RAW_MAX).contains(&v)) {
+                return Err(InputError::new(f(name), fmt_num(v), format!("{RAW_MIN:e} <= x <= {RAW_MAX:e}")));
+            }
         }
-        positive(&f("zeta_sd"), m.zeta_sd)?;
+        if !(m.zeta.is_finite() && m.zeta > 0.0 && m.zeta < 1.0) {
+            return Err(InputError::new(f("zeta"), fmt_num(m.zeta), "0 < zeta < 1 (underdamped mode)"));
+        }
+        if !(m.zeta_sd.is_finite() && (RAW_MIN..=1.0).contains(&m.zeta_sd)) {
+            return Err(InputError::new(f("zeta_sd"), fmt_num(m.zeta_sd), format!("{RAW_MIN:e} <= zeta_sd <= 1")));
+        }
     }
     Ok(())
 }

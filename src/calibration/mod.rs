@@ -11,5 +11,5 @@ pub mod sampler;
 pub use measured::{MeasuredData, ModeObservation};
 pub use parameters::{Parameter, ParameterSet, Target};
 pub use posterior::{observables, BeamPosterior, Observable, Quantity};
-pub use run::{calibrate, calibrate_posterior, CalibrateOptions, CalibrationResult};
+pub use run::{calibrate, calibrate_posterior, CalibrateOptions, CalibrationResult, SamplingError};
 pub use sampler::SamplerSpec;

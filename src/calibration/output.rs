@@ -60,6 +60,7 @@ pub fn summary_json(result: &CalibrationResult) -> serde_json::Value {
         "chain_starts": result.starts,
         "acceptance_per_chain": result.chains.iter().map(|c| c.acceptance_per_stage()).collect::<Vec<_>>(),
         "burn_in": result.burn_in,
+        "warnings": result.warnings,
     })
 }
 

@@ -144,20 +144,36 @@ impl ParameterSet {
         for (key, value) in map {
             let name = key
                 .as_str()
-                .ok_or_else(|| InputError::new("parameters", format!("{key:?}"), "string keys"))?
+                .ok_or_else(|| InputError::new("parameters", yaml_key_text(key), "string keys naming parameters"))?
                 .to_string();
             let field = format!("parameters.{name}");
             let target = Target::from_name(&name)
                 .ok_or_else(|| InputError::new("parameters", &name, format!("one of: {KNOWN_NAMES}")))?;
+            if params.len() >= MAX_PARAMETERS {
+                return Err(InputError::new(
+                    "parameters",
+                    format!("({} entries)", map.len()),
+                    format!("at most {MAX_PARAMETERS} parameters"),
+                ));
+            }
             if params.iter().any(|p: &Parameter| p.target == target) {
                 return Err(InputError::new(&field, &name, "each parameter once"));
             }
-            let entry: ParameterEntry = serde_yaml::from_value(value.clone())
-                .map_err(|e| InputError::new(&field, "(see message)", e.to_string()))?;
+            let entry: ParameterEntry = crate::error::from_yaml_value(&field, value.clone()).map_err(|e| {
+                // serde reports errors inside the internally tagged `Prior`
+                // without its path: parse the prior alone to name it
+                match value.get("prior") {
+                    Some(p) => {
+                        crate::error::from_yaml_value::<Prior>(&format!("{field}.prior"), p.clone()).err().unwrap_or(e)
+                    }
+                    None => e,
+                }
+            })?;
             entry.prior.validate(&format!("{field}.prior"))?;
+            check_prior_range(&entry.prior, &format!("{field}.prior"))?;
             let proposal_sd = match entry.proposal_sd {
                 Some(sd) => {
-                    crate::error::positive(&format!("{field}.proposal_sd"), sd)?;
+                    check_proposal_sd(&entry.prior, &format!("{field}.proposal_sd"), sd)?;
                     sd
                 }
                 None => default_proposal_sd(&entry.prior),
@@ -296,6 +312,104 @@ fn check_range(p: &Parameter, field: &str) -> Result<(), InputError> {
             within(lo >= -1.0, hi <= 0.5, "a support within the physical range -1 < poisson_ratio <= 0.5")
         }
         _ => check_physical(&p.prior, field),
+    }
+}
+
+/// Most calibrated parameters: every named target once (13 names plus up to
+/// 16 internal variables, 2 each) stays below this.
+pub const MAX_PARAMETERS: usize = 64;
+
+/// A YAML key as the user wrote it (for the error line).
+fn yaml_key_text(key: &serde_yaml::Value) -> String {
+    serde_yaml::to_string(key).map(|t| t.trim().replace('\n', " ")).unwrap_or_else(|_| "(key)".into())
+}
+
+/// Largest |bound| or location of a prior, and smallest scale: with
+/// |x| ≤ 1e150 and scale ≥ 1e-140, every square the sampler and the
+/// summaries form — (x − mean)², sd² of a proposal (≥ 1e-9·scale, see
+/// [`check_proposal_sd`]) times 2.4²/d and a DR factor ≥ 1e-6 — is a normal
+/// f64 (|·| in [1e-306, 1e300]), and sums of up to 1e7 such squares stay
+/// below f64::MAX (a uniform bound of 1.7e308 made the posterior mean inf).
+pub const PRIOR_MAX_ABS: f64 = 1e150;
+pub const PRIOR_MIN_SCALE: f64 = 1e-140;
+/// A prior's scale relative to its location: below this, the random-walk
+/// steps (≥ 1e-9 of the scale) fall under the rounding of the values
+/// themselves (2.2e-16 relative) and the chain cannot move.
+pub const PRIOR_MIN_RELATIVE_SCALE: f64 = 1e-6;
+
+/// The prior's scale: support width when bounded, else its sd, else (inverse
+/// gamma without a finite variance) its scale parameter.
+fn prior_scale(prior: &Prior) -> f64 {
+    let (lo, hi) = prior.support();
+    if lo.is_finite() && hi.is_finite() {
+        hi - lo
+    } else {
+        match *prior {
+            Prior::InverseGamma { scale, .. } => prior.sd().unwrap_or(scale),
+            _ => prior.sd().unwrap_or(1.0),
+        }
+    }
+}
+
+/// Numeric range of a prior (see [`PRIOR_MAX_ABS`]).
+pub fn check_prior_range(prior: &Prior, field: &str) -> Result<(), InputError> {
+    use crate::error::fmt_num;
+    let values: Vec<(&str, f64)> = match *prior {
+        Prior::Uniform { lower, upper } | Prior::LogUniform { lower, upper } => {
+            vec![("lower", lower), ("upper", upper)]
+        }
+        Prior::Normal { mean, sd } => vec![("mean", mean), ("sd", sd)],
+        Prior::InverseGamma { shape, scale } => vec![("shape", shape), ("scale", scale)],
+    };
+    for &(name, v) in &values {
+        if v.abs() > PRIOR_MAX_ABS {
+            return Err(InputError::new(format!("{field}.{name}"), fmt_num(v), format!("|x| <= {PRIOR_MAX_ABS:e}")));
+        }
+    }
+    if let Prior::InverseGamma { shape, scale } = *prior {
+        if !(1e-2..=1e6).contains(&shape) {
+            return Err(InputError::new(format!("{field}.shape"), fmt_num(shape), "1e-2 <= shape <= 1e6"));
+        }
+        if scale < PRIOR_MIN_SCALE {
+            return Err(InputError::new(format!("{field}.scale"), fmt_num(scale), format!(">= {PRIOR_MIN_SCALE:e}")));
+        }
+        return Ok(());
+    }
+    let scale = prior_scale(prior);
+    let location = values
+        .iter()
+        .take(if matches!(prior, Prior::Normal { .. }) { 1 } else { 2 })
+        .fold(0.0f64, |a, v| a.max(v.1.abs()));
+    let min_scale = PRIOR_MIN_SCALE.max(PRIOR_MIN_RELATIVE_SCALE * location);
+    if scale.is_nan() || scale < min_scale {
+        let (name, v) =
+            if matches!(prior, Prior::Normal { .. }) { ("sd", values[1].1) } else { ("upper", values[1].1) };
+        let what = if name == "sd" { "sd" } else { "upper - lower" };
+        return Err(InputError::new(
+            format!("{field}.{name}"),
+            fmt_num(v),
+            format!("{what} >= {min_scale:e} (max({PRIOR_MIN_SCALE:e}, {PRIOR_MIN_RELATIVE_SCALE:e} x |location|))"),
+        ));
+    }
+    Ok(())
+}
+
+/// The C0 step of a parameter: between 1e-9 and 1 times the prior's scale.
+/// Above the scale nearly every proposal leaves the support (a step of 1e200
+/// on a [0, 1] prior: acceptance 0, frozen chains); below 1e-9 of it a chain
+/// of 1e4–1e7 states moves ≤ ~3e-6 of the scale before adaptation and its
+/// covariance is rounding noise.
+pub fn check_proposal_sd(prior: &Prior, field: &str, sd: f64) -> Result<(), InputError> {
+    let scale = prior_scale(prior);
+    let (lo, hi) = (1e-9 * scale, scale);
+    if sd.is_finite() && sd >= lo && sd <= hi {
+        Ok(())
+    } else {
+        Err(InputError::new(
+            field,
+            crate::error::fmt_num(sd),
+            format!("{lo:e} <= sd <= {hi:e} (1e-9 to 1 times the prior's scale {scale:e})"),
+        ))
     }
 }
 

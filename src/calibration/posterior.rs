@@ -76,6 +76,16 @@ impl BeamPosterior {
         predict_modes(&self.beam_at(theta), &self.modes, self.n_modes)
     }
 
+    /// Highest mode number the forward model computes.
+    pub fn max_mode(&self) -> usize {
+        self.n_modes
+    }
+
+    /// The fitted (1-based, physical) mode numbers.
+    pub fn fitted_modes(&self) -> &[usize] {
+        &self.modes
+    }
+
     pub fn observed(&self) -> &[f64] {
         &self.observed
     }
@@ -133,7 +143,7 @@ pub fn predict_modes(beam: &BeamSpec, modes: &[usize], n_modes: usize) -> Option
     let result = beam::modal(beam, n_modes).ok()?;
     let mut y = vec![0.0; 2 * modes.len()];
     for (k, &m) in modes.iter().enumerate() {
-        let mode = result.modes.get(m - 1)?;
+        let mode = result.mode(m)?;
         y[k] = mode.omega_rad_s;
         y[modes.len() + k] = mode.zeta;
     }

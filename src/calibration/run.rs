@@ -37,7 +37,40 @@ pub struct CalibrationResult {
     pub log_posterior_map: f64,
     /// Where each chain started.
     pub starts: Vec<Vec<f64>>,
+    /// Why the result should be read with care (frozen chains, low
+    /// acceptance, R̂/ESS); also printed on stderr and in the JSON.
+    pub warnings: Vec<String>,
 }
+
+/// A run that cannot sample: `calibrate` exits 1 with this message.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SamplingError {
+    /// No prior draw of the multi-start screen has a finite posterior.
+    #[error(
+        "no valid state: none of the {draws} prior draws gives a finite log posterior{detail} \
+         (widen the priors or check the measured modes against the beam)"
+    )]
+    NoValidState { draws: usize, detail: String },
+    /// Every chain stayed where it started.
+    #[error(
+        "the chains cannot sample: {reason} (give a proposal_sd between about 1e-3 and 1e-1 of each prior's \
+         width, or check that the model is valid around the start)"
+    )]
+    Frozen { reason: String },
+    /// The summaries are not finite numbers.
+    #[error("the posterior summary is not finite for {name} (mean {mean}, sd {sd}): narrow its prior")]
+    NonFinite { name: String, mean: f64, sd: f64 },
+}
+
+/// Least pooled acceptance (all DR stages) below which a run is reported
+/// as nearly frozen: with ≥ 40 kept draws per chain (`MIN_KEPT_DRAWS`), 1 %
+/// means < 1 move per 100 states, an ESS far below what the run size suggests.
+const LOW_ACCEPTANCE: f64 = 0.01;
+/// R̂ above which chains have not mixed (Vehtari et al. 2021 recommend 1.01
+/// for final results; 1.1 is the classic threshold for "not converged").
+const RHAT_WARN: f64 = 1.1;
+/// Bulk/tail ESS below which intervals are unreliable (Vehtari et al. 2021: 100 per run).
+const ESS_WARN: f64 = 100.0;
 
 /// The JSON printed by `nanobeam calibrate --json`.
 #[derive(Debug, Clone, Serialize)]
@@ -46,6 +79,7 @@ pub struct CalibrationJson<'a> {
     pub acceptance: &'a [f64],
     pub rejected_invalid: u64,
     pub log_posterior_map: f64,
+    pub warnings: &'a [String],
 }
 
 impl CalibrationResult {
@@ -60,6 +94,7 @@ impl CalibrationResult {
             acceptance: &self.acceptance,
             rejected_invalid: self.rejected_invalid,
             log_posterior_map: self.log_posterior_map,
+            warnings: &self.warnings,
         }
     }
 }
@@ -78,10 +113,35 @@ pub fn dram_settings(s: &SamplerSpec) -> DramSettings {
 }
 
 /// Calibrates the file's parameter set against its fitted modes.
-pub fn calibrate(data: &MeasuredData, opts: &CalibrateOptions) -> CalibrationResult {
+pub fn calibrate(data: &MeasuredData, opts: &CalibrateOptions) -> Result<CalibrationResult, SamplingError> {
     let post = BeamPosterior::new(data, data.parameters.clone());
     let c0_sd: Vec<f64> = data.parameters.params.iter().map(|p| p.proposal_sd).collect();
-    calibrate_posterior(&post, &c0_sd, &data.sampler, opts)
+    calibrate_posterior(&post, &c0_sd, &data.sampler, opts).map_err(|e| match e {
+        SamplingError::NoValidState { draws, .. } => {
+            SamplingError::NoValidState { draws, detail: why_invalid(&post, data.sampler.seed) }
+        }
+        other => other,
+    })
+}
+
+/// What the model says at the prior mean (or one prior draw): the reason a
+/// state is invalid, for the error line.
+fn why_invalid(post: &BeamPosterior, seed: u64) -> String {
+    let params = post.parameters();
+    let theta: Vec<f64> = match params.params.iter().map(|p| p.prior.mean()).collect::<Option<Vec<f64>>>() {
+        Some(t) => t,
+        None => post.sample_prior(&mut stream(seed, Purpose::ChainStart, [u64::MAX, 1])),
+    };
+    let beam = post.beam_at(&theta);
+    let max_mode = post.max_mode();
+    let at = |what: String| format!("; at the prior mean {what}");
+    match crate::beam::modal(&beam, max_mode) {
+        Err(e) => at(format!("the model fails: {e}")),
+        Ok(r) => match r.overdamped.first() {
+            Some(o) if post.fitted_modes().contains(&o.mode) => at(format!("measured mode {} is overdamped", o.mode)),
+            _ => String::new(),
+        },
+    }
 }
 
 /// Any posterior: the beam-agnostic core of [`calibrate`].
@@ -95,14 +155,13 @@ pub fn calibrate_posterior(
     c0_sd: &[f64],
     sampler: &SamplerSpec,
     opts: &CalibrateOptions,
-) -> CalibrationResult {
+) -> Result<CalibrationResult, SamplingError> {
     let names = post.names();
     let settings = dram_settings(sampler);
     let optima = multi_start_optimum(post, c0_sd, sampler.multistart_points, 4, sampler.seed, 0);
-    let best = optima.first().map(|m| m.theta.clone()).unwrap_or_else(|| {
-        let mut rng = stream(sampler.seed, Purpose::ChainStart, [u64::MAX, 0]);
-        post.sample_prior(&mut rng)
-    });
+    let Some(best) = optima.first().filter(|m| m.log_posterior.is_finite()).map(|m| m.theta.clone()) else {
+        return Err(SamplingError::NoValidState { draws: sampler.multistart_points, detail: String::new() });
+    };
     let starts: Vec<Vec<f64>> = (0..sampler.chains)
         .map(|c| {
             let mut rng = stream(sampler.seed, Purpose::ChainStart, [c as u64, 0]);
@@ -141,6 +200,7 @@ pub fn calibrate_posterior(
 
     let kept: Vec<Vec<Vec<f64>>> = chains.iter().map(|c| c.draws[sampler.burn_in..].to_vec()).collect();
     let summary = summarize(&names, &kept);
+    let warnings = sampling_health(&chains, &kept, &summary)?;
 
     // MAP: Nelder–Mead from the best sampled state, simplex scaled by the posterior sd.
     let (best_state, _) = chains
@@ -156,7 +216,7 @@ pub fn calibrate_posterior(
     let map = map_estimate(post, best_state, &scales, 4000);
     let summary = summary.with_map(&map.theta);
 
-    CalibrationResult {
+    Ok(CalibrationResult {
         names,
         acceptance: pooled_acceptance(&chains),
         rejected_invalid: chains.iter().map(|c| c.rejected_invalid).sum(),
@@ -166,5 +226,56 @@ pub fn calibrate_posterior(
         map_theta: map.theta,
         log_posterior_map: map.log_posterior,
         starts,
+        warnings,
+    })
+}
+
+/// Whether the chains sampled: an error when none moved (acceptance 0 or
+/// every chain constant after burn-in) or a summary is not finite; warnings
+/// for frozen chains among moving ones, low acceptance, R̂ and ESS.
+fn sampling_health(
+    chains: &[ChainOutput],
+    kept: &[Vec<Vec<f64>>],
+    summary: &Summary,
+) -> Result<Vec<String>, SamplingError> {
+    let accepted: u64 = chains.iter().flat_map(|c| &c.accepted).sum();
+    let steps: u64 = chains.iter().map(|c| c.draws.len().saturating_sub(1) as u64).sum();
+    let invalid: u64 = chains.iter().map(|c| c.rejected_invalid).sum();
+    let proposed: u64 = chains.iter().flat_map(|c| &c.proposed).sum();
+    if accepted == 0 {
+        return Err(SamplingError::Frozen {
+            reason: format!(
+                "no proposal was accepted in {steps} steps ({invalid} of {proposed} proposals left the prior support \
+                 or made the model fail)"
+            ),
+        });
     }
+    let frozen: Vec<usize> = (0..kept.len()).filter(|&c| kept[c].windows(2).all(|w| w[0] == w[1])).collect();
+    if frozen.len() == kept.len() {
+        return Err(SamplingError::Frozen { reason: "every chain stayed constant after burn-in".into() });
+    }
+    for p in &summary.parameters {
+        if !(p.mean.is_finite() && p.sd.is_finite()) {
+            return Err(SamplingError::NonFinite { name: p.name.clone(), mean: p.mean, sd: p.sd });
+        }
+    }
+    let mut warnings = Vec::new();
+    if !frozen.is_empty() {
+        warnings.push(format!("chains {frozen:?} stayed constant after burn-in (0-based)"));
+    }
+    let rate = accepted as f64 / steps.max(1) as f64;
+    if rate < LOW_ACCEPTANCE {
+        warnings
+            .push(format!("acceptance {rate:.4} < {LOW_ACCEPTANCE}: proposal_sd likely far too large or too small"));
+    }
+    for p in &summary.parameters {
+        if p.rhat.is_nan() || p.rhat > RHAT_WARN {
+            warnings.push(format!("{}: R-hat {:.3} > {RHAT_WARN} (chains disagree; run longer)", p.name, p.rhat));
+        }
+        let ess = p.ess_bulk.min(p.ess_tail);
+        if ess.is_nan() || ess < ESS_WARN {
+            warnings.push(format!("{}: ESS {:.0} < {ESS_WARN} (run longer)", p.name, ess));
+        }
+    }
+    Ok(warnings)
 }

@@ -46,17 +46,67 @@ impl Default for SamplerSpec {
     }
 }
 
+/// Memory budget for the stored chains (bytes). A stored state costs
+/// `state_bytes(dim)`; `calibrate` holds every state once in the chains and
+/// once more in the post-burn-in copy that the summaries read.
+pub const MAX_CHAIN_MEMORY_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
+
+/// Bytes per stored state of a `dim`-parameter chain: a `Vec<f64>` (24-byte
+/// header + 8·dim heap bytes + ~16 bytes allocator overhead) and its log
+/// posterior (8), twice (chains + the kept copy).
+pub fn state_bytes(dim: usize) -> f64 {
+    2.0 * (24.0 + 8.0 * dim as f64 + 16.0 + 8.0)
+}
+
+/// Least post-burn-in draws per chain: the rank-normalised split-R̂ and the
+/// bulk/tail ESS split each chain in halves and need a few draws in each
+/// tail quantile (5 %) of each half: 2 × 20 = 40 keeps them finite.
+pub const MIN_KEPT_DRAWS: usize = 40;
+
 impl SamplerSpec {
-    pub fn validate(&self, _dim: usize) -> Result<(), InputError> {
+    pub fn validate(&self, dim: usize) -> Result<(), InputError> {
         let f = |name: &str| format!("sampler.{name}");
-        if self.draws_per_chain == 0 {
-            return Err(InputError::new(f("draws_per_chain"), 0, ">= 1"));
-        }
-        if self.burn_in >= self.draws_per_chain {
+        if self.chains < 2 || self.chains > 64 {
             return Err(InputError::new(
-                f("burn_in"),
-                self.burn_in,
-                format!("< draws_per_chain = {}", self.draws_per_chain),
+                f("chains"),
+                self.chains,
+                "2..=64 (R-hat compares chains; >= 4 recommended for split-R-hat)",
+            ));
+        }
+        let max_draws = (MAX_CHAIN_MEMORY_BYTES / (state_bytes(dim.max(1)) * self.chains as f64)).floor() as usize;
+        if self.draws_per_chain > max_draws {
+            return Err(InputError::new(
+                f("draws_per_chain"),
+                self.draws_per_chain,
+                format!(
+                    "<= {max_draws} (the {} chains of {dim} parameters must fit in {} GiB)",
+                    self.chains,
+                    MAX_CHAIN_MEMORY_BYTES / 1024f64.powi(3)
+                ),
+            ));
+        }
+        if self.draws_per_chain < self.burn_in + MIN_KEPT_DRAWS {
+            return Err(InputError::new(
+                f("draws_per_chain"),
+                self.draws_per_chain,
+                format!(
+                    ">= burn_in + {MIN_KEPT_DRAWS} = {} (draws kept for the diagnostics)",
+                    self.burn_in + MIN_KEPT_DRAWS
+                ),
+            ));
+        }
+        if self.nonadaptive_draws >= self.draws_per_chain {
+            return Err(InputError::new(
+                f("nonadaptive_draws"),
+                self.nonadaptive_draws,
+                format!("< draws_per_chain = {} (otherwise adaptation never starts)", self.draws_per_chain),
+            ));
+        }
+        if self.adaptation_start >= self.draws_per_chain {
+            return Err(InputError::new(
+                f("adaptation_start"),
+                self.adaptation_start,
+                format!("< draws_per_chain = {} (otherwise adaptation never starts)", self.draws_per_chain),
             ));
         }
         if self.covariance_skip > self.adaptation_start {
@@ -66,16 +116,24 @@ impl SamplerSpec {
                 format!("<= adaptation_start = {}", self.adaptation_start),
             ));
         }
+        if self.dr_shrink_factors.len() > 8 {
+            return Err(InputError::new(
+                f("dr_shrink_factors"),
+                format!("({} factors)", self.dr_shrink_factors.len()),
+                "at most 8 (each stage costs one model run; the acceptance recursion is exponential in stages)",
+            ));
+        }
         for (i, &g) in self.dr_shrink_factors.iter().enumerate() {
-            if !(g.is_finite() && g > 0.0 && g <= 1.0) {
-                return Err(InputError::new(format!("sampler.dr_shrink_factors[{i}]"), g, "0 < gamma <= 1"));
+            if !(g.is_finite() && (1e-6..=1.0).contains(&g)) {
+                return Err(InputError::new(
+                    format!("sampler.dr_shrink_factors[{i}]"),
+                    crate::error::fmt_num(g),
+                    "1e-6 <= gamma <= 1 (gamma * sd^2 must stay a normal number)",
+                ));
             }
         }
-        if self.chains == 0 || self.chains > 64 {
-            return Err(InputError::new(f("chains"), self.chains, "1..=64 (>= 4 for split-R-hat)"));
-        }
-        if self.multistart_points == 0 {
-            return Err(InputError::new(f("multistart_points"), 0, ">= 1"));
+        if self.multistart_points == 0 || self.multistart_points > 100_000 {
+            return Err(InputError::new(f("multistart_points"), self.multistart_points, "1..=100000"));
         }
         Ok(())
     }

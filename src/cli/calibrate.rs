@@ -7,8 +7,10 @@ use clap::Args;
 use crate::calibration::output::{summary_cells, write_calibration_files, SUMMARY_HEADERS};
 use crate::calibration::{calibrate, CalibrateOptions};
 use crate::cli::{read_measured, write_out, CliError};
-use crate::report::render::write_dir_atomically;
+use crate::error::InputError;
+use crate::report::render::{check_out_dir, write_dir_atomically};
 use crate::report::table::Table;
+use crate::report::ReportError;
 
 #[derive(Debug, Args)]
 pub struct CalibrateArgs {
@@ -22,12 +24,32 @@ pub struct CalibrateArgs {
     pub json: bool,
 }
 
+/// A bad `--out` (existing file, foreign non-empty directory, unwritable
+/// parent) is bad input (exit 2); any other write failure is exit 1.
+pub(crate) fn out_dir_error(dir: &std::path::Path, e: ReportError) -> CliError {
+    match e {
+        ReportError::OutPath { path, reason } => CliError::Input(InputError::new(
+            "--out",
+            path.display(),
+            format!("a new path, an empty directory or a directory written by nanobeam; {reason}"),
+        )),
+        other => CliError::Failure(format!("cannot write {}: {other}", dir.display())),
+    }
+}
+
 pub fn run(args: &CalibrateArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
     let data = read_measured(&args.measured)?;
-    let result = calibrate(&data, &CalibrateOptions { progress: true });
+    if let Some(dir) = &args.out {
+        check_out_dir(dir).map_err(|e| out_dir_error(dir, e))?;
+    }
+    let result =
+        calibrate(&data, &CalibrateOptions { progress: true }).map_err(|e| CliError::Failure(e.to_string()))?;
+    for w in &result.warnings {
+        eprintln!("warning: {w}");
+    }
     if let Some(dir) = &args.out {
         write_dir_atomically(dir, |tmp| write_calibration_files(tmp, &result, None))
-            .map_err(|e| CliError::Failure(format!("cannot write {}: {e}", dir.display())))?;
+            .map_err(|e| out_dir_error(dir, e))?;
     }
     if args.json {
         let json = serde_json::to_string(&result.json()).expect("summary serialises");

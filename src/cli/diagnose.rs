@@ -26,6 +26,9 @@ pub struct DiagnoseArgs {
 /// Runs the command: the summary (or the JSON) goes to `out`; DIR is only
 /// replaced when everything succeeded.
 pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    if let Some(dir) = &args.out {
+        crate::report::render::check_out_dir(dir).map_err(|e| crate::cli::calibrate::out_dir_error(dir, e))?;
+    }
     let settings = DiagnoseSettings { samples: args.samples, ..DiagnoseSettings::default() };
     settings.validate()?;
     let data = read_measured(&args.measured)?;

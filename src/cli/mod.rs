@@ -3,6 +3,7 @@
 //! failure, 2 bad input (one line on stderr naming field, value and range).
 
 pub mod calibrate;
+pub mod clap_error;
 pub mod diagnose;
 pub mod frf;
 pub mod modal;

@@ -15,6 +15,10 @@ pub enum ReportError {
     /// A template could not be parsed or rendered; `file` is the template file.
     #[error("template {}: {message}", file.display())]
     Template { file: PathBuf, message: String },
+    /// The output path cannot take an output directory (an existing file, a
+    /// foreign non-empty directory, an unwritable parent): a bad `--out`.
+    #[error("invalid --out = {}: allowed a new path, an empty directory or a directory written by nanobeam; {reason}", path.display())]
+    OutPath { path: PathBuf, reason: String },
     /// A file-system operation failed on `path`.
     #[error("{}: {source}", path.display())]
     Io {

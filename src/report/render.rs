@@ -87,32 +87,178 @@ fn error_chain(e: &dyn std::error::Error) -> String {
 
 static UNIQUE: AtomicU64 = AtomicU64::new(0);
 
-/// A fresh, not yet existing sibling path of `dest`: `.<name>.<tag>-<pid>-<n>`.
-fn sibling(dest: &Path, tag: &str) -> Result<PathBuf> {
-    let parent = match dest.parent() {
+/// The file that marks a directory as written by nanobeam: only such a
+/// directory (or an empty one) is ever replaced by [`write_dir_atomically`].
+pub const MARKER_FILE: &str = ".nanobeam-output";
+
+/// Temporary siblings of `dest` are `.<name>.<tag>-<pid>-<n>`; these tags.
+const TAGS: [&str; 3] = ["tmp", "old", "probe"];
+
+fn parent_of(dest: &Path) -> PathBuf {
+    match dest.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
-    };
-    let name = dest
-        .file_name()
-        .ok_or_else(|| ReportError::invalid(dest.display().to_string(), "destination has no file name"))?
-        .to_string_lossy();
+    }
+}
+
+fn file_name_of(dest: &Path) -> Result<String> {
+    dest.file_name().map(|n| n.to_string_lossy().into_owned()).filter(|n| n != "." && n != "..").ok_or_else(|| {
+        ReportError::OutPath {
+            path: dest.to_path_buf(),
+            reason: "it has no final file name (use a path like DIR/results)".into(),
+        }
+    })
+}
+
+/// A fresh, not yet existing sibling path of `dest`: `.<name>.<tag>-<pid>-<n>`.
+fn sibling(dest: &Path, tag: &str) -> Result<PathBuf> {
+    let parent = parent_of(dest);
+    let name = file_name_of(dest)?;
     loop {
         let n = UNIQUE.fetch_add(1, Ordering::Relaxed);
         let candidate = parent.join(format!(".{name}.{tag}-{}-{n}", std::process::id()));
-        if !candidate.exists() {
+        if fs::symlink_metadata(&candidate).is_err() {
             return Ok(candidate);
         }
     }
 }
 
-/// Removes a temporary directory when dropped unless disarmed (also on panic).
-struct TempDirGuard(Option<PathBuf>);
+/// Checks, before any computation, that `dest` can take an output directory:
+/// it is absent, an empty directory, or a directory carrying [`MARKER_FILE`]
+/// (never a file, a symbolic link or someone else's non-empty directory), and
+/// its parent (or nearest existing ancestor) is a writable directory — probed
+/// by creating and removing a temporary sibling. Also removes temporary
+/// siblings left by processes that no longer run (and puts back an output a
+/// dead process had moved aside). Installs the SIGINT/SIGTERM cleanup.
+pub fn check_out_dir(dest: &Path) -> Result<()> {
+    let name = file_name_of(dest)?;
+    check_dest(dest)?;
+    let refuse = |reason: &str| Err(ReportError::OutPath { path: dest.to_path_buf(), reason: reason.to_string() });
+    let parent = parent_of(dest);
+    let mut existing = parent.clone();
+    while fs::symlink_metadata(&existing).is_err() {
+        match existing.parent() {
+            Some(p) if !p.as_os_str().is_empty() => existing = p.to_path_buf(),
+            _ => existing = PathBuf::from("."),
+        }
+        if existing == Path::new(".") {
+            break;
+        }
+    }
+    if !existing.is_dir() {
+        return refuse(&format!("{} is not a directory", existing.display()));
+    }
+    if existing == parent {
+        recover_stale(&parent, &name, dest);
+    }
+    let probe = sibling(&existing.join(&name), "probe")?;
+    fs::create_dir(&probe).map_err(|e| ReportError::OutPath {
+        path: dest.to_path_buf(),
+        reason: format!("{} is not writable ({e})", existing.display()),
+    })?;
+    let _ = fs::remove_dir(&probe);
+    signals::install();
+    Ok(())
+}
 
-impl Drop for TempDirGuard {
+/// Removes `.<name>.<tag>-<pid>-<n>` siblings whose process is gone; an
+/// `old` one is renamed back to `dest` when `dest` is missing (a writer using
+/// two renames died between them).
+fn recover_stale(parent: &Path, name: &str, dest: &Path) {
+    let Ok(entries) = fs::read_dir(parent) else { return };
+    for entry in entries.flatten() {
+        let file = entry.file_name().to_string_lossy().into_owned();
+        let Some(rest) = file.strip_prefix(&format!(".{name}.")) else { continue };
+        let Some((tag, ids)) = rest.split_once('-') else { continue };
+        let Some(pid) = ids.split('-').next().and_then(|p| p.parse::<i32>().ok()) else { continue };
+        if !TAGS.contains(&tag) || process_alive(pid) {
+            continue;
+        }
+        let path = entry.path();
+        if tag == "old" && fs::symlink_metadata(dest).is_err() && fs::rename(&path, dest).is_ok() {
+            continue;
+        }
+        let _ = fs::remove_dir_all(&path);
+    }
+}
+
+/// Whether process `pid` exists (`kill(pid, 0)`: success or EPERM).
+fn process_alive(pid: i32) -> bool {
+    if pid <= 0 {
+        return false;
+    }
+    // SAFETY: signal 0 only checks for existence and permission.
+    let r = unsafe { libc::kill(pid, 0) };
+    r == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
+}
+
+/// Cleanup on SIGINT/SIGTERM (signal-hook's iterator thread): temporary
+/// paths are registered while they exist; the handler thread takes the same
+/// lock that every [`write_dir_atomically`] holds from creating its temporary
+/// directory to the end of its swap, so it acts only between writes (the
+/// output is then either the old or the new complete directory), removes what
+/// is registered, and exits with 128 + signal.
+mod signals {
+    use std::path::PathBuf;
+    use std::sync::{Mutex, MutexGuard, Once};
+
+    static WRITE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+    static INSTALL: Once = Once::new();
+
+    pub(super) fn lock() -> MutexGuard<'static, Vec<PathBuf>> {
+        WRITE.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    pub(super) fn install() {
+        INSTALL.call_once(|| {
+            let Ok(mut signals) =
+                signal_hook::iterator::Signals::new([signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM])
+            else {
+                return; // default disposition: the process dies; stale siblings are recovered next time
+            };
+            std::thread::spawn(move || {
+                if let Some(sig) = signals.forever().next() {
+                    let pending = lock();
+                    for p in pending.iter() {
+                        let _ = std::fs::remove_dir_all(p);
+                    }
+                    std::process::exit(128 + sig);
+                }
+            });
+        });
+    }
+}
+
+/// Exchanges two paths atomically (Linux `renameat2(RENAME_EXCHANGE)`);
+/// `false` where unsupported (the caller then uses two renames).
+#[cfg(target_os = "linux")]
+fn exchange(a: &Path, b: &Path) -> bool {
+    use std::ffi::CString;
+    use std::os::unix::ffi::OsStrExt;
+    let (Ok(ca), Ok(cb)) = (CString::new(a.as_os_str().as_bytes()), CString::new(b.as_os_str().as_bytes())) else {
+        return false;
+    };
+    // SAFETY: two valid NUL-terminated paths relative to the current directory.
+    unsafe { libc::renameat2(libc::AT_FDCWD, ca.as_ptr(), libc::AT_FDCWD, cb.as_ptr(), libc::RENAME_EXCHANGE) == 0 }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn exchange(_a: &Path, _b: &Path) -> bool {
+    false
+}
+
+/// One write in progress: holds the cleanup lock (see `signals`) and removes
+/// its temporary directory when dropped unless disarmed (also on panic).
+struct WriteSession {
+    pending: std::sync::MutexGuard<'static, Vec<PathBuf>>,
+    tmp: Option<PathBuf>,
+}
+
+impl Drop for WriteSession {
     fn drop(&mut self) {
-        if let Some(p) = self.0.take() {
-            let _ = fs::remove_dir_all(p);
+        if let Some(p) = self.tmp.take() {
+            let _ = fs::remove_dir_all(&p);
+            self.pending.retain(|q| q != &p);
         }
     }
 }
@@ -120,14 +266,17 @@ impl Drop for TempDirGuard {
 /// Builds an output directory in a temporary sibling of `dest`, then moves it
 /// into place.
 ///
-/// `build` receives the temporary directory and fills it. If `build` fails
-/// (or panics), the temporary directory is removed and `dest` is left exactly
-/// as it was. On success an existing `dest` is first renamed aside, the new
-/// directory renamed to `dest`, and the old one deleted; if the second rename
-/// fails the old directory is renamed back. (POSIX `rename` cannot replace a
-/// non-empty directory in one step, so between the two renames — two
-/// metadata operations on the same file system — `dest` briefly does not
-/// exist; it never holds a partial build.)
+/// `dest` is first checked by [`check_out_dir`] (callers should also call
+/// that before computing, so a bad `--out` costs nothing). `build` receives
+/// the temporary directory (already holding [`MARKER_FILE`]) and fills it. If
+/// `build` fails or panics, the temporary directory is removed and `dest` is
+/// left exactly as it was. On success the new directory replaces `dest` by one
+/// atomic exchange (Linux `renameat2`), so at every instant `dest` is either
+/// the old or the new complete directory; the old one is then deleted. Writers
+/// in several processes take an exclusive `flock` on the parent directory for
+/// the swap, so concurrent writers to one `dest` all succeed and the last
+/// swap wins: one complete result. SIGINT/SIGTERM wait for the write to end
+/// (see `signals`), so no temporary directory survives them.
 pub fn write_dir_atomically<E>(
     dest: &Path,
     build: impl FnOnce(&Path) -> std::result::Result<(), E>,
@@ -135,28 +284,69 @@ pub fn write_dir_atomically<E>(
 where
     E: From<ReportError>,
 {
+    check_out_dir(dest)?;
+    let mut session = WriteSession { pending: signals::lock(), tmp: None };
     let tmp = sibling(dest, "tmp")?;
-    fs::create_dir_all(&tmp).map_err(|e| ReportError::io(&tmp, e))?;
-    let mut guard = TempDirGuard(Some(tmp.clone()));
+    session.pending.push(tmp.clone());
+    if let Err(e) = fs::create_dir_all(&tmp) {
+        session.pending.retain(|p| p != &tmp);
+        return Err(ReportError::io(&tmp, e).into());
+    }
+    session.tmp = Some(tmp.clone());
+    fs::write(tmp.join(MARKER_FILE), "written by nanobeam; replaced as a whole by the next run\n")
+        .map_err(|e| ReportError::io(&tmp, e))?;
     build(&tmp)?;
-    let old = if dest.exists() {
-        let old = sibling(dest, "old")?;
-        fs::rename(dest, &old).map_err(|e| ReportError::io(dest, e))?;
-        Some(old)
-    } else {
-        None
-    };
-    if let Err(e) = fs::rename(&tmp, dest) {
-        if let Some(old) = &old {
-            let _ = fs::rename(old, dest);
+    let parent = parent_of(dest);
+    let lock = fs::File::open(&parent).map_err(|e| ReportError::io(&parent, e))?;
+    lock.lock().map_err(|e| ReportError::io(&parent, e))?;
+    // re-checked under the lock: another process may have put something there
+    check_dest(dest)?;
+    match fs::symlink_metadata(dest) {
+        // `tmp` now holds the old output: the session removes it on drop
+        Ok(_) if exchange(&tmp, dest) => {}
+        Ok(_) => {
+            let old = sibling(dest, "old")?;
+            session.pending.push(old.clone());
+            fs::rename(dest, &old).map_err(|e| ReportError::io(dest, e))?;
+            if let Err(e) = fs::rename(&tmp, dest) {
+                let _ = fs::rename(&old, dest);
+                session.pending.retain(|p| p != &old);
+                return Err(ReportError::io(dest, e).into());
+            }
+            session.tmp = None;
+            session.pending.retain(|p| p != &tmp);
+            let _ = fs::remove_dir_all(&old);
+            session.pending.retain(|p| p != &old);
         }
-        return Err(ReportError::io(dest, e).into());
+        Err(_) => {
+            fs::rename(&tmp, dest).map_err(|e| ReportError::io(dest, e))?;
+            session.tmp = None;
+            session.pending.retain(|p| p != &tmp);
+        }
     }
-    guard.0 = None;
-    if let Some(old) = old {
-        fs::remove_dir_all(&old).map_err(|e| ReportError::io(&old, e))?;
-    }
+    drop(session);
+    drop(lock);
     Ok(())
+}
+
+/// The destination part of [`check_out_dir`] (repeated under the swap lock).
+fn check_dest(dest: &Path) -> Result<()> {
+    let refuse = |reason: &str| Err(ReportError::OutPath { path: dest.to_path_buf(), reason: reason.to_string() });
+    match fs::symlink_metadata(dest) {
+        Ok(meta) if meta.file_type().is_symlink() => refuse("it is a symbolic link (give the real directory)"),
+        Ok(meta) if !meta.is_dir() => refuse("it is an existing file, not a directory"),
+        Ok(_) => {
+            let mut entries = fs::read_dir(dest).map_err(|e| ReportError::io(dest, e))?;
+            if entries.next().is_some() && !dest.join(MARKER_FILE).is_file() {
+                refuse(&format!(
+                    "it is a non-empty directory not written by nanobeam (no {MARKER_FILE}); choose a new path"
+                ))
+            } else {
+                Ok(())
+            }
+        }
+        Err(_) => Ok(()),
+    }
 }
 
 /// Writes `bytes` to a temporary sibling of `path` and renames it over

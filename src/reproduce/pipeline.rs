@@ -114,7 +114,8 @@ pub fn run(opts: &Options) -> Result<RunSummary, ReproduceError> {
     stage("table_2_figures_1_3", t);
 
     let t = Instant::now();
-    let cases: Vec<CaseOutcome> = specs.cases.par_iter().map(|c| run_case(c, &rec, &published, opts.quick)).collect();
+    let cases: Vec<CaseOutcome> =
+        specs.cases.par_iter().map(|c| run_case(c, &rec, &published, opts.quick)).collect::<Result<_, _>>()?;
     stage("cases", t);
 
     let t = Instant::now();
@@ -383,7 +384,12 @@ fn synthetic_observations(truth: &BeamSpec, published: &Published, set: &str, se
         .collect()
 }
 
-fn run_case(spec: &CaseSpec, rec: &Reconstruction, published: &Published, quick: bool) -> CaseOutcome {
+fn run_case(
+    spec: &CaseSpec,
+    rec: &Reconstruction,
+    published: &Published,
+    quick: bool,
+) -> Result<CaseOutcome, ReproduceError> {
     let t = Instant::now();
     let truth = match spec.truth {
         Truth::Table4 => &rec.truth_table_4,
@@ -399,8 +405,9 @@ fn run_case(spec: &CaseSpec, rec: &Reconstruction, published: &Published, quick:
     let post = BeamPosterior::from_parts(&inverse, &obs, params.clone());
     let mut sampler = if quick { spec.quick_sampler.clone() } else { spec.sampler.clone() };
     sampler.seed = spec.seed;
-    let result = calibrate_posterior(&post, &c0, &sampler, &CalibrateOptions::default());
-    CaseOutcome {
+    let result = calibrate_posterior(&post, &c0, &sampler, &CalibrateOptions::default())
+        .map_err(|e| ReproduceError::Failure(format!("case {}: {e}", spec.id)))?;
+    Ok(CaseOutcome {
         spec: spec.clone(),
         names: params.names(),
         truth: truth_vec,
@@ -408,7 +415,7 @@ fn run_case(spec: &CaseSpec, rec: &Reconstruction, published: &Published, quick:
         result,
         posterior: post,
         seconds: t.elapsed().as_secs_f64(),
-    }
+    })
 }
 
 /// Monte Carlo standard error of the mean of parameter k: sd/√ESS_bulk.
