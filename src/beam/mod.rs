@@ -5,7 +5,8 @@
 //! supports, extensions, nondimensional scaling) → poles by `state_space`
 //! (A15, reference) or `modal` (exact decoupled families via `eigen` +
 //! `family`, or Rayleigh-quotient iteration on T(s) when the extensions couple the modes) →
-//! `frf` (direct banded solves).
+//! `frf` (direct banded solves); `time_response` (impulse response by the
+//! exact matrix exponential of the state space).
 
 pub(crate) mod band;
 pub(crate) mod dual;
@@ -18,8 +19,10 @@ mod modal;
 pub(crate) mod model;
 pub mod spec;
 mod state_space;
+mod time_response;
 
 pub use error::BeamError;
 pub use frf::frf;
 pub use modal::{modal, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode, SolverPath};
 pub use spec::{BeamSpec, InternalVariable, PointMass, Support};
+pub use time_response::impulse_response;

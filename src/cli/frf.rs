@@ -35,6 +35,9 @@ pub struct FrfArgs {
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// Print CSV `omega_rad_s,h_re_m_per_n,h_im_m_per_n` (the record `nanobeam identify` reads).
+    #[arg(long, conflicts_with = "json")]
+    pub csv: bool,
 }
 
 #[derive(Serialize)]
@@ -78,7 +81,13 @@ pub fn run(args: &FrfArgs, out: &mut dyn std::io::Write) -> Result<(), CliError>
     let beam = read_beam(&args.beam)?;
     let omegas = grid(args)?;
     let h = frf(&beam, args.input_x_nm, args.output_x_nm, &omegas)?;
-    let text = if args.json {
+    let text = if args.csv {
+        let mut s = String::from("omega_rad_s,h_re_m_per_n,h_im_m_per_n\n");
+        for (&w, z) in omegas.iter().zip(&h) {
+            let _ = writeln!(s, "{w:e},{:e},{:e}", z.re, z.im);
+        }
+        s
+    } else if args.json {
         let doc = JsonFrf {
             points: omegas
                 .iter()
