@@ -44,6 +44,10 @@ pub const MAX_REAL_POLES: usize = 2;
 pub const MIN_POINTS_PER_RESONANCE: usize = 3;
 /// How far above the band (× ω_max) the initial estimator represents poles.
 pub const REACH: f64 = 1.5;
+/// Residue signal-to-noise ratio a reported mode needs by default: a
+/// residue within 5 sd of zero is a pole the data barely hold (noise fitted
+/// consistently across orders), not a resonance.
+pub const MIN_AMPLITUDE_SNR: f64 = 5.0;
 /// Default highest model order of the stabilisation diagram.
 pub const DEFAULT_MAX_ORDER: usize = 40;
 
@@ -82,6 +86,9 @@ pub struct IdentifiedMode {
     pub zeta: f64,
     pub zeta_sd: f64,
     pub peak: f64,
+    /// |A_r|/sd(A_r): modes are ranked by it; below [`MIN_AMPLITUDE_SNR`]
+    /// a stable pole is background unless `modes = K` asks for it.
+    pub amplitude_snr: f64,
 }
 
 /// The result: reported modes, background terms, fit statistics, and the
@@ -253,6 +260,7 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
     // frequency records: one extra oscillatory pole above the band stands for
     // the nearest out-of-band mode, whose tail the residual polynomial
     // (a Taylor series converging only below that mode) represents poorly.
+    let n_identified = initial.len();
     let mut initial = initial.to_vec();
     if sc.kind != FitKind::Time && initial.iter().all(|p| p.norm() <= sc.band.1) {
         let w = 1.2 * sc.band.1;
@@ -274,7 +282,7 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
                 return None;
             }
             let fit = refine::fit(&model, initial_theta(&model, sc, initial)?)?;
-            if !stable_modes(&model, &fit) {
+            if !stable_modes(&fit, n_identified) {
                 return None;
             }
             let m = model.n_residuals() as f64;
@@ -290,9 +298,10 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
         .ok_or_else(|| IdentifyError::Numerical("the nonlinear least-squares refinement did not converge".into()))
 }
 
-/// Every fitted mode stays an underdamped, stable pole.
-fn stable_modes(model: &Model, fit: &FitResult) -> bool {
-    (0..model.n_modes).all(|r| fit.theta[PER_MODE * r] > 0.0 && fit.theta[PER_MODE * r + 1] > 0.0)
+/// Every identified mode stays an underdamped, stable pole (the pseudo-mode
+/// above the band, last, is a background term and may go anywhere).
+fn stable_modes(fit: &FitResult, n_identified: usize) -> bool {
+    (0..n_identified).all(|r| fit.theta[PER_MODE * r] > 0.0 && fit.theta[PER_MODE * r + 1] > 0.0)
 }
 
 /// Initial parameters: poles from the diagram, real poles spread
@@ -314,8 +323,26 @@ fn initial_theta(model: &Model, sc: &Scaled, initial: &[Complex64]) -> Option<Ve
     }
     match model.kind {
         FitKind::Complex | FitKind::Time => model.solve_linear(&theta),
-        FitKind::Magnitude | FitKind::LogPsd => Some(peak_residues(model, theta, initial)),
+        FitKind::Magnitude | FitKind::LogPsd => phase_retrieval(model, peak_residues(model, theta, initial)),
     }
+}
+
+/// Magnitude-only records: the linear parameters by alternating projections
+/// (Gerchberg–Saxton): give the measured magnitude the current model's
+/// phase, solve the complex linear least-squares problem, repeat. Starts the
+/// refinement with a background level consistent with the data instead of
+/// zero residual terms.
+fn phase_retrieval(model: &Model, mut theta: Vec<f64>) -> Option<Vec<f64>> {
+    const ITERATIONS: usize = 8;
+    let magnitude = |y: Complex64| if model.kind == FitKind::LogPsd { y.re.sqrt() } else { y.re };
+    for _ in 0..ITERATIONS {
+        let h = model.curve(&theta, &model.x);
+        let y: Vec<Complex64> =
+            h.iter().zip(&model.y).map(|(hm, &y)| Complex64::from_polar(magnitude(y), hm.arg())).collect();
+        let complex = Model { kind: FitKind::Complex, y, ..model.clone() };
+        theta = complex.solve_linear(&theta)?;
+    }
+    Some(theta)
 }
 
 /// Residues from the peak heights, A_r = −i·m_r·σ_r (a single mode at its
@@ -338,6 +365,14 @@ fn peak_residues(model: &Model, mut theta: Vec<f64>, initial: &[Complex64]) -> V
     theta
 }
 
+/// |A_r| over its standard deviation, sqrt(var Re A + var Im A): how clearly
+/// the data hold the mode's residue.
+fn amplitude_snr(fit: &FitResult, r: usize) -> f64 {
+    let o = PER_MODE * r;
+    let var = fit.cov[(o + 2, o + 2)] + fit.cov[(o + 3, o + 3)];
+    fit.theta[o + 2].hypot(fit.theta[o + 3]) / var.max(f64::MIN_POSITIVE).sqrt()
+}
+
 /// Unscales the fit into the reported result.
 fn assemble(
     m: &Measurement,
@@ -353,13 +388,23 @@ fn assemble(
             let [w, w_sd, z, z_sd] = refine::mode_estimate(fit, r);
             let o = PER_MODE * r;
             let amp = fit.theta[o + 2].hypot(fit.theta[o + 3]) / fit.theta[o];
-            IdentifiedMode { omega_rad_s: w * w_unit, omega_sd_rad_s: w_sd * w_unit, zeta: z, zeta_sd: z_sd, peak: amp }
+            let snr = amplitude_snr(fit, r);
+            IdentifiedMode {
+                omega_rad_s: w * w_unit,
+                omega_sd_rad_s: w_sd * w_unit,
+                zeta: z,
+                zeta_sd: z_sd,
+                peak: amp,
+                amplitude_snr: snr,
+            }
         })
         .collect();
     let in_band = |w: f64| w >= sc.band.0 * w_unit && w <= sc.band.1 * w_unit;
-    let mut by_peak: Vec<usize> = (0..all.len()).filter(|&r| in_band(all[r].omega_rad_s)).collect();
+    let mut by_peak: Vec<usize> = (0..all.len())
+        .filter(|&r| in_band(all[r].omega_rad_s) && (report.is_some() || all[r].amplitude_snr >= MIN_AMPLITUDE_SNR))
+        .collect();
     let keep = report.unwrap_or(by_peak.len()).min(by_peak.len());
-    by_peak.sort_by(|&a, &b| all[b].peak.total_cmp(&all[a].peak));
+    by_peak.sort_by(|&a, &b| all[b].amplitude_snr.total_cmp(&all[a].amplitude_snr));
     let reported: Vec<usize> = by_peak[..keep].to_vec();
     let y_unit = if sc.kind == FitKind::LogPsd { sc.y_ref.sqrt() } else { sc.y_ref };
     for mode in &mut all {
