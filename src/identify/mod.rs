@@ -365,12 +365,17 @@ fn peak_residues(model: &Model, mut theta: Vec<f64>, initial: &[Complex64]) -> V
     theta
 }
 
-/// |A_r| over its standard deviation, sqrt(var Re A + var Im A): how clearly
-/// the data hold the mode's residue.
+/// |A_r| over its standard deviation (delta method along A_r's direction,
+/// so a residue phase that magnitude-only data do not fix does not count):
+/// how clearly the data hold the mode's residue.
 fn amplitude_snr(fit: &FitResult, r: usize) -> f64 {
     let o = PER_MODE * r;
-    let var = fit.cov[(o + 2, o + 2)] + fit.cov[(o + 3, o + 3)];
-    fit.theta[o + 2].hypot(fit.theta[o + 3]) / var.max(f64::MIN_POSITIVE).sqrt()
+    let (a, b) = (fit.theta[o + 2], fit.theta[o + 3]);
+    let norm = a.hypot(b).max(f64::MIN_POSITIVE);
+    let (ga, gb) = (a / norm, b / norm);
+    let c = |i: usize, j: usize| fit.cov[(o + i, o + j)];
+    let var = ga * ga * c(2, 2) + 2.0 * ga * gb * c(2, 3) + gb * gb * c(3, 3);
+    norm / var.max(f64::MIN_POSITIVE).sqrt()
 }
 
 /// Unscales the fit into the reported result.
