@@ -18,7 +18,11 @@ const TRUE_BEAM: &str = "length_nm: 8.1321\ndiameter_nm: 1.0\nyoungs_modulus_pa:
 
 fn nanobeam(args: &[&str], dir: &Path) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_nanobeam")).args(args).current_dir(dir).output().unwrap();
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into(), String::from_utf8_lossy(&out.stderr).into())
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
 }
 
 #[test]
@@ -27,7 +31,8 @@ fn frf_csv_through_identify_gives_a_file_calibrate_reads() {
     std::fs::write(dir.path().join("true.yaml"), TRUE_BEAM).unwrap();
     std::fs::write(dir.path().join("beam.yaml"), BEAM).unwrap();
     let sweep = ["frf", "true.yaml", "--input-x-nm", "3.6", "--output-x-nm", "6.8", "--from-rad-s", "1.7e11"];
-    let (code, csv, _) = nanobeam(&[&sweep[..], &["--to-rad-s", "6e12", "--points", "1500", "--csv"]].concat(), dir.path());
+    let (code, csv, _) =
+        nanobeam(&[&sweep[..], &["--to-rad-s", "6e12", "--points", "1500", "--csv"]].concat(), dir.path());
     assert_eq!(code, 0);
     std::fs::write(dir.path().join("sweep.csv"), csv).unwrap();
     let (code, _, err) =
@@ -52,7 +57,12 @@ fn bad_input_exits_2_with_one_line_and_no_file() {
     let cases: Vec<(&str, String, Vec<&str>, &str)> = vec![
         ("unknown column", format!("omega_rad_s,h_real,h_im_m_per_n\n{good}"), vec![], "invalid column 2 = `h_real`"),
         ("missing column", "omega_rad_s,h_re_m_per_n\n1,2\n".into(), vec![], "invalid header"),
-        ("NaN", format!("omega_rad_s,h_re_m_per_n,h_im_m_per_n\n{good}4.1e12,NaN,0\n"), vec![], "invalid h_re_m_per_n (row 41)"),
+        (
+            "NaN",
+            format!("omega_rad_s,h_re_m_per_n,h_im_m_per_n\n{good}4.1e12,NaN,0\n"),
+            vec![],
+            "invalid h_re_m_per_n (row 41)",
+        ),
         (
             "non-increasing",
             format!("omega_rad_s,h_re_m_per_n,h_im_m_per_n\n{good}3e12,1e-9,0\n"),
@@ -61,12 +71,18 @@ fn bad_input_exits_2_with_one_line_and_no_file() {
         ),
         (
             "non-uniform time",
-            "time_s,displacement_m\n0,1\n1e-13,1\n2e-13,1\n3.5e-13,1\n4e-13,1\n5e-13,1\n6e-13,1\n7e-13,1\n8e-13,1\n".into(),
+            "time_s,displacement_m\n0,1\n1e-13,1\n2e-13,1\n3.5e-13,1\n4e-13,1\n5e-13,1\n6e-13,1\n7e-13,1\n8e-13,1\n"
+                .into(),
             vec![],
             "invalid time_s (row 4)",
         ),
         ("no resonance", format!("omega_rad_s,h_re_m_per_n,h_im_m_per_n\n{good}"), vec![], "invalid omega_rad_s"),
-        ("modes zero", format!("omega_rad_s,h_re_m_per_n,h_im_m_per_n\n{good}"), vec!["--modes", "0"], "invalid --modes = 0"),
+        (
+            "modes zero",
+            format!("omega_rad_s,h_re_m_per_n,h_im_m_per_n\n{good}"),
+            vec!["--modes", "0"],
+            "invalid --modes = 0",
+        ),
     ];
     for (what, csv, extra, expected) in cases {
         std::fs::write(dir.path().join("d.csv"), csv).unwrap();
@@ -84,7 +100,8 @@ fn more_modes_than_the_record_supports_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("true.yaml"), TRUE_BEAM).unwrap();
     std::fs::write(dir.path().join("beam.yaml"), BEAM).unwrap();
-    let args = ["frf", "true.yaml", "--input-x-nm", "3.6", "--output-x-nm", "6.8", "--from-rad-s", "1.7e11", "--to-rad-s"];
+    let args =
+        ["frf", "true.yaml", "--input-x-nm", "3.6", "--output-x-nm", "6.8", "--from-rad-s", "1.7e11", "--to-rad-s"];
     let (_, csv, _) = nanobeam(&[&args[..], &["4e12", "--points", "800", "--csv"]].concat(), dir.path());
     std::fs::write(dir.path().join("d.csv"), csv).unwrap();
     let (code, _, err) =
@@ -130,7 +147,10 @@ fn hidden_effect_is_named_from_a_simulated_sweep() {
         })
         .collect();
     for (m, t) in modes.iter().zip(&truth.modes) {
-        println!("mode {}: {:e} ± {:.1e} (truth {:e}), zeta {:.5} ± {:.1e} (truth {:.5})", m.mode, m.omega_rad_s, m.omega_sd_rad_s, t.omega_rad_s, m.zeta, m.zeta_sd, t.zeta);
+        println!(
+            "mode {}: {:e} ± {:.1e} (truth {:e}), zeta {:.5} ± {:.1e} (truth {:.5})",
+            m.mode, m.omega_rad_s, m.omega_sd_rad_s, t.omega_rad_s, m.zeta, m.zeta_sd, t.zeta
+        );
     }
     assert_eq!(numbers, (1..=n_modes).collect::<Vec<_>>());
     let data = MeasuredData::from_file(measured_file(case.file.beam.clone(), modes).unwrap()).unwrap();

@@ -32,14 +32,22 @@ pub const AMBIGUITY_MARGIN: f64 = 0.1;
 pub const EXTRA_PREDICTED: usize = 4;
 
 /// Physical mode numbers for identified frequencies (sorted ascending).
-pub fn number_modes(beam: &BeamSpec, omegas_rad_s: &[f64], first_mode: Option<usize>) -> Result<Vec<usize>, InputError> {
+pub fn number_modes(
+    beam: &BeamSpec,
+    omegas_rad_s: &[f64],
+    first_mode: Option<usize>,
+) -> Result<Vec<usize>, InputError> {
     let k = omegas_rad_s.len();
     if first_mode == Some(0) {
         return Err(InputError::new("--first-mode", 0, ">= 1 (mode numbers are 1-based)"));
     }
     let n_pred = k + EXTRA_PREDICTED + first_mode.unwrap_or(1) - 1;
     let predicted = modal(beam, n_pred).map_err(|e| {
-        InputError::new("--beam", format!("{n_pred} predicted modes"), format!("a beam whose first modes compute ({e})"))
+        InputError::new(
+            "--beam",
+            format!("{n_pred} predicted modes"),
+            format!("a beam whose first modes compute ({e})"),
+        )
     })?;
     let logs: Vec<f64> = predicted.modes.iter().map(|m| m.omega_rad_s.ln()).collect();
     let ids: Vec<f64> = omegas_rad_s.iter().map(|w| w.ln()).collect();
@@ -47,13 +55,19 @@ pub fn number_modes(beam: &BeamSpec, omegas_rad_s: &[f64], first_mode: Option<us
     let best = |first: Option<usize>| assign(&ids, &logs, first);
     if let Some(f) = first_mode {
         return best(Some(f - 1)).map(|(_, m)| m.into_iter().map(|j| j + 1).collect()).ok_or_else(|| {
-            InputError::new("--first-mode", f, format!("<= {} (the beam model's modes above it must hold the rest)", logs.len() - k + 1))
+            InputError::new(
+                "--first-mode",
+                f,
+                format!("<= {} (the beam model's modes above it must hold the rest)", logs.len() - k + 1),
+            )
         });
     }
     let (cost, modes) =
         best(None).ok_or_else(|| InputError::new("--beam", "(no assignment)", "a beam model with enough modes"))?;
-    let runner_up =
-        (0..logs.len()).filter(|&f| f != modes[0]).filter_map(|f| best(Some(f)).map(|(c, _)| c)).fold(f64::INFINITY, f64::min);
+    let runner_up = (0..logs.len())
+        .filter(|&f| f != modes[0])
+        .filter_map(|f| best(Some(f)).map(|(c, _)| c))
+        .fold(f64::INFINITY, f64::min);
     if rms(runner_up) - rms(cost) < AMBIGUITY_MARGIN {
         return Err(InputError::new(
             "--first-mode",
@@ -99,8 +113,7 @@ fn assign(ids: &[f64], preds: &[f64], first: Option<usize>) -> Option<(f64, Vec<
             }
         }
     }
-    let (mut j, total) =
-        cost[k - 1].iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1)).map(|(j, &c)| (j, c))?;
+    let (mut j, total) = cost[k - 1].iter().enumerate().min_by(|a, b| a.1.total_cmp(b.1)).map(|(j, &c)| (j, c))?;
     if !total.is_finite() {
         return None;
     }

@@ -15,7 +15,7 @@ use crate::calibration::identified::{measured_file, number_modes, to_yaml};
 use crate::calibration::ModeObservation;
 use crate::cli::{read_beam, write_out, CliError};
 use crate::error::InputError;
-use crate::identify::{identify, IdentifyError, IdentifySettings, Identification, Measurement, DEFAULT_MAX_ORDER};
+use crate::identify::{identify, Identification, IdentifyError, IdentifySettings, Measurement, DEFAULT_MAX_ORDER};
 use crate::report::render::{write_dir_atomically, write_file_atomically};
 use crate::report::svg::{line_plot, scatter_plot, Axis, LinePlot, RefLine, ScatterPlot, Series};
 use crate::report::table::{fmt_sig, Table};
@@ -145,7 +145,8 @@ fn figures(id: &Identification) -> crate::report::error::Result<Vec<(String, Str
     };
     let y_axis = if time { Axis::linear(y_label) } else { Axis::log(y_label) };
     let x_axis = if time { Axis::linear(x_label) } else { Axis::log(x_label) };
-    let modes: Vec<RefLine> = if time { vec![] } else { id.modes.iter().map(|m| RefLine::Vertical(m.omega_rad_s)).collect() };
+    let modes: Vec<RefLine> =
+        if time { vec![] } else { id.modes.iter().map(|m| RefLine::Vertical(m.omega_rad_s)).collect() };
     let mut out = vec![(
         "fit.svg".to_string(),
         line_plot(&LinePlot {

@@ -227,7 +227,8 @@ mod tests {
         assert_eq!((e.field.as_str(), e.value.as_str()), ("column 2", "`h_real`"));
         let missing = rows("omega_rad_s,h_re_m_per_n", 10, |i| format!("{i},1"));
         assert_eq!(Measurement::from_csv(&missing).unwrap_err().field, "header");
-        let nan = rows("omega_rad_s,h_abs_m_per_n", 10, |i| if i == 4 { "5,NaN".into() } else { format!("{},1", i + 1) });
+        let nan =
+            rows("omega_rad_s,h_abs_m_per_n", 10, |i| if i == 4 { "5,NaN".into() } else { format!("{},1", i + 1) });
         assert_eq!(Measurement::from_csv(&nan).unwrap_err().field, "h_abs_m_per_n (row 5)");
         let back = rows("omega_rad_s,h_abs_m_per_n", 10, |i| format!("{},1", if i == 6 { 2 } else { i + 1 }));
         assert_eq!(Measurement::from_csv(&back).unwrap_err().field, "omega_rad_s (row 7)");
@@ -235,7 +236,8 @@ mod tests {
         assert_eq!(Measurement::from_csv(&jitter).unwrap_err().field, "time_s (row 4)");
         let short = rows("omega_rad_s,h_abs_m_per_n", 3, |i| format!("{},1", i + 1));
         assert_eq!(Measurement::from_csv(&short).unwrap_err().field, "rows");
-        let ragged = rows("omega_rad_s,h_abs_m_per_n", 10, |i| if i == 2 { "3".into() } else { format!("{},1", i + 1) });
+        let ragged =
+            rows("omega_rad_s,h_abs_m_per_n", 10, |i| if i == 2 { "3".into() } else { format!("{},1", i + 1) });
         assert_eq!(Measurement::from_csv(&ragged).unwrap_err().field, "row 3");
     }
 }

@@ -187,12 +187,9 @@ pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identifi
     }
     if let Some(k) = settings.modes {
         if k > in_band {
-            return Err(InputError::new(
-                "--modes",
-                k,
-                format!("<= {in_band} (the stable modes this record supports)"),
-            )
-            .into());
+            return Err(
+                InputError::new("--modes", k, format!("<= {in_band} (the stable modes this record supports)")).into()
+            );
         }
     }
     if sc.kind != FitKind::Time {
@@ -350,7 +347,12 @@ fn phase_retrieval(model: &Model, mut theta: Vec<f64>) -> Option<Vec<f64>> {
 /// by the lower cost.
 fn peak_residues(model: &Model, mut theta: Vec<f64>, initial: &[Complex64]) -> Vec<f64> {
     for (r, p) in initial.iter().enumerate() {
-        let i = model.x.iter().enumerate().min_by(|a, b| (a.1 - p.im).abs().total_cmp(&(b.1 - p.im).abs())).map_or(0, |v| v.0);
+        let i = model
+            .x
+            .iter()
+            .enumerate()
+            .min_by(|a, b| (a.1 - p.im).abs().total_cmp(&(b.1 - p.im).abs()))
+            .map_or(0, |v| v.0);
         let height = if model.kind == FitKind::LogPsd { model.y[i].re.sqrt() } else { model.y[i].re };
         theta[PER_MODE * r + 3] = -height * (-p.re);
     }

@@ -256,7 +256,7 @@ pub struct FitResult {
 /// background poles drift along a flat valley (a real pole running off to
 /// infinity imitates the residual terms) stops there; the BIC comparison of
 /// the candidates then decides.
-pub const PATIENCE: usize = 10;
+pub const PATIENCE: usize = 3;
 
 /// Levenberg–Marquardt from `theta0`; `None` when the fit fails numerically.
 pub fn fit(model: &Model, theta0: Vec<f64>) -> Option<FitResult> {

@@ -79,11 +79,7 @@ impl Diagram {
             let mut current = Vec::new();
             for &p in poles.iter().filter(|p| p.re < 0.0 && (p.im > 0.0 || is_real(**p))) {
                 let (w, z) = omega_zeta(p);
-                let stability = if is_real(p) {
-                    Stability::Real
-                } else {
-                    classify(w, z, &prev)
-                };
+                let stability = if is_real(p) { Stability::Real } else { classify(w, z, &prev) };
                 out.push(DiagramPole { order, omega_rad_s: w, zeta: z, stability, pole: p });
                 if !is_real(p) {
                     current.push(p);

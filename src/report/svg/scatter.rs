@@ -111,7 +111,10 @@ mod tests {
     #[test]
     fn groups_are_drawn_and_mismatched_lengths_refused() {
         let spec = ScatterPlot {
-            groups: vec![Series::new("stable", vec![1.0, 2.0], vec![4.0, 6.0]), Series::new("new", vec![3.0], vec![8.0])],
+            groups: vec![
+                Series::new("stable", vec![1.0, 2.0], vec![4.0, 6.0]),
+                Series::new("new", vec![3.0], vec![8.0]),
+            ],
             ..ScatterPlot::default()
         };
         let svg = scatter_plot(&spec).unwrap();
