@@ -107,8 +107,10 @@ mod tests {
 
     #[test]
     fn two_mode_rational_data_give_its_poles() {
-        // H(s) = Σ R/(s−p) + c.c. on a grid: the order-4 fit is exact up to
-        // the z-domain approximation, the order-12 fit within 1e-6.
+        // H(s) = Σ R/(s−p) + c.c. on a grid. The z-domain model only
+        // approximates an s-domain rational function (the refinement, in s,
+        // removes the rest), so the initial poles are checked to 1e-4 relative:
+        // the accuracy the stabilisation criteria (1 % in ω) need, with margin.
         let poles = [Complex64::new(-0.02, 1.0), Complex64::new(-0.05, 2.5)];
         let res = [Complex64::new(0.0, -0.5), Complex64::new(0.1, 0.3)];
         let w: Vec<f64> = (1..=400).map(|k| k as f64 * 0.01).collect();

@@ -283,9 +283,9 @@ pub fn fit(model: &Model, theta0: Vec<f64>) -> Option<FitResult> {
 
 /// Pseudo-inverse of a symmetric positive semi-definite matrix, after
 /// Jacobi scaling (D⁻¹AD⁻¹, D = sqrt diag A: makes the result independent
-/// of parameter units), dropping eigenvalues below 1e-12·max — the relative
-/// round-off level of a Gram matrix whose Jacobian is accurate to ~1e-6 of
-/// its largest singular value... squared.
+/// of parameter units), dropping eigenvalues below 1e-12·max: beyond that
+/// condition number the double-precision Gram matrix (relative error ~1e-16
+/// times the condition number) no longer determines the direction.
 fn pseudo_inverse_sym(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     let d: Vec<f64> = (0..a.nrows()).map(|i| a[(i, i)].max(f64::MIN_POSITIVE).sqrt()).collect();
     let scaled = DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] / (d[i] * d[j]));
