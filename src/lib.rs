@@ -11,5 +11,6 @@ pub mod calibration;
 pub mod cli;
 pub mod diagnose;
 pub mod error;
+pub mod identify;
 pub mod report;
 pub mod reproduce;

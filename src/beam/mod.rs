@@ -5,7 +5,8 @@
 //! supports, extensions, nondimensional scaling) → poles by `state_space`
 //! (A15, reference) or `modal` (exact decoupled families via `eigen` +
 //! `family`, or Rayleigh-quotient iteration on T(s) when the extensions couple the modes) →
-//! `frf` (direct banded solves).
+//! `frf` (direct banded solves); `time_response` (impulse response by the
+//! exact matrix exponential of the state space).
 
 pub(crate) mod band;
 pub(crate) mod dual;
@@ -18,9 +19,11 @@ mod modal;
 pub(crate) mod model;
 pub mod spec;
 mod state_space;
+mod time_response;
 
 pub use error::BeamError;
 pub use frf::{frf, frf_each, max_frequency_rad_s, MAX_OMEGA_TILDE};
 pub use modal::{modal, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode, SolverPath};
 pub use model::buckling_load_n;
 pub use spec::{BeamSpec, InternalVariable, PointMass, ShearDeformation, Support};
+pub use time_response::impulse_response;

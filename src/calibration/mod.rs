@@ -1,6 +1,7 @@
 //! The glue between physics and statistics: the measured-data file, named
 //! parameters mapped onto a beam, and the beam posterior that the samplers see.
 
+pub mod identified;
 pub mod measured;
 pub mod output;
 pub mod parameters;

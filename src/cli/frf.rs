@@ -35,6 +35,9 @@ pub struct FrfArgs {
     /// Print JSON instead of a table.
     #[arg(long)]
     pub json: bool,
+    /// Print CSV `omega_rad_s,h_re_m_per_n,h_im_m_per_n` (the record `nanobeam identify` reads).
+    #[arg(long, conflicts_with = "json")]
+    pub csv: bool,
 }
 
 #[derive(Serialize)]
@@ -100,7 +103,9 @@ pub fn run(args: &FrfArgs, out: &mut dyn std::io::Write) -> Result<(), CliError>
     }
     let mut w = std::io::BufWriter::with_capacity(1 << 16, out);
     let io = |e: std::io::Error| BeamError::Numerical(format!("cannot write output: {e}"));
-    if args.json {
+    if args.csv {
+        writeln!(w, "omega_rad_s,h_re_m_per_n,h_im_m_per_n").map_err(io)?;
+    } else if args.json {
         w.write_all(b"{\"points\":[").map_err(io)?;
     } else {
         writeln!(
@@ -112,7 +117,9 @@ pub fn run(args: &FrfArgs, out: &mut dyn std::io::Write) -> Result<(), CliError>
     }
     let mut first = true;
     frf_each(&beam, args.input_x_nm, args.output_x_nm, (0..args.points).map(|i| grid_point(args, i)), |om, z| {
-        if args.json {
+        if args.csv {
+            writeln!(w, "{om:e},{:e},{:e}", z.re, z.im).map_err(io)?;
+        } else if args.json {
             let p = JsonPoint {
                 omega_rad_s: om,
                 re_m_per_n: z.re,

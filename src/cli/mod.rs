@@ -6,6 +6,7 @@ pub mod calibrate;
 pub mod clap_error;
 pub mod diagnose;
 pub mod frf;
+pub mod identify;
 pub mod modal;
 
 use std::path::Path;
@@ -39,6 +40,8 @@ pub enum Command {
     Calibrate(calibrate::CalibrateArgs),
     /// Model diagnosis: misfit checks, candidate causes by evidence, gain.
     Diagnose(diagnose::DiagnoseArgs),
+    /// Modal identification of a measured sweep, spectrum or ring-down -> measured-data file.
+    Identify(identify::IdentifyArgs),
 }
 
 /// A command failure. Every layer's error converts into it, and
@@ -96,6 +99,7 @@ pub fn run(cli: Cli, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         Command::Frf(args) => frf::run(&args, out),
         Command::Calibrate(args) => calibrate::run(&args, out),
         Command::Diagnose(args) => diagnose::run(&args, out),
+        Command::Identify(args) => identify::run(&args, out),
     }
 }
 

@@ -19,15 +19,18 @@
 //! | [`pair_plot`] | d×d grid: histograms on the diagonal, scatter below |
 //! | [`bar_chart`] | one value per category (e.g. class probabilities) |
 //! | [`residual_plot`] | standardized residual per mode, several groups, ±band |
+//! | [`scatter_plot`] | point groups with markers (stabilisation diagram) |
 
 mod categorical;
 mod common;
 mod heatmap;
 mod line;
 mod mcmc;
+mod scatter;
 
 pub use categorical::{bar_chart, residual_plot, BarChart, ResidualPlot};
 pub use common::{Axis, NamedValues, RefLine, Scale, Series};
 pub use heatmap::{heatmap, viridis, Heatmap};
 pub use line::{line_plot, Band, LinePlot};
 pub use mcmc::{histogram, pair_plot, trace_plot, HistogramPlot, PairPlot, TracePlot};
+pub use scatter::{scatter_plot, ScatterPlot};

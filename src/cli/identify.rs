@@ -1,0 +1,220 @@
+//! `nanobeam identify DATA.csv --beam BEAM.yaml [--modes K] [--first-mode N]
+//! [--out MEASURED.yaml] [--plot DIR] [--json]`: a lab record → a
+//! measured-data file. Thin: reads the files, calls
+//! [`crate::identify::identify`], numbers the modes and writes the file through
+//! [`crate::calibration::identified`], draws through [`crate::report::svg`].
+//! Without `--out` the measured-data YAML goes to stdout; with it, a summary
+//! table (or `--json`) does. Everything is computed before anything is written.
+
+use std::path::PathBuf;
+
+use clap::Args;
+use serde::Serialize;
+
+use crate::calibration::identified::{measured_file, number_modes, to_yaml};
+use crate::calibration::ModeObservation;
+use crate::cli::{read_beam, write_out, CliError};
+use crate::error::InputError;
+use crate::identify::{identify, Identification, IdentifyError, IdentifySettings, Measurement, DEFAULT_MAX_ORDER};
+use crate::report::render::{write_dir_atomically, write_file_atomically};
+use crate::report::svg::{line_plot, scatter_plot, Axis, LinePlot, RefLine, ScatterPlot, Series};
+use crate::report::table::{fmt_sig, Table};
+
+#[derive(Debug, Args)]
+pub struct IdentifyArgs {
+    /// Measured record (CSV; the header names the kind, see README).
+    pub data: PathBuf,
+    /// The nominal beam (YAML): copied into the output, and used to number the modes.
+    #[arg(long)]
+    pub beam: PathBuf,
+    /// Number of modes to report (default: every stable mode in the band).
+    #[arg(long)]
+    pub modes: Option<usize>,
+    /// Physical number of the lowest identified mode (when the numbering is ambiguous).
+    #[arg(long)]
+    pub first_mode: Option<usize>,
+    /// Highest model order of the stabilisation diagram.
+    #[arg(long, default_value_t = DEFAULT_MAX_ORDER)]
+    pub max_order: usize,
+    /// Write the measured-data file here (atomically) instead of stdout.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Directory for fit.svg, residuals.svg, stabilisation.svg (written atomically).
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Print the identification as JSON.
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(Serialize)]
+struct JsonOut<'a> {
+    modes: &'a [ModeObservation],
+    identification: &'a Identification,
+}
+
+impl From<IdentifyError> for CliError {
+    fn from(e: IdentifyError) -> Self {
+        match e {
+            IdentifyError::Input(i) => CliError::Input(i),
+            IdentifyError::Numerical(m) => CliError::Failure(format!("numerical failure: {m}")),
+        }
+    }
+}
+
+pub fn run(args: &IdentifyArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    if args.max_order < 4 {
+        return Err(InputError::new("--max-order", args.max_order, ">= 4").into());
+    }
+    let beam = read_beam(&args.beam)?;
+    let text = std::fs::read_to_string(&args.data)
+        .map_err(|e| InputError::new("DATA.csv", args.data.display(), format!("a readable CSV file ({e})")))?;
+    let record = Measurement::from_csv(&text)?;
+    let id = identify(&record, &IdentifySettings { modes: args.modes, max_order: args.max_order })?;
+    let omegas: Vec<f64> = id.modes.iter().map(|m| m.omega_rad_s).collect();
+    let numbers = number_modes(&beam, &omegas, args.first_mode)?;
+    let observations: Vec<ModeObservation> = id
+        .modes
+        .iter()
+        .zip(&numbers)
+        .map(|(m, &mode)| ModeObservation {
+            mode,
+            omega_rad_s: m.omega_rad_s,
+            omega_sd_rad_s: m.omega_sd_rad_s,
+            zeta: m.zeta,
+            zeta_sd: m.zeta_sd,
+        })
+        .collect();
+    let file = measured_file(beam, observations.clone())?;
+    let comment = format!(
+        "nanobeam identify {}: {} record, {} modes; sds from the fit (residual noise sd {:.4e}, {} residuals, {} parameters)",
+        args.data.display(),
+        id.kind,
+        observations.len(),
+        id.noise_sd,
+        id.residual_count,
+        id.parameter_count
+    );
+    let yaml = to_yaml(&file, &comment);
+    let figures = match &args.plot {
+        Some(_) => Some(figures(&id).map_err(|e| CliError::Failure(format!("cannot draw: {e}")))?),
+        None => None,
+    };
+    if let (Some(dir), Some(figs)) = (&args.plot, figures) {
+        write_dir_atomically(dir, |tmp| {
+            for (name, svg) in &figs {
+                write_file_atomically(&tmp.join(name), svg.as_bytes())?;
+            }
+            Ok::<(), crate::report::ReportError>(())
+        })
+        .map_err(|e| CliError::Failure(format!("cannot write {}: {e}", dir.display())))?;
+    }
+    if let Some(path) = &args.out {
+        write_file_atomically(path, yaml.as_bytes())
+            .map_err(|e| CliError::Failure(format!("cannot write {}: {e}", path.display())))?;
+    }
+    if args.json {
+        let json = serde_json::to_string(&JsonOut { modes: &observations, identification: &id }).expect("serialises");
+        return write_out(out, &(json + "\n"));
+    }
+    if args.out.is_none() {
+        return write_out(out, &yaml);
+    }
+    let mut t = Table::new(["mode", "omega_rad_s", "omega_sd_rad_s", "zeta", "zeta_sd"]);
+    for o in &observations {
+        t.push_row([
+            o.mode.to_string(),
+            fmt_sig(o.omega_rad_s, 7),
+            fmt_sig(o.omega_sd_rad_s, 3),
+            fmt_sig(o.zeta, 6),
+            fmt_sig(o.zeta_sd, 3),
+        ]);
+    }
+    write_out(out, &format!("{}\n{comment}\n", t.to_markdown()))
+}
+
+/// fit.svg (data vs model; magnitude and, for complex records, phase.svg),
+/// residuals.svg, stabilisation.svg.
+fn figures(id: &Identification) -> crate::report::error::Result<Vec<(String, String)>> {
+    let time = id.kind == "free decay";
+    let x_label = if time { "time (s)" } else { "frequency (rad/s)" };
+    let (y_label, pick): (&str, fn(&num_complex::Complex64) -> f64) = match id.kind {
+        "free decay" => ("displacement (m)", |z| z.re),
+        "displacement PSD" => ("PSD (m²·s/rad)", |z| z.re),
+        _ => ("|H| (m/N)", |z| z.norm()),
+    };
+    let y_axis = if time { Axis::linear(y_label) } else { Axis::log(y_label) };
+    let x_axis = if time { Axis::linear(x_label) } else { Axis::log(x_label) };
+    let modes: Vec<RefLine> =
+        if time { vec![] } else { id.modes.iter().map(|m| RefLine::Vertical(m.omega_rad_s)).collect() };
+    let mut out = vec![(
+        "fit.svg".to_string(),
+        line_plot(&LinePlot {
+            title: format!("{}: data and fitted model", id.kind),
+            x_axis: x_axis.clone(),
+            y_axis,
+            series: vec![
+                Series::new("measured", id.x.clone(), id.measured.iter().map(pick).collect()),
+                Series::new("fitted model", id.x.clone(), id.fitted.iter().map(pick).collect()),
+            ],
+            ref_lines: modes.clone(),
+            ..LinePlot::default()
+        })?,
+    )];
+    if id.kind == "complex receptance" {
+        out.push((
+            "phase.svg".into(),
+            line_plot(&LinePlot {
+                title: "phase: data and fitted model".into(),
+                x_axis: x_axis.clone(),
+                y_axis: Axis::linear("phase (rad)"),
+                series: vec![
+                    Series::new("measured", id.x.clone(), id.measured.iter().map(|z| z.arg()).collect()),
+                    Series::new("fitted model", id.x.clone(), id.fitted.iter().map(|z| z.arg()).collect()),
+                ],
+                ref_lines: modes.clone(),
+                ..LinePlot::default()
+            })?,
+        ));
+    }
+    let r_label = match id.kind {
+        "displacement PSD" => "residual ln PSD (-)",
+        "free decay" => "residual (m)",
+        "complex receptance" => "|residual| (m/N)",
+        _ => "residual (m/N)",
+    };
+    out.push((
+        "residuals.svg".into(),
+        line_plot(&LinePlot {
+            title: format!("residuals (noise sd {:.3e})", id.noise_sd),
+            x_axis: if time { Axis::linear(x_label) } else { Axis::log(x_label) },
+            y_axis: Axis::linear(r_label),
+            series: vec![Series::new("model − data", id.x.clone(), id.residuals.clone())],
+            ref_lines: vec![RefLine::Horizontal(0.0)],
+            ..LinePlot::default()
+        })?,
+    ));
+    out.push(("stabilisation.svg".into(), scatter_plot(&stabilisation(id))?));
+    Ok(out)
+}
+
+fn stabilisation(id: &Identification) -> ScatterPlot {
+    use crate::identify::stabilisation::Stability;
+    let group = |name: &str, st: Stability| {
+        let pts: Vec<_> = id.diagram.poles.iter().filter(|p| p.stability == st).collect();
+        Series::new(name, pts.iter().map(|p| p.omega_rad_s).collect(), pts.iter().map(|p| p.order as f64).collect())
+    };
+    ScatterPlot {
+        title: "stabilisation diagram (dashed: reported modes)".into(),
+        x_axis: Axis::log("natural frequency |s| (rad/s)"),
+        y_axis: Axis::linear("model order"),
+        groups: vec![
+            group("stable (ω 1 %, ζ 5 %)", Stability::Stable),
+            group("stable in ω only", Stability::Frequency),
+            group("new / unstable", Stability::Unstable),
+            group("real pole", Stability::Real),
+        ],
+        ref_lines: id.modes.iter().map(|m| RefLine::Vertical(m.omega_rad_s)).collect(),
+        size: (800, 500),
+    }
+}

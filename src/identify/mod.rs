@@ -1,0 +1,501 @@
+//! Modal identification from measured records (signal processing only: no
+//! beam model here). The numbering of the modes as physical modes needs the
+//! beam model and happens in `calibration::identified`.
+//!
+//! Pipeline (what a modal-testing lab does, automated):
+//! 1. **Initial poles at many orders**: LSCF ([`lscf`], rational-fraction
+//!    polynomial in the z-domain) for complex receptances, |H|² of magnitude
+//!    records and PSDs; the matrix pencil method ([`pencil`], ERA's
+//!    single-output relative) for free decays.
+//! 2. **Stabilisation diagram** ([`stabilisation`]): poles stable in
+//!    frequency (1 %) and damping (5 %) over many orders are physical;
+//!    underdamped only — real poles are never modes.
+//! 3. **Joint refinement** ([`refine`]): all modes, real relaxation poles and
+//!    residual terms fitted together by Levenberg–Marquardt; the number of
+//!    real poles (0 … [`MAX_REAL_POLES`]) is chosen by BIC, so the relaxation
+//!    background is modelled (not reported, not biasing the modes).
+//! 4. **Uncertainties**: σ̂² from the residuals, covariance from the Jacobian.
+//!
+//! Which modes are reported: every stable mode in the band, or with
+//! `modes = Some(K)` the K with the largest resonance peak |A_r|/σ_r (the
+//! others stay in the fit as background). Fewer stable modes than K, fewer
+//! than [`MIN_POINTS_PER_RESONANCE`] samples in a mode's half-power band, or
+//! no stable mode at all are input errors (exit 2).
+
+pub mod data;
+pub mod lscf;
+pub mod pencil;
+pub mod refine;
+pub mod stabilisation;
+
+use num_complex::Complex64;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::error::InputError;
+pub use data::Measurement;
+use refine::{FitKind, FitResult, Model, PER_MODE, PER_REAL};
+pub use stabilisation::Diagram;
+
+/// Highest number of real (relaxation/background) poles tried in the refinement.
+pub const MAX_REAL_POLES: usize = 2;
+/// Samples a resonance needs within its half-power band ω_d ± σ (the peak,
+/// its width and its height: three points determine a Lorentzian).
+pub const MIN_POINTS_PER_RESONANCE: usize = 3;
+/// How far above the band (× ω_max) the initial estimator represents poles.
+pub const REACH: f64 = 1.5;
+/// Residue signal-to-noise ratio a reported mode needs by default: a
+/// residue within 5 sd of zero is a pole the data barely hold (noise fitted
+/// consistently across orders), not a resonance.
+pub const MIN_AMPLITUDE_SNR: f64 = 5.0;
+/// Default highest model order of the stabilisation diagram.
+pub const DEFAULT_MAX_ORDER: usize = 40;
+
+/// Why an identification failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum IdentifyError {
+    /// The record or a flag cannot support the fit (exit 2).
+    #[error("{0}")]
+    Input(#[from] InputError),
+    /// The fit failed numerically (exit 1).
+    #[error("numerical failure: {0}")]
+    Numerical(String),
+}
+
+/// Knobs of [`identify`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct IdentifySettings {
+    /// Number of modes to report (default: all stable modes in the band).
+    pub modes: Option<usize>,
+    /// Highest model order of the stabilisation diagram (default 40).
+    pub max_order: usize,
+}
+
+impl Default for IdentifySettings {
+    fn default() -> Self {
+        Self { modes: None, max_order: DEFAULT_MAX_ORDER }
+    }
+}
+
+/// One identified mode, sorted by frequency; `peak` is |A_r|/σ_r in the
+/// record's units (the height of its resonance in |H|, or in √PSD).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct IdentifiedMode {
+    pub omega_rad_s: f64,
+    pub omega_sd_rad_s: f64,
+    pub zeta: f64,
+    pub zeta_sd: f64,
+    pub peak: f64,
+    /// |A_r|/sd(A_r): modes are ranked by it; below [`MIN_AMPLITUDE_SNR`]
+    /// a stable pole is background unless `modes = K` asks for it.
+    pub amplitude_snr: f64,
+}
+
+/// The result: reported modes, background terms, fit statistics, and the
+/// data for the figures.
+#[derive(Debug, Clone, Serialize)]
+pub struct Identification {
+    pub kind: &'static str,
+    pub modes: Vec<IdentifiedMode>,
+    /// Oscillatory poles kept in the fit but not reported (with `modes = K`).
+    pub background_modes: Vec<IdentifiedMode>,
+    /// Real poles of the refinement, as decay rates γ (pole −γ), rad/s.
+    pub real_poles_rad_s: Vec<f64>,
+    /// Residual-based noise sd, in the units of the fitted quantity
+    /// (m/N per component, m/N, ln PSD, or m).
+    pub noise_sd: f64,
+    pub residual_count: usize,
+    pub parameter_count: usize,
+    pub diagram: Diagram,
+    /// Abscissa of the record (rad/s or s).
+    #[serde(skip)]
+    pub x: Vec<f64>,
+    /// Fitted model at the abscissae, in the record's units (complex: H;
+    /// magnitude: |H|; PSD: PSD; time: displacement).
+    #[serde(skip)]
+    pub fitted: Vec<Complex64>,
+    /// The record, in the same form.
+    #[serde(skip)]
+    pub measured: Vec<Complex64>,
+    /// Residuals of the fitted quantity (model − data), record units.
+    #[serde(skip)]
+    pub residuals: Vec<f64>,
+}
+
+/// The record in scaled units, with the scales.
+struct Scaled {
+    kind: FitKind,
+    x: Vec<f64>,
+    y: Vec<Complex64>,
+    /// abscissa → rad/s (frequency) or scaled time → s.
+    x_ref: f64,
+    /// data scale (PSD: scale of the PSD itself).
+    y_ref: f64,
+    band: (f64, f64),
+}
+
+fn scale(m: &Measurement) -> Scaled {
+    let c = |v: f64| Complex64::new(v, 0.0);
+    let (kind, x, y, x_ref, band) = match m {
+        Measurement::Complex { omega_rad_s, h_m_per_n } => {
+            (FitKind::Complex, omega_rad_s.clone(), h_m_per_n.clone(), 0.0, (0.0, 0.0))
+        }
+        Measurement::Magnitude { omega_rad_s, h_abs_m_per_n } => {
+            (FitKind::Magnitude, omega_rad_s.clone(), h_abs_m_per_n.iter().map(|&v| c(v)).collect(), 0.0, (0.0, 0.0))
+        }
+        Measurement::Psd { omega_rad_s, psd_m2_s_per_rad } => {
+            (FitKind::LogPsd, omega_rad_s.clone(), psd_m2_s_per_rad.iter().map(|&v| c(v)).collect(), 0.0, (0.0, 0.0))
+        }
+        Measurement::Time { time_s, displacement_m } => {
+            let n = time_s.len();
+            let dt = (time_s[n - 1] - time_s[0]) / (n - 1) as f64;
+            // t̃ = π t/Δt: the Nyquist frequency is 1 in the scaled units.
+            let x = (0..n).map(|k| std::f64::consts::PI * k as f64).collect();
+            (FitKind::Time, x, displacement_m.iter().map(|&v| c(v)).collect(), dt / std::f64::consts::PI, (0.0, 1.0))
+        }
+    };
+    let y_ref = y.iter().map(|v| v.norm()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
+    let y = y.iter().map(|v| v / y_ref).collect();
+    if kind == FitKind::Time {
+        return Scaled { kind, x, y, x_ref, y_ref, band };
+    }
+    // ω̃ = ω/(REACH·ω_max): the initial estimator represents poles up to
+    // REACH·ω_max, so a mode just above the band is fitted as a background mode
+    // instead of being forced into the residual terms.
+    let w_ref = REACH * x.last().copied().unwrap_or(1.0);
+    let xs: Vec<f64> = x.iter().map(|w| w / w_ref).collect();
+    let band = (xs[0], 1.0 / REACH);
+    Scaled { kind, x: xs, y, x_ref: w_ref, y_ref, band }
+}
+
+/// Identifies the modes of a record.
+pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identification, IdentifyError> {
+    if settings.modes == Some(0) {
+        return Err(InputError::new("--modes", 0, ">= 1").into());
+    }
+    let sc = scale(m);
+    let diagram = stabilisation_diagram(&sc, settings.max_order)?;
+    let initial = diagram.modes(0.0, 1.0);
+    let in_band = initial.iter().filter(|p| p.norm() >= sc.band.0 && p.norm() <= sc.band.1).count();
+    if in_band == 0 {
+        return Err(InputError::new(
+            m.abscissa_name(),
+            format!("{} samples with no stable resonance", m.len()),
+            "a record with at least one resonance stable in the stabilisation diagram",
+        )
+        .into());
+    }
+    if let Some(k) = settings.modes {
+        if k > in_band {
+            return Err(
+                InputError::new("--modes", k, format!("<= {in_band} (the stable modes this record supports)")).into()
+            );
+        }
+    }
+    if sc.kind != FitKind::Time {
+        let band: Vec<Complex64> = initial.iter().copied().filter(|p| p.norm() <= sc.band.1).collect();
+        check_points_per_resonance(&sc, &band)?;
+    }
+    let (model, fit) = best_refinement(&sc, &initial)?;
+    Ok(assemble(m, &sc, &model, &fit, diagram, settings.modes))
+}
+
+/// Poles at orders 2, 4, … of LSCF or the matrix pencil.
+fn stabilisation_diagram(sc: &Scaled, max_order: usize) -> Result<Diagram, IdentifyError> {
+    let n = sc.x.len();
+    let (orders, poles): (Vec<usize>, Vec<Vec<Complex64>>) = if sc.kind == FitKind::Time {
+        let y: Vec<f64> = sc.y.iter().map(|v| v.re).collect();
+        let top = max_order.min(n / 3);
+        let p = pencil::Pencil::new(&y, std::f64::consts::PI, top + 10)
+            .ok_or_else(|| IdentifyError::Numerical("SVD of the Hankel matrix failed".into()))?;
+        let top = top.min(p.max_order());
+        (2..=top).step_by(2).filter_map(|o| p.poles(o).map(|ps| (o, ps))).unzip()
+    } else {
+        let h: Vec<Complex64> = match sc.kind {
+            FitKind::Complex => sc.y.clone(),
+            FitKind::Magnitude => sc.y.iter().map(|v| Complex64::new(v.norm_sqr(), 0.0)).collect(),
+            _ => sc.y.clone(),
+        };
+        // order n has 2n + 2 real unknowns: keep ≥ 2 equations per unknown
+        let top = max_order.min(n.saturating_sub(2) / 2);
+        let l = lscf::Lscf::new(&sc.x, &h, top, 1.0);
+        (2..=top).step_by(2).filter_map(|o| l.poles(o).map(|ps| (o, ps))).unzip()
+    };
+    if orders.is_empty() {
+        return Err(IdentifyError::Numerical("no model order of the initial estimator could be solved".into()));
+    }
+    Ok(Diagram::build(orders, &poles))
+}
+
+/// Each initial mode needs [`MIN_POINTS_PER_RESONANCE`] samples in ω_d ± σ.
+fn check_points_per_resonance(sc: &Scaled, modes: &[Complex64]) -> Result<(), InputError> {
+    for (r, p) in modes.iter().enumerate() {
+        let (lo, hi) = (p.im + p.re, p.im - p.re);
+        let count = sc.x.iter().filter(|&&x| x >= lo && x <= hi).count();
+        if count < MIN_POINTS_PER_RESONANCE {
+            return Err(InputError::new(
+                "omega_rad_s",
+                format!(
+                    "{count} samples in the half-power band [{:.4e}, {:.4e}] rad/s of the resonance at {:.4e} rad/s (mode {} of the record)",
+                    lo * sc.x_ref,
+                    hi * sc.x_ref,
+                    p.im * sc.x_ref,
+                    r + 1
+                ),
+                format!(">= {MIN_POINTS_PER_RESONANCE} samples per resonance (sample the sweep more densely)"),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Refinements with 0 … MAX_REAL_POLES real poles (in parallel, gathered
+/// in order, so the choice does not depend on the thread count); the lowest
+/// BIC = m·ln(RSS/m) + p·ln m wins.
+fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResult), IdentifyError> {
+    let poly = if sc.kind == FitKind::Time { vec![0] } else { vec![0, 1, 2] };
+    // frequency records: one extra oscillatory pole above the band stands for
+    // the nearest out-of-band mode, whose tail the residual polynomial
+    // (a Taylor series converging only below that mode) represents poorly.
+    let n_identified = initial.len();
+    let mut initial = initial.to_vec();
+    if sc.kind != FitKind::Time && initial.iter().all(|p| p.norm() <= sc.band.1) {
+        let w = 1.2 * sc.band.1;
+        initial.push(Complex64::new(-0.01 * w, w));
+    }
+    let initial = &initial[..];
+    let candidates: Vec<Option<(f64, Model, FitResult)>> = (0..=MAX_REAL_POLES)
+        .into_par_iter()
+        .map(|n_real| {
+            let model = Model {
+                kind: sc.kind,
+                x: sc.x.clone(),
+                y: sc.y.clone(),
+                n_modes: initial.len(),
+                n_real,
+                poly: poly.clone(),
+            };
+            if model.n_params() + 1 >= model.n_residuals() {
+                return None;
+            }
+            let fit = refine::fit(&model, initial_theta(&model, sc, initial)?)?;
+            if !stable_modes(&fit, n_identified) {
+                return None;
+            }
+            let m = model.n_residuals() as f64;
+            let bic = m * (fit.rss / m).max(f64::MIN_POSITIVE).ln() + model.n_params() as f64 * m.ln();
+            Some((bic, model, fit))
+        })
+        .collect();
+    candidates
+        .into_iter()
+        .flatten()
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, m, f)| (m, f))
+        .ok_or_else(|| IdentifyError::Numerical("the nonlinear least-squares refinement did not converge".into()))
+}
+
+/// Every identified mode stays an underdamped, stable pole (the pseudo-mode
+/// above the band, last, is a background term and may go anywhere).
+fn stable_modes(fit: &FitResult, n_identified: usize) -> bool {
+    (0..n_identified).all(|r| fit.theta[PER_MODE * r] > 0.0 && fit.theta[PER_MODE * r + 1] > 0.0)
+}
+
+/// Initial parameters: poles from the diagram, real poles spread
+/// geometrically over the band, linear parameters by least squares
+/// (complex, time) or from the peak heights (magnitude, PSD).
+fn initial_theta(model: &Model, sc: &Scaled, initial: &[Complex64]) -> Option<Vec<f64>> {
+    let mut theta = vec![0.0; model.n_params()];
+    for (r, p) in initial.iter().enumerate() {
+        theta[PER_MODE * r] = -p.re;
+        theta[PER_MODE * r + 1] = p.im;
+    }
+    let (lo, hi) = (sc.band.0.max(1e-2), sc.band.1);
+    let o = PER_MODE * model.n_modes;
+    for k in 0..model.n_real {
+        let f = (k as f64 + 0.5) / model.n_real as f64;
+        let g = lo * (hi / lo).powf(f);
+        // time: decay rates in the scaled time units are rates per π/Δt
+        theta[o + PER_REAL * k] = g;
+    }
+    match model.kind {
+        FitKind::Complex | FitKind::Time => model.solve_linear(&theta),
+        FitKind::Magnitude | FitKind::LogPsd => phase_retrieval(model, peak_residues(model, theta, initial)),
+    }
+}
+
+/// Magnitude-only records: the linear parameters by alternating projections
+/// (Gerchberg–Saxton): give the measured magnitude the current model's
+/// phase, solve the complex linear least-squares problem, repeat. Starts the
+/// refinement with a background level consistent with the data instead of
+/// zero residual terms.
+fn phase_retrieval(model: &Model, mut theta: Vec<f64>) -> Option<Vec<f64>> {
+    const ITERATIONS: usize = 8;
+    let magnitude = |y: Complex64| if model.kind == FitKind::LogPsd { y.re.sqrt() } else { y.re };
+    for _ in 0..ITERATIONS {
+        let h = model.curve(&theta, &model.x);
+        let y: Vec<Complex64> =
+            h.iter().zip(&model.y).map(|(hm, &y)| Complex64::from_polar(magnitude(y), hm.arg())).collect();
+        let complex = Model { kind: FitKind::Complex, y, ..model.clone() };
+        theta = complex.solve_linear(&theta)?;
+    }
+    Some(theta)
+}
+
+/// Residues from the peak heights, A_r = −i·m_r·σ_r (a single mode at its
+/// damped frequency gives |H| = |A|/σ); the sign of each is chosen greedily
+/// by the lower cost.
+fn peak_residues(model: &Model, mut theta: Vec<f64>, initial: &[Complex64]) -> Vec<f64> {
+    for (r, p) in initial.iter().enumerate() {
+        let i = model
+            .x
+            .iter()
+            .enumerate()
+            .min_by(|a, b| (a.1 - p.im).abs().total_cmp(&(b.1 - p.im).abs()))
+            .map_or(0, |v| v.0);
+        let height = if model.kind == FitKind::LogPsd { model.y[i].re.sqrt() } else { model.y[i].re };
+        theta[PER_MODE * r + 3] = -height * (-p.re);
+    }
+    for r in 0..initial.len() {
+        let cost = |t: &[f64]| model.eval(t, false).0.norm_squared();
+        let mut flipped = theta.clone();
+        flipped[PER_MODE * r + 3] = -flipped[PER_MODE * r + 3];
+        if cost(&flipped) < cost(&theta) {
+            theta = flipped;
+        }
+    }
+    theta
+}
+
+/// |A_r| over its standard deviation (delta method along A_r's direction,
+/// so a residue phase that magnitude-only data do not fix does not count):
+/// how clearly the data hold the mode's residue.
+fn amplitude_snr(fit: &FitResult, r: usize) -> f64 {
+    let o = PER_MODE * r;
+    let (a, b) = (fit.theta[o + 2], fit.theta[o + 3]);
+    let norm = a.hypot(b).max(f64::MIN_POSITIVE);
+    let (ga, gb) = (a / norm, b / norm);
+    let c = |i: usize, j: usize| fit.cov[(o + i, o + j)];
+    let var = ga * ga * c(2, 2) + 2.0 * ga * gb * c(2, 3) + gb * gb * c(3, 3);
+    norm / var.max(f64::MIN_POSITIVE).sqrt()
+}
+
+/// Unscales the fit into the reported result.
+fn assemble(
+    m: &Measurement,
+    sc: &Scaled,
+    model: &Model,
+    fit: &FitResult,
+    diagram: Diagram,
+    report: Option<usize>,
+) -> Identification {
+    let w_unit = if sc.kind == FitKind::Time { 1.0 / sc.x_ref } else { sc.x_ref };
+    let mut all: Vec<IdentifiedMode> = (0..model.n_modes)
+        .map(|r| {
+            let [w, w_sd, z, z_sd] = refine::mode_estimate(fit, r);
+            let o = PER_MODE * r;
+            let amp = fit.theta[o + 2].hypot(fit.theta[o + 3]) / fit.theta[o];
+            let snr = amplitude_snr(fit, r);
+            IdentifiedMode {
+                omega_rad_s: w * w_unit,
+                omega_sd_rad_s: w_sd * w_unit,
+                zeta: z,
+                zeta_sd: z_sd,
+                peak: amp,
+                amplitude_snr: snr,
+            }
+        })
+        .collect();
+    let in_band = |w: f64| w >= sc.band.0 * w_unit && w <= sc.band.1 * w_unit;
+    let mut by_peak: Vec<usize> = (0..all.len())
+        .filter(|&r| in_band(all[r].omega_rad_s) && (report.is_some() || all[r].amplitude_snr >= MIN_AMPLITUDE_SNR))
+        .collect();
+    let keep = report.unwrap_or(by_peak.len()).min(by_peak.len());
+    by_peak.sort_by(|&a, &b| all[b].amplitude_snr.total_cmp(&all[a].amplitude_snr));
+    let reported: Vec<usize> = by_peak[..keep].to_vec();
+    let y_unit = if sc.kind == FitKind::LogPsd { sc.y_ref.sqrt() } else { sc.y_ref };
+    for mode in &mut all {
+        mode.peak *= y_unit;
+    }
+    let (mut modes, mut background) = (Vec::new(), Vec::new());
+    for (r, mode) in all.into_iter().enumerate() {
+        if reported.contains(&r) {
+            modes.push(mode);
+        } else {
+            background.push(mode);
+        }
+    }
+    let o = PER_MODE * model.n_modes;
+    let real_poles_rad_s = (0..model.n_real).map(|k| fit.theta[o + PER_REAL * k] * w_unit).collect();
+    let raw = model.curve(&fit.theta, &model.x);
+    let (fitted, measured, residuals) = unscale_curves(sc, &raw, fit, model);
+    let x = match m {
+        Measurement::Time { time_s, .. } => time_s.clone(),
+        _ => sc.x.iter().map(|x| x * sc.x_ref).collect(),
+    };
+    let noise_unit = match sc.kind {
+        FitKind::LogPsd => 1.0,
+        _ => sc.y_ref,
+    };
+    Identification {
+        kind: kind_name(sc.kind),
+        modes,
+        background_modes: background,
+        real_poles_rad_s,
+        noise_sd: fit.noise_var.sqrt() * noise_unit,
+        residual_count: model.n_residuals(),
+        parameter_count: model.n_params(),
+        diagram: Diagram {
+            orders: diagram.orders,
+            poles: diagram
+                .poles
+                .into_iter()
+                .map(|mut p| {
+                    p.omega_rad_s *= w_unit;
+                    p.pole *= w_unit;
+                    p
+                })
+                .collect(),
+        },
+        x,
+        fitted,
+        measured,
+        residuals,
+    }
+}
+
+fn kind_name(k: FitKind) -> &'static str {
+    match k {
+        FitKind::Complex => "complex receptance",
+        FitKind::Magnitude => "receptance magnitude",
+        FitKind::LogPsd => "displacement PSD",
+        FitKind::Time => "free decay",
+    }
+}
+
+/// Fitted and measured curves and residuals in the record's units.
+fn unscale_curves(
+    sc: &Scaled,
+    raw: &[Complex64],
+    fit: &FitResult,
+    model: &Model,
+) -> (Vec<Complex64>, Vec<Complex64>, Vec<f64>) {
+    let (r, _) = model.eval(&fit.theta, false);
+    let n = sc.x.len();
+    let fitted: Vec<Complex64> = raw
+        .iter()
+        .map(|h| match sc.kind {
+            FitKind::Complex => h * sc.y_ref,
+            FitKind::Magnitude => Complex64::new(h.norm() * sc.y_ref, 0.0),
+            FitKind::LogPsd => Complex64::new(h.norm_sqr() * sc.y_ref, 0.0),
+            FitKind::Time => Complex64::new(h.re * sc.y_ref, 0.0),
+        })
+        .collect();
+    let measured = sc.y.iter().map(|v| v * sc.y_ref).collect();
+    let residuals = match sc.kind {
+        FitKind::Complex => (0..n).map(|i| r[i].hypot(r[n + i]) * sc.y_ref).collect(),
+        FitKind::LogPsd => r.iter().copied().collect(),
+        _ => r.iter().map(|v| v * sc.y_ref).collect(),
+    };
+    (fitted, measured, residuals)
+}

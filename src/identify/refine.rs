@@ -1,0 +1,316 @@
+//! Joint nonlinear least-squares refinement of all poles and residues
+//! (Levenberg–Marquardt, `levenberg-marquardt` crate on nalgebra), with
+//! standard deviations from the Jacobian.
+//!
+//! # The parametric model (rational, in s̃ = s/ω_ref)
+//! H(s̃) = Σ_r [A_r/(s̃ − p_r) + Ā_r/(s̃ − p̄_r)]      oscillatory modes, p_r = −σ_r + iω_d,r
+//!      + Σ_k B_k/(s̃ + γ_k)                          real poles (relaxation of the internal variables)
+//!      + Σ_m c_m s̃^m, m ∈ {0, 1, 2}                 residual terms of out-of-band modes
+//! (the Taylor series of the modes above the band, which is real-coefficient
+//! because H is real-rational). In the time domain the same poles give
+//! y(t̃) = Σ_r 2Re(A_r e^{p_r t̃}) + Σ_k B_k e^{−γ_k t̃} + c₀ (sensor offset).
+//!
+//! Parameters per mode (σ_r, ω_d,r, Re A_r, Im A_r); per real pole (γ_k, B_k);
+//! then c_m. The residuals by record kind: complex → (Re, Im) of H − y;
+//! magnitude → |H| − y; PSD → ln|H|² − ln y (the PSD scale is absorbed by the
+//! residues; averaged periodograms have near-constant variance in log);
+//! time → y_model − y.
+//!
+//! # Uncertainties
+//! At the optimum θ̂ with m residuals and p parameters, the noise variance is
+//! estimated from the residuals, σ̂² = RSS/(m − p), and
+//! Cov(θ̂) ≈ σ̂²(JᵀJ)⁺ (Gauss–Newton linearisation; the pseudo-inverse drops
+//! directions the data do not determine, e.g. a background pole with a zero
+//! residue, which do not involve the modes). ω = |p| and ζ = σ/|p| get their
+//! variances by the delta method from the (σ, ω_d) block.
+
+use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
+use nalgebra::storage::Owned;
+use nalgebra::{DMatrix, DVector, Dyn};
+use num_complex::Complex64;
+
+/// What the residuals compare.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FitKind {
+    Complex,
+    Magnitude,
+    LogPsd,
+    Time,
+}
+
+/// A fitting problem in scaled units: abscissa x (ω̃ or t̃) and data.
+#[derive(Debug, Clone)]
+pub struct Model {
+    pub kind: FitKind,
+    pub x: Vec<f64>,
+    /// Complex data (real kinds use the real part).
+    pub y: Vec<Complex64>,
+    pub n_modes: usize,
+    pub n_real: usize,
+    /// Exponents of the residual terms (time: `[0]`, the offset).
+    pub poly: Vec<i32>,
+}
+
+/// Parameters per mode and per real pole.
+pub const PER_MODE: usize = 4;
+pub const PER_REAL: usize = 2;
+
+impl Model {
+    pub fn n_params(&self) -> usize {
+        PER_MODE * self.n_modes + PER_REAL * self.n_real + self.poly.len()
+    }
+
+    pub fn n_residuals(&self) -> usize {
+        self.x.len() * if self.kind == FitKind::Complex { 2 } else { 1 }
+    }
+
+    /// Model value and its derivative by every parameter at point `i`.
+    fn point(&self, theta: &[f64], i: usize, grad: &mut [Complex64]) -> Complex64 {
+        let x = self.x[i];
+        let time = self.kind == FitKind::Time;
+        let s = Complex64::new(0.0, x);
+        let one = Complex64::new(1.0, 0.0);
+        let im = Complex64::new(0.0, 1.0);
+        let mut h = Complex64::new(0.0, 0.0);
+        for r in 0..self.n_modes {
+            let o = PER_MODE * r;
+            let p = Complex64::new(-theta[o], theta[o + 1]);
+            let a = Complex64::new(theta[o + 2], theta[o + 3]);
+            if time {
+                let e = (p * x).exp();
+                h += 2.0 * (a * e).re;
+                grad[o] = Complex64::from(2.0 * (a * e * (-x)).re);
+                grad[o + 1] = Complex64::from(2.0 * (a * e * im * x).re);
+                grad[o + 2] = Complex64::from(2.0 * e.re);
+                grad[o + 3] = Complex64::from(-2.0 * e.im);
+            } else {
+                let (u, v) = (one / (s - p), one / (s - p.conj()));
+                h += a * u + a.conj() * v;
+                let (du, dv) = (a * u * u, a.conj() * v * v);
+                grad[o] = -du - dv;
+                grad[o + 1] = im * du - im * dv;
+                grad[o + 2] = u + v;
+                grad[o + 3] = im * u - im * v;
+            }
+        }
+        let o0 = PER_MODE * self.n_modes;
+        for k in 0..self.n_real {
+            let o = o0 + PER_REAL * k;
+            let (g, b) = (theta[o], theta[o + 1]);
+            if time {
+                let e = (-g * x).exp();
+                h += b * e;
+                grad[o] = Complex64::from(-x * b * e);
+                grad[o + 1] = Complex64::from(e);
+            } else {
+                let u = one / (s + g);
+                h += b * u;
+                grad[o] = -b * u * u;
+                grad[o + 1] = u;
+            }
+        }
+        let o0 = o0 + PER_REAL * self.n_real;
+        for (j, &m) in self.poly.iter().enumerate() {
+            let basis = if time { one } else { s.powi(m) };
+            h += theta[o0 + j] * basis;
+            grad[o0 + j] = basis;
+        }
+        h
+    }
+
+    /// Residuals and Jacobian at θ.
+    pub fn eval(&self, theta: &[f64], with_jacobian: bool) -> (DVector<f64>, DMatrix<f64>) {
+        let n = self.x.len();
+        let p = self.n_params();
+        let m = self.n_residuals();
+        let mut r = DVector::zeros(m);
+        let mut jac = DMatrix::zeros(if with_jacobian { m } else { 0 }, p);
+        let mut grad = vec![Complex64::new(0.0, 0.0); p];
+        for i in 0..n {
+            let h = self.point(theta, i, &mut grad);
+            let y = self.y[i];
+            match self.kind {
+                FitKind::Complex => {
+                    r[i] = h.re - y.re;
+                    r[n + i] = h.im - y.im;
+                    if with_jacobian {
+                        for (j, g) in grad.iter().enumerate() {
+                            jac[(i, j)] = g.re;
+                            jac[(n + i, j)] = g.im;
+                        }
+                    }
+                }
+                FitKind::Time => {
+                    r[i] = h.re - y.re;
+                    if with_jacobian {
+                        for (j, g) in grad.iter().enumerate() {
+                            jac[(i, j)] = g.re;
+                        }
+                    }
+                }
+                FitKind::Magnitude => {
+                    let a = h.norm().max(f64::MIN_POSITIVE);
+                    r[i] = a - y.re;
+                    if with_jacobian {
+                        for (j, g) in grad.iter().enumerate() {
+                            jac[(i, j)] = (h.conj() * g).re / a;
+                        }
+                    }
+                }
+                FitKind::LogPsd => {
+                    let a2 = h.norm_sqr().max(f64::MIN_POSITIVE);
+                    r[i] = a2.ln() - y.re.ln();
+                    if with_jacobian {
+                        for (j, g) in grad.iter().enumerate() {
+                            jac[(i, j)] = 2.0 * (h.conj() * g).re / a2;
+                        }
+                    }
+                }
+            }
+        }
+        (r, jac)
+    }
+
+    /// Model values (complex; real kinds in the real part) at abscissae `x`.
+    pub fn curve(&self, theta: &[f64], x: &[f64]) -> Vec<Complex64> {
+        let mut grad = vec![Complex64::new(0.0, 0.0); self.n_params()];
+        let probe = Model { x: x.to_vec(), y: vec![Complex64::new(0.0, 0.0); x.len()], ..self.clone() };
+        (0..x.len()).map(|i| probe.point(theta, i, &mut grad)).collect()
+    }
+
+    /// Least-squares values of the linear parameters (residues, c_m) for
+    /// the poles in θ, for the kinds in which the model is linear in them
+    /// (complex, time). Returns θ with those entries replaced.
+    pub fn solve_linear(&self, theta: &[f64]) -> Option<Vec<f64>> {
+        let linear = self.linear_indices();
+        let mut zeroed = theta.to_vec();
+        for &j in &linear {
+            zeroed[j] = 0.0;
+        }
+        let (r0, jac) = self.eval(&zeroed, true);
+        let a = jac.select_columns(&linear);
+        let sol = a.svd(true, true).solve(&(-r0), 1e-13).ok()?;
+        for (k, &j) in linear.iter().enumerate() {
+            zeroed[j] = sol[k];
+        }
+        Some(zeroed)
+    }
+
+    fn linear_indices(&self) -> Vec<usize> {
+        let mut v = Vec::new();
+        for r in 0..self.n_modes {
+            v.extend([PER_MODE * r + 2, PER_MODE * r + 3]);
+        }
+        let o = PER_MODE * self.n_modes;
+        for k in 0..self.n_real {
+            v.push(o + PER_REAL * k + 1);
+        }
+        v.extend((0..self.poly.len()).map(|j| o + PER_REAL * self.n_real + j));
+        v
+    }
+}
+
+/// The LM problem: the model and the current parameters.
+struct Problem<'a> {
+    model: &'a Model,
+    theta: DVector<f64>,
+}
+
+impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_> {
+    type ResidualStorage = Owned<f64, Dyn>;
+    type JacobianStorage = Owned<f64, Dyn, Dyn>;
+    type ParameterStorage = Owned<f64, Dyn>;
+
+    fn set_params(&mut self, x: &DVector<f64>) {
+        self.theta.copy_from(x);
+    }
+
+    fn params(&self) -> DVector<f64> {
+        self.theta.clone()
+    }
+
+    fn residuals(&self) -> Option<DVector<f64>> {
+        let (r, _) = self.model.eval(self.theta.as_slice(), false);
+        r.iter().all(|v| v.is_finite()).then_some(r)
+    }
+
+    fn jacobian(&self) -> Option<DMatrix<f64>> {
+        let (_, j) = self.model.eval(self.theta.as_slice(), true);
+        j.iter().all(|v| v.is_finite()).then_some(j)
+    }
+}
+
+/// A converged fit.
+#[derive(Debug, Clone)]
+pub struct FitResult {
+    pub theta: Vec<f64>,
+    pub rss: f64,
+    /// σ̂² = RSS/(m − p).
+    pub noise_var: f64,
+    /// σ̂²(JᵀJ)⁺.
+    pub cov: DMatrix<f64>,
+    pub evaluations: usize,
+}
+
+/// LM evaluation budget: PATIENCE·(p + 1) residual evaluations. A fit whose
+/// background poles drift along a flat valley (a real pole running off to
+/// infinity imitates the residual terms) stops there; the BIC comparison of
+/// the candidates then decides.
+pub const PATIENCE: usize = 3;
+
+/// Levenberg–Marquardt from `theta0`; `None` when the fit fails numerically.
+pub fn fit(model: &Model, theta0: Vec<f64>) -> Option<FitResult> {
+    let problem = Problem { model, theta: DVector::from_vec(theta0) };
+    // ftol/xtol 1e-12: the optimiser's resolution is far below any σ it
+    // reports (σ/θ ≳ 1e-9 for any noise above round-off).
+    let (problem, report) =
+        LevenbergMarquardt::new().with_ftol(1e-12).with_xtol(1e-12).with_patience(PATIENCE).minimize(problem);
+    if !report.termination.was_successful() && report.number_of_evaluations == 0 {
+        return None;
+    }
+    let theta = problem.theta.as_slice().to_vec();
+    let (r, jac) = model.eval(&theta, true);
+    if !r.iter().chain(jac.iter()).all(|v| v.is_finite()) {
+        return None;
+    }
+    let rss = r.norm_squared();
+    let dof = model.n_residuals().saturating_sub(model.n_params()).max(1);
+    let noise_var = rss / dof as f64;
+    let jtj = jac.transpose() * &jac;
+    let cov = pseudo_inverse_sym(&jtj)? * noise_var;
+    Some(FitResult { theta, rss, noise_var, cov, evaluations: report.number_of_evaluations })
+}
+
+/// Pseudo-inverse of a symmetric positive semi-definite matrix, after
+/// Jacobi scaling (D⁻¹AD⁻¹, D = sqrt diag A: makes the result independent
+/// of parameter units), dropping eigenvalues below 1e-12·max: beyond that
+/// condition number the double-precision Gram matrix (relative error ~1e-16
+/// times the condition number) no longer determines the direction.
+fn pseudo_inverse_sym(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let d: Vec<f64> = (0..a.nrows()).map(|i| a[(i, i)].max(f64::MIN_POSITIVE).sqrt()).collect();
+    let scaled = DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] / (d[i] * d[j]));
+    let eig = scaled.symmetric_eigen();
+    let max = eig.eigenvalues.iter().copied().fold(0.0, f64::max);
+    if !(max > 0.0 && max.is_finite()) {
+        return None;
+    }
+    let inv = DVector::from_iterator(
+        eig.eigenvalues.len(),
+        eig.eigenvalues.iter().map(|&l| if l > 1e-12 * max { 1.0 / l } else { 0.0 }),
+    );
+    let pinv = &eig.eigenvectors * DMatrix::from_diagonal(&inv) * eig.eigenvectors.transpose();
+    Some(DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| pinv[(i, j)] / (d[i] * d[j])))
+}
+
+/// ω, ζ and their standard deviations of mode `r` (scaled ω).
+pub fn mode_estimate(fit: &FitResult, r: usize) -> [f64; 4] {
+    let o = PER_MODE * r;
+    let (sig, wd) = (fit.theta[o], fit.theta[o + 1]);
+    let w = sig.hypot(wd);
+    let z = sig / w;
+    let gw = [sig / w, wd / w];
+    let gz = [wd * wd / (w * w * w), -sig * wd / (w * w * w)];
+    let c = |i: usize, j: usize| fit.cov[(o + i, o + j)];
+    let var = |g: [f64; 2]| g[0] * g[0] * c(0, 0) + 2.0 * g[0] * g[1] * c(0, 1) + g[1] * g[1] * c(1, 1);
+    [w, var(gw).max(0.0).sqrt(), z, var(gz).max(0.0).sqrt()]
+}
