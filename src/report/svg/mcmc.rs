@@ -114,6 +114,9 @@ pub struct HistogramPlot {
     /// Number of equal-width bins over the pooled range (or `x_range`).
     pub bins: usize,
     pub reference: Option<f64>,
+    /// Named vertical lines (e.g. "ours", "paper"), each in its own colour and
+    /// listed in the legend.
+    pub marks: Vec<(String, f64)>,
     pub x_range: Option<(f64, f64)>,
     pub size: (u32, u32),
 }
@@ -126,6 +129,7 @@ impl Default for HistogramPlot {
             groups: Vec::new(),
             bins: 40,
             reference: None,
+            marks: Vec::new(),
             x_range: None,
             size: (800, 450),
         }
@@ -169,6 +173,7 @@ fn draw_histograms<DB: DrawingBackend>(
     (lo, hi): (f64, f64),
     bins: usize,
     reference: Option<f64>,
+    marks: &[(String, f64)],
     x_label: &str,
     caption: Option<&str>,
     font: (u32, u32),
@@ -222,7 +227,15 @@ fn draw_histograms<DB: DrawingBackend>(
             .draw_series(DashedLineSeries::new(vec![(r, 0.0), (r, top)], 6, 4, BLACK.stroke_width(2)))
             .map_err(draw_err)?;
     }
-    if names.is_some() {
+    for (k, (name, x)) in marks.iter().enumerate().filter(|(_, (_, x))| x.is_finite()) {
+        let colour = series_colour(groups.len() + k);
+        chart
+            .draw_series(std::iter::once(PathElement::new(vec![(*x, 0.0), (*x, top)], colour.stroke_width(3))))
+            .map_err(draw_err)?
+            .label(name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3)));
+    }
+    if names.is_some() || !marks.is_empty() {
         chart
             .configure_series_labels()
             .position(SeriesLabelPosition::UpperRight)
@@ -241,8 +254,13 @@ pub fn histogram(spec: &HistogramPlot) -> Result<String> {
         return Err(ReportError::invalid("histogram bins", "must be >= 1"));
     }
     let lists: Vec<&[f64]> = spec.groups.iter().map(|g| g.values.as_slice()).collect();
+    let marks: Vec<f64> = spec.marks.iter().map(|m| m.1).collect();
     let range = pooled_range(
-        lists.iter().copied().chain(spec.reference.as_slice().iter().map(std::slice::from_ref)),
+        lists
+            .iter()
+            .copied()
+            .chain(spec.reference.as_slice().iter().map(std::slice::from_ref))
+            .chain(std::iter::once(marks.as_slice())),
         spec.x_range,
         "histogram values",
     )?;
@@ -258,6 +276,7 @@ pub fn histogram(spec: &HistogramPlot) -> Result<String> {
             range,
             spec.bins,
             spec.reference,
+            &spec.marks,
             &spec.x_label,
             Some(&spec.title),
             (DESC_SIZE, TICK_SIZE),
@@ -349,7 +368,7 @@ pub fn pair_plot(spec: &PairPlot) -> Result<String> {
                 let x_label = if i == d - 1 { spec.names[j].as_str() } else { "" };
                 if i == j {
                     let r = spec.reference.as_ref().map(|r| r[i]);
-                    draw_histograms(area, &[&spec.columns[i]], None, ranges[i], bins, r, x_label, None, font)?;
+                    draw_histograms(area, &[&spec.columns[i]], None, ranges[i], bins, r, &[], x_label, None, font)?;
                 } else if j < i {
                     let (xr, yr) = (ranges[j], ranges[i]);
                     let mut chart = ChartBuilder::on(area)
