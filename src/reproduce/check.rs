@@ -157,3 +157,45 @@ pub fn compare(run: &Golden, golden: &Golden) -> Vec<String> {
     }
     drifts
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn golden(mean: f64, status: Status) -> Golden {
+        Golden {
+            quick: true,
+            quantities: [("case_1A.delta.mean".to_string(), Quantity { value: mean, se: 0.01 })].into(),
+            verdicts: [("case_1a_covers_truth".to_string(), status)].into(),
+        }
+    }
+
+    #[test]
+    fn drift_is_measured_in_units_of_the_difference_se() {
+        let g = golden(0.5, Status::Reproduced);
+        assert!(compare(&g, &g).is_empty());
+        // √(0.01² + 0.01²) = 0.01414: 0.05 away is 3.5 σ (inside), 0.06 is 4.2 σ (drift).
+        assert!(compare(&golden(0.55, Status::Reproduced), &g).is_empty());
+        let d = compare(&golden(0.56, Status::Reproduced), &g);
+        assert_eq!(d.len(), 1);
+        assert!(d[0].contains("+4.2 σ"), "{}", d[0]);
+    }
+
+    #[test]
+    fn a_changed_verdict_is_a_drift() {
+        let d = compare(&golden(0.5, Status::Consistent), &golden(0.5, Status::Reproduced));
+        assert_eq!(d, vec!["audit verdict case_1a_covers_truth: ≈ vs golden ✓".to_string()]);
+    }
+
+    #[test]
+    fn missing_malformed_and_wrong_mode_golden_files_name_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("reproduce-quick.json");
+        assert!(load_golden(&p, true).unwrap_err().to_string().contains("reproduce-quick.json"));
+        std::fs::write(&p, "{").unwrap();
+        assert!(load_golden(&p, true).unwrap_err().to_string().starts_with("invalid golden file ="));
+        std::fs::write(&p, golden(0.5, Status::Reproduced).to_json()).unwrap();
+        assert!(load_golden(&p, true).is_ok());
+        assert!(matches!(load_golden(&p, false), Err(GoldenError::WrongMode { .. })));
+    }
+}
