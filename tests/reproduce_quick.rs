@@ -86,7 +86,8 @@ fn compare_printed(a: &serde_yaml::Value, b: &serde_yaml::Value, path: &str, dif
 fn quick_reproduction_produces_everything_and_matches_golden() {
     let (_guard, root) = scratch_root();
     let out = root.join("out");
-    let summary = run(&Options { root: root.clone(), out: out.clone(), quick: true, command_line: "test".into() }).expect("quick reproduction runs");
+    let summary = run(&Options { root: root.clone(), out: out.clone(), quick: true, command_line: "test".into() })
+        .expect("quick reproduction runs");
     for f in [
         "report.md",
         "results.json",
@@ -141,7 +142,11 @@ fn quick_reproduction_produces_everything_and_matches_golden() {
     assert!(out.join("case-1a/inference_data.nc").exists());
     assert!(report.contains("## 7. Provenance") && report.contains("SHA-256 `paper/published.yaml`"));
     for v in &summary.verdicts {
-        assert!(v.status == nanobeam::reproduce::audit::Status::Reproduced || !v.cause.is_empty(), "unexplained ≈/✗ for {}", v.id);
+        assert!(
+            v.status == nanobeam::reproduce::audit::Status::Reproduced || !v.cause.is_empty(),
+            "unexplained ≈/✗ for {}",
+            v.id
+        );
     }
 
     // The paper's Case-3 data (N̄ = 2 truth, fitted with N = 1) is diagnosed as

@@ -105,7 +105,11 @@ pub fn inference_data(result: &CalibrationResult, ctx: &InferenceContext) -> Inf
     let posterior = Group {
         name: "posterior".into(),
         variables: (0..result.names.len())
-            .map(|k| Variable { name: result.names[k].clone(), dims: chain_draw(nc, nd), values: per_draw(&|c, i| result.chains[c].draws[i][k]) })
+            .map(|k| Variable {
+                name: result.names[k].clone(),
+                dims: chain_draw(nc, nd),
+                values: per_draw(&|c, i| result.chains[c].draws[i][k]),
+            })
             .collect(),
         ..Group::default()
     };
@@ -113,7 +117,11 @@ pub fn inference_data(result: &CalibrationResult, ctx: &InferenceContext) -> Inf
     let sample_stats = Group {
         name: "sample_stats".into(),
         variables: vec![
-            Variable { name: "lp".into(), dims: chain_draw(nc, nd), values: per_draw(&|c, i| result.chains[c].log_posterior[i]) },
+            Variable {
+                name: "lp".into(),
+                dims: chain_draw(nc, nd),
+                values: per_draw(&|c, i| result.chains[c].log_posterior[i]),
+            },
             Variable {
                 name: "acceptance_rate_per_dr_stage".into(),
                 dims: vec![("chain".into(), nc), ("dr_stage".into(), stages)],
@@ -181,10 +189,22 @@ fn pointwise(result: &CalibrationResult, post: &BeamPosterior, idx: &[usize]) ->
         dims: dims.clone(),
         values: terms.iter().flat_map(|t| t[off..off + m].iter().copied()).collect(),
     };
-    let obs = |name: &str, off: usize| Variable { name: name.into(), dims: vec![("mode".into(), m)], values: y[off..off + m].to_vec() };
+    let obs = |name: &str, off: usize| Variable {
+        name: name.into(),
+        dims: vec![("mode".into(), m)],
+        values: y[off..off + m].to_vec(),
+    };
     (
-        Group { name: "log_likelihood".into(), variables: vec![var("omega_rad_s", 0), var("zeta", m)], ..Group::default() },
-        Group { name: "observed_data".into(), variables: vec![obs("omega_rad_s", 0), obs("zeta", m)], ..Group::default() },
+        Group {
+            name: "log_likelihood".into(),
+            variables: vec![var("omega_rad_s", 0), var("zeta", m)],
+            ..Group::default()
+        },
+        Group {
+            name: "observed_data".into(),
+            variables: vec![obs("omega_rad_s", 0), obs("zeta", m)],
+            ..Group::default()
+        },
     )
 }
 

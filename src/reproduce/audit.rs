@@ -263,7 +263,8 @@ impl AuditInput<'_> {
                 values.push(v);
             }
         }
-        let noise_free = reps.iter().map(|c| c.noise_free.as_ref()).collect::<Option<Vec<_>>>().and_then(|s| f(&s, &cases));
+        let noise_free =
+            reps.iter().map(|c| c.noise_free.as_ref()).collect::<Option<Vec<_>>>().and_then(|s| f(&s, &cases));
         Some(ReplicateStatistic {
             label: check.label,
             holds: values.iter().map(|v| (check.holds)(*v)).collect(),
@@ -337,27 +338,54 @@ fn case_1_checks(a: &AuditInput) -> Vec<Verdict> {
     let outside = |x: f64| x > 1.0;
     let three = ["nonlocal_e0a_nm", "delta", "omega_rad_s"];
     let f = |s: &[&ReplicateSummary], c: &[&CaseOutcome]| max_position(s[0], c[0], &three);
-    let check = Check { label: format!("max over (e0a, Δ, Ω) of {INSIDE}"), holds: &inside, threshold: Some(1.0), paper: None };
+    let check =
+        Check {
+            label: format!("max over (e0a, Δ, Ω) of {INSIDE}"), holds: &inside, threshold: Some(1.0), paper: None
+        };
     if let Some(stat) = a.replicated(&["1A"], &f, check) {
         let r = format!("max |position| of the truth in CI95 = {:.3} (≤ 1 is inside)", stat.ours);
-        v.push(Verdict::yes_no("case_1a_covers_truth", a.claim("case_1a_covers_truth"), r, "truth ∈ CI95 for e0a, Δ, Ω", stat));
+        v.push(Verdict::yes_no(
+            "case_1a_covers_truth",
+            a.claim("case_1a_covers_truth"),
+            r,
+            "truth ∈ CI95 for e0a, Δ, Ω",
+            stat,
+        ));
     }
     for id in ["1B", "1C"] {
         let f = |s: &[&ReplicateSummary], c: &[&CaseOutcome]| min_position(s[0], c[0], &["delta", "omega_rad_s"]);
-        let check = Check { label: format!("min over (Δ, Ω) of {INSIDE}"), holds: &outside, threshold: Some(1.0), paper: None };
+        let check =
+            Check {
+                label: format!("min over (Δ, Ω) of {INSIDE}"), holds: &outside, threshold: Some(1.0), paper: None
+            };
         if let Some(stat) = a.replicated(&[id], &f, check) {
             let r = format!("min |position| of the truth in CI95 = {:.3} (> 1 is outside)", stat.ours);
             let vid = format!("case_{}_misses_delta_omega", id.to_lowercase());
-            v.push(Verdict::yes_no(&vid, a.claim("cases_1b_1c_miss_delta_omega"), r, "truth ∉ CI95 for both Δ and Ω", stat));
+            v.push(Verdict::yes_no(
+                &vid,
+                a.claim("cases_1b_1c_miss_delta_omega"),
+                r,
+                "truth ∉ CI95 for both Δ and Ω",
+                stat,
+            ));
         }
     }
     let f = |s: &[&ReplicateSummary], c: &[&CaseOutcome]| {
         (0..3).map(|i| max_position(s[i], c[i], &["nonlocal_e0a_nm"])).try_fold(0.0, |m: f64, x| x.map(|x| m.max(x)))
     };
-    let check = Check { label: format!("max over 1A–1C of e0a's {INSIDE}"), holds: &inside, threshold: Some(1.0), paper: None };
+    let check =
+        Check {
+            label: format!("max over 1A–1C of e0a's {INSIDE}"), holds: &inside, threshold: Some(1.0), paper: None
+        };
     if let Some(stat) = a.replicated(&["1A", "1B", "1C"], &f, check) {
         let r = format!("max |position| of the e0a truth = {:.3}", stat.ours);
-        v.push(Verdict::yes_no("e0a_covered_all_case_1", a.claim("e0a_covered_all_case_1"), r, "truth ∈ CI95 in 1A, 1B, 1C", stat));
+        v.push(Verdict::yes_no(
+            "e0a_covered_all_case_1",
+            a.claim("e0a_covered_all_case_1"),
+            r,
+            "truth ∈ CI95 in 1A, 1B, 1C",
+            stat,
+        ));
     }
     v.extend(relative_error_checks(a));
     v
@@ -384,9 +412,15 @@ fn relative_error_checks(a: &AuditInput) -> Vec<Verdict> {
         // (sd/√ESS_bulk), i.e. the paper's number is reproduced when it and
         // ours agree within their rounding and sampling errors.
         let tol = 0.005 + 2.0 * mcse(c, k) / truth.abs();
-        let claim = format!("Case {}: relative error of the mean of {} ≈ {:.0} %", re.case, re.parameter, 100.0 * re.relative_error_approx);
+        let claim = format!(
+            "Case {}: relative error of the mean of {} ≈ {:.0} %",
+            re.case,
+            re.parameter,
+            100.0 * re.relative_error_approx
+        );
         let id = format!("relative_error_{}_{}", re.case.to_lowercase(), re.parameter);
-        let mut verdict = Verdict::numeric(&id, (claim, re.source.clone()), &format!("± {:.1} points", 100.0 * tol), tol, stat);
+        let mut verdict =
+            Verdict::numeric(&id, (claim, re.source.clone()), &format!("± {:.1} points", 100.0 * tol), tol, stat);
         verdict.reproduced = format!("{:.1} %", 100.0 * verdict.replicates.as_ref().map_or(f64::NAN, |s| s.ours));
         v.push(verdict);
     }
@@ -406,13 +440,20 @@ fn case_2_checks(a: &AuditInput) -> Vec<Verdict> {
     let f = |s: &[&ReplicateSummary], c: &[&CaseOutcome]| {
         (0..3).map(|i| max_position(s[i], c[i], &three)).try_fold(0.0, |m: f64, x| x.map(|x| m.max(x)))
     };
-    let check = Check { label: format!("max over 2A–2C × (e0a, Δ, Ω) of {INSIDE}"), holds: &inside, threshold: Some(1.0), paper: None };
+    let check = Check {
+        label: format!("max over 2A–2C × (e0a, Δ, Ω) of {INSIDE}"),
+        holds: &inside,
+        threshold: Some(1.0),
+        paper: None,
+    };
     if let Some(stat) = a.replicated(&["2A", "2B", "2C"], &f, check) {
         let r = format!("max |position| of the truth = {:.3} over 9 intervals", stat.ours);
         v.push(Verdict::yes_no("cases_2_cover_truth", a.claim("cases_2_cover_truth"), r, "all inside", stat));
     }
     let wider = |x: f64| x > 1.0;
-    let f = |s: &[&ReplicateSummary], c: &[&CaseOutcome]| Some(s[1].sd[param(c[1], "delta")?] / s[0].sd[param(c[0], "delta")?]);
+    let f = |s: &[&ReplicateSummary], c: &[&CaseOutcome]| {
+        Some(s[1].sd[param(c[1], "delta")?] / s[0].sd[param(c[0], "delta")?])
+    };
     let check = Check { label: "sd(Δ) in 2A / sd(Δ) in 1A".into(), holds: &wider, threshold: Some(1.0), paper: None };
     if let Some(stat) = a.replicated(&["1A", "2A"], &f, check) {
         let r = format!("sd(Δ) 2A / 1A = {:.3}", stat.ours);
@@ -428,7 +469,11 @@ fn case_2_checks(a: &AuditInput) -> Vec<Verdict> {
         ("corr_d_delta_negative", "2A", "ρ(d, Δ) in 2A", &negative, "< 0"),
     ];
     for (id, case, label, holds, tol) in checks {
-        let f = if id == "corr_e0a_delta_positive" { corr("nonlocal_e0a_nm", "delta") } else { corr("diameter_nm", "delta") };
+        let f = if id == "corr_e0a_delta_positive" {
+            corr("nonlocal_e0a_nm", "delta")
+        } else {
+            corr("diameter_nm", "delta")
+        };
         let check = Check { label: label.into(), holds, threshold: Some(0.0), paper: None };
         if let Some(stat) = a.replicated(&[case], &f, check) {
             let r = format!("{label} = {:.3}", stat.ours);
@@ -498,7 +543,13 @@ fn case_3_checks(a: &AuditInput) -> Vec<Verdict> {
             let check = Check { label: "posterior mean of β".into(), holds: &near, threshold: Some(4.0), paper: None };
             if let Some(stat) = a.replicated(&["3"], &f, check) {
                 let r = format!("posterior mean of β = {:.2}", stat.ours);
-                v.push(Verdict::yes_no("case_3_beta_near_4", a.claim("case_3_beta_near_4"), r, "4 ± 0.5 (\"around 4\" read to the nearest integer)", stat));
+                v.push(Verdict::yes_no(
+                    "case_3_beta_near_4",
+                    a.claim("case_3_beta_near_4"),
+                    r,
+                    "4 ± 0.5 (\"around 4\" read to the nearest integer)",
+                    stat,
+                ));
             }
         }
     }
@@ -507,7 +558,11 @@ fn case_3_checks(a: &AuditInput) -> Vec<Verdict> {
         Verdict::fixed(
             "case_3_envelope_covers_to_mode_4",
             a.claim("case_3_envelope_covers_to_mode_4"),
-            format!("{:.0} % of frequencies up to mode 4 ({:.0} GHz) inside the 99 % envelope", 100.0 * frf.coverage_to_mode_4, frf.mode_4_ghz),
+            format!(
+                "{:.0} % of frequencies up to mode 4 ({:.0} GHz) inside the 99 % envelope",
+                100.0 * frf.coverage_to_mode_4,
+                frf.mode_4_ghz
+            ),
             "≥ 95 % of the grid (our draw only: not replicated, see the report)",
             frf.coverage_to_mode_4 >= 0.95,
         )

@@ -154,7 +154,8 @@ pub fn table_files(spec: &CaseTable, cases: &[CaseOutcome]) -> Result<TableFiles
     }
     for c in &g {
         let kept = c.result.kept_draws();
-        let columns: Vec<Vec<f64>> = (0..c.names.len()).map(|k| kept.iter().flatten().map(|t| t[k]).collect()).collect();
+        let columns: Vec<Vec<f64>> =
+            (0..c.names.len()).map(|k| kept.iter().flatten().map(|t| t[k]).collect()).collect();
         let pp = PairPlot {
             title: format!("{}: pairs, case {}", spec.pair_figure, c.spec.id),
             names: c.names.clone(),

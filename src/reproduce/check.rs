@@ -102,13 +102,22 @@ pub fn golden_of(r: &Results) -> Golden {
         }
     }
     if let Some(e) = &r.case_3_evidence {
-        q.insert("case_3_evidence.log_evidence_n1_beta".into(), Quantity { value: e.log_evidence_n1_beta, se: e.log_evidence_n1_beta_se });
-        q.insert("case_3_evidence.log_evidence_n2".into(), Quantity { value: e.log_evidence_n2, se: e.log_evidence_n2_se });
+        q.insert(
+            "case_3_evidence.log_evidence_n1_beta".into(),
+            Quantity { value: e.log_evidence_n1_beta, se: e.log_evidence_n1_beta_se },
+        );
+        q.insert(
+            "case_3_evidence.log_evidence_n2".into(),
+            Quantity { value: e.log_evidence_n2, se: e.log_evidence_n2_se },
+        );
     }
     for v in &r.audit {
         if let (Some(p), Some(s)) = (v.probability, &v.replicates) {
             let n = s.values.len().max(1) as f64;
-            q.insert(format!("audit.{}.probability", v.id), Quantity { value: p, se: (p * (1.0 - p) / n).sqrt().max(1.0 / n) });
+            q.insert(
+                format!("audit.{}.probability", v.id),
+                Quantity { value: p, se: (p * (1.0 - p) / n).sqrt().max(1.0 / n) },
+            );
         }
     }
     let verdicts = r.audit.iter().map(|v| (v.id.clone(), v.status)).collect();
@@ -118,8 +127,10 @@ pub fn golden_of(r: &Results) -> Golden {
 /// Reads a golden file; a missing or malformed one is a [`GoldenError`].
 pub fn load_golden(path: &Path, quick: bool) -> Result<Golden, GoldenError> {
     let p = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| GoldenError::Unreadable { path: p.clone(), reason: e.to_string() })?;
-    let g: Golden = serde_json::from_str(&text).map_err(|e| GoldenError::Unreadable { path: p.clone(), reason: e.to_string() })?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| GoldenError::Unreadable { path: p.clone(), reason: e.to_string() })?;
+    let g: Golden =
+        serde_json::from_str(&text).map_err(|e| GoldenError::Unreadable { path: p.clone(), reason: e.to_string() })?;
     if g.quick != quick {
         return Err(GoldenError::WrongMode { path: p, expected: quick, found: g.quick });
     }
@@ -137,7 +148,12 @@ pub fn compare(run: &Golden, golden: &Golden) -> Vec<String> {
                 let d = x.value - g.value;
                 let ok = if se > 0.0 && se.is_finite() { d.abs() <= K_SIGMA * se } else { d == 0.0 };
                 if !ok || !x.value.is_finite() {
-                    drifts.push(format!("{name}: {} vs golden {} (Δ = {d:+.4e} = {:+.1} σ; tolerance {K_SIGMA} σ, σ = {se:.3e})", x.value, g.value, d / se));
+                    drifts.push(format!(
+                        "{name}: {} vs golden {} (Δ = {d:+.4e} = {:+.1} σ; tolerance {K_SIGMA} σ, σ = {se:.3e})",
+                        x.value,
+                        g.value,
+                        d / se
+                    ));
                 }
             }
         }

@@ -109,7 +109,10 @@ fn case_dir_figures(c: &CaseOutcome) -> Vec<Figure> {
         });
         f.push(Figure {
             file: format!("{dir}/marginal_{n}.svg"),
-            caption: format!("Case {}: marginal posterior of {n} per chain (post-burn-in); dashed: the true value", c.spec.id),
+            caption: format!(
+                "Case {}: marginal posterior of {n} per chain (post-burn-in); dashed: the true value",
+                c.spec.id
+            ),
         });
     }
     f.push(Figure {
@@ -135,7 +138,8 @@ pub struct DocumentInput<'a> {
 /// The tera context of `report.md.tera`.
 pub fn report_context(d: &DocumentInput) -> Value {
     let r = d.results;
-    let params = |f: &Fit| f.parameters.iter().map(|(n, v)| format!("{n} = {}", fmt_sig(*v, 5))).collect::<Vec<_>>().join(", ");
+    let params =
+        |f: &Fit| f.parameters.iter().map(|(n, v)| format!("{n} = {}", fmt_sig(*v, 5))).collect::<Vec<_>>().join(", ");
     let sections: Vec<Section> = d
         .tables
         .iter()
@@ -218,7 +222,11 @@ fn provenance_table(p: &Provenance) -> String {
 }
 
 /// Version, git commit and dirty flag (when `git` runs), SHA-256 of every input, command line.
-pub fn provenance(root: &Path, inputs: &[std::path::PathBuf], command_line: &str) -> Result<Provenance, ReproduceError> {
+pub fn provenance(
+    root: &Path,
+    inputs: &[std::path::PathBuf],
+    command_line: &str,
+) -> Result<Provenance, ReproduceError> {
     use sha2::{Digest, Sha256};
     let git = |args: &[&str]| -> Option<String> {
         let out = std::process::Command::new("git").arg("-C").arg(root).args(args).output().ok()?;

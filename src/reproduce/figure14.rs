@@ -31,7 +31,9 @@ struct Predictive {
 
 fn abs_frf(fs: &FrfSpec, b: &BeamSpec, w: &[f64]) -> Option<Vec<f64>> {
     let l = b.length_nm;
-    beam::frf(b, fs.input_x_fraction * l, fs.output_x_fraction * l, w).ok().map(|h| h.iter().map(|z| z.norm()).collect())
+    beam::frf(b, fs.input_x_fraction * l, fs.output_x_fraction * l, w)
+        .ok()
+        .map(|h| h.iter().map(|z| z.norm()).collect())
 }
 
 /// |H| at `k` posterior draws (evenly spaced over the pooled kept draws).
@@ -54,14 +56,20 @@ fn predictive(fs: &FrfSpec, c: &CaseOutcome, w: &[f64], k: usize) -> Predictive 
 }
 
 /// The reference and the predictive FRFs of the spec's case (and of its `-N2` sibling when run).
-pub fn frf_stage(specs: &Specs, rec: &Reconstruction, cases: &[CaseOutcome], quick: bool) -> Result<FrfOutcome, ReproduceError> {
+pub fn frf_stage(
+    specs: &Specs,
+    rec: &Reconstruction,
+    cases: &[CaseOutcome],
+    quick: bool,
+) -> Result<FrfOutcome, ReproduceError> {
     let fs = &specs.frf;
     let case = cases.iter().find(|c| c.spec.id == fs.case).expect("validated case id");
     let reference = truth_beam(&case.spec, rec);
     let n = if quick { fs.quick_points } else { fs.points };
     let f_ghz: Vec<f64> = (0..n).map(|i| fs.from_ghz + (fs.to_ghz - fs.from_ghz) * i as f64 / (n - 1) as f64).collect();
     let w: Vec<f64> = f_ghz.iter().map(|f| ghz_to_rad_s(*f)).collect();
-    let href = abs_frf(fs, reference, &w).ok_or_else(|| ReproduceError::Failure("Figure 14: reference FRF failed".into()))?;
+    let href =
+        abs_frf(fs, reference, &w).ok_or_else(|| ReproduceError::Failure("Figure 14: reference FRF failed".into()))?;
     let k = if quick { fs.quick_posterior_draws } else { fs.posterior_draws };
     let n1 = predictive(fs, case, &w, k);
     let n2 = cases.iter().find(|c| c.spec.id == format!("{}-N2", fs.case)).map(|c| predictive(fs, c, &w, k));

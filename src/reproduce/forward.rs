@@ -89,4 +89,3 @@ pub fn forward_stage(specs: &Specs, rec: &Reconstruction, quick: bool) -> Result
     }
     Ok(ForwardOutcome { table2_rows: rows, table2_md: t2.to_markdown(), maps, e0a, omega, local_omega, delta, files })
 }
-

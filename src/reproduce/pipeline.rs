@@ -149,7 +149,12 @@ pub fn run(opts: &Options) -> Result<RunSummary, ReproduceError> {
     std::fs::write(opts.root.join("paper/reconstructed.yaml"), &reconstructed_yaml)
         .map_err(|e| ReproduceError::Failure(format!("paper/reconstructed.yaml: {e}")))?;
     let results = serde_json::from_str(&results_json).expect("results.json parses");
-    Ok(RunSummary { results, verdicts: c.results.audit.clone(), timings: c.results.timings_s.0.clone(), typed: c.results })
+    Ok(RunSummary {
+        results,
+        verdicts: c.results.audit.clone(),
+        timings: c.results.timings_s.0.clone(),
+        typed: c.results,
+    })
 }
 
 /// Every stage, timed; nothing written.
@@ -164,10 +169,15 @@ fn compute(opts: &Options) -> Result<Computed, ReproduceError> {
     })?;
     let rec = clock.time("reconstruction", || reconstruct(&specs.reconstruction, &published));
     let forward = clock.time("table_2_figures_1_3", || forward_stage(&specs, &rec, opts.quick))?;
-    let cases: Vec<CaseOutcome> = clock
-        .time("cases", || specs.cases.par_iter().map(|c| run_case(c, &rec, &published, opts.quick)).collect());
+    let cases: Vec<CaseOutcome> =
+        clock.time("cases", || specs.cases.par_iter().map(|c| run_case(c, &rec, &published, opts.quick)).collect());
     let tables = clock.time("tables_figures_4_13", || {
-        specs.tables.tables.iter().map(|t| Ok((t.clone(), table_files(t, &cases)?))).collect::<Result<Vec<_>, ReproduceError>>()
+        specs
+            .tables
+            .tables
+            .iter()
+            .map(|t| Ok((t.clone(), table_files(t, &cases)?)))
+            .collect::<Result<Vec<_>, ReproduceError>>()
     })?;
     let frf = clock.time("figure_14", || frf_stage(&specs, &rec, &cases, opts.quick))?;
     let evidence = clock.time("case_3_evidence", || evidence_stage(&specs.evidence, &cases, opts.quick));
@@ -175,7 +185,14 @@ fn compute(opts: &Options) -> Result<Computed, ReproduceError> {
     let count = if opts.quick { specs.audit.quick_replicates } else { specs.audit.replicates };
     let replicates = clock.time("noise_replicates", || replicate_stage(&cases, &rec, &published, count));
     let verdicts = clock.time("audit", || {
-        audit(&AuditInput { published: &published, rec: &rec, forward: &forward, cases: &cases, frf: &frf, replicates: &replicates })
+        audit(&AuditInput {
+            published: &published,
+            rec: &rec,
+            forward: &forward,
+            cases: &cases,
+            frf: &frf,
+            replicates: &replicates,
+        })
     });
     let (audit_files, audit_figures) = clock.time("audit_figures", || audit_figures(&verdicts))?;
     clock.timings.push(("total_before_writing".into(), clock.start.elapsed().as_secs_f64()));
@@ -191,7 +208,12 @@ fn compute(opts: &Options) -> Result<Computed, ReproduceError> {
         case_3_diagnosis: diagnosis,
         replicates: replicates
             .iter()
-            .map(|r| ReplicateCount { case: r.id.clone(), replicates: r.replicates.len(), failed: r.failed(), shape: r.shape.clone() })
+            .map(|r| ReplicateCount {
+                case: r.id.clone(),
+                replicates: r.replicates.len(),
+                failed: r.failed(),
+                shape: r.shape.clone(),
+            })
             .collect(),
         audit: verdicts,
         timings_s: Timings(clock.timings),
@@ -201,7 +223,12 @@ fn compute(opts: &Options) -> Result<Computed, ReproduceError> {
 }
 
 /// The noise replicates of every case with a truth to compare against.
-fn replicate_stage(cases: &[CaseOutcome], rec: &Reconstruction, published: &Published, count: usize) -> Vec<CaseReplicates> {
+fn replicate_stage(
+    cases: &[CaseOutcome],
+    rec: &Reconstruction,
+    published: &Published,
+    count: usize,
+) -> Vec<CaseReplicates> {
     let inputs: Vec<ReplicateInput> = cases
         .iter()
         .map(|c| ReplicateInput {
@@ -221,8 +248,17 @@ fn forward_figures(f: &ForwardOutcome) -> Vec<Figure> {
     (1..=f.maps.len())
         .flat_map(|r| {
             [
-                Figure { file: format!("figure-{r}a.svg"), caption: format!("Figure {r}a: ω{r}/ω'{r} of the noise-free model over e0a × Ω (Δ = {:.4})", f.delta) },
-                Figure { file: format!("figure-{r}b.svg"), caption: format!("Figure {r}b: ζ{r} of the noise-free model over e0a × Ω (Δ = {:.4})", f.delta) },
+                Figure {
+                    file: format!("figure-{r}a.svg"),
+                    caption: format!(
+                        "Figure {r}a: ω{r}/ω'{r} of the noise-free model over e0a × Ω (Δ = {:.4})",
+                        f.delta
+                    ),
+                },
+                Figure {
+                    file: format!("figure-{r}b.svg"),
+                    caption: format!("Figure {r}b: ζ{r} of the noise-free model over e0a × Ω (Δ = {:.4})", f.delta),
+                },
             ]
         })
         .collect()
@@ -246,4 +282,3 @@ fn reconstructed_yaml(rec: &Reconstruction, specs: &Specs) -> String {
     });
     header.to_string() + &serde_yaml::to_string(&body).expect("yaml")
 }
-

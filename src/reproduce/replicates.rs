@@ -149,9 +149,7 @@ impl Shape {
             ci95: (0..d)
                 .map(|k| [lap.map[k] + self.ci95_offset[k][0] * s[k], lap.map[k] + self.ci95_offset[k][1] * s[k]])
                 .collect(),
-            correlation: (0..d)
-                .map(|i| (0..d).map(|j| lap.covariance[i][j] / (s[i] * s[j])).collect())
-                .collect(),
+            correlation: (0..d).map(|i| (0..d).map(|j| lap.covariance[i][j] / (s[i] * s[j])).collect()).collect(),
         }
     }
 }

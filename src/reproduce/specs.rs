@@ -273,7 +273,8 @@ impl Specs {
         tables.validate(&cases).map_err(|error| SpecError { file: file("tables.yaml"), error })?;
         let evidence: EvidenceSpec = load(&file("evidence.yaml"))?;
         evidence.validate(&cases).map_err(|error| SpecError { file: file("evidence.yaml"), error })?;
-        let mut files: Vec<PathBuf> = ["reconstruction.yaml", "forward.yaml", "figure-14.yaml"].iter().map(|n| file(n)).collect();
+        let mut files: Vec<PathBuf> =
+            ["reconstruction.yaml", "forward.yaml", "figure-14.yaml"].iter().map(|n| file(n)).collect();
         files.extend(case_files);
         files.extend(["audit.yaml", "tables.yaml", "evidence.yaml"].iter().map(|n| file(n)));
         Ok(Specs { reconstruction, forward, cases, frf, audit, tables, evidence, files })

@@ -41,7 +41,7 @@ enum Command {
 
 fn main() {
     let Cli { command: Command::Reproduce { out, quick, check, bless } } = Cli::parse();
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).parent().expect("xtask lives in the repository").to_path_buf();
     let golden_path = root.join("golden").join(if quick { "reproduce-quick.json" } else { "reproduce-full.json" });
     // Read the golden file first: a bad one must not cost a run.
     let golden = if check {
@@ -55,7 +55,8 @@ fn main() {
     } else {
         None
     };
-    let command_line = std::iter::once("cargo xtask".to_string()).chain(std::env::args().skip(1)).collect::<Vec<_>>().join(" ");
+    let command_line =
+        std::iter::once("cargo xtask".to_string()).chain(std::env::args().skip(1)).collect::<Vec<_>>().join(" ");
     let t = Instant::now();
     let summary = match run(&Options { root, out: out.clone(), quick, command_line }) {
         Ok(s) => s,
@@ -91,7 +92,12 @@ fn main() {
     if let Some(g) = golden {
         let drifts = compare(&mine, &g);
         if drifts.is_empty() {
-            eprintln!("check: no drift against {} ({} quantities, {} verdicts)", golden_path.display(), g.quantities.len(), g.verdicts.len());
+            eprintln!(
+                "check: no drift against {} ({} quantities, {} verdicts)",
+                golden_path.display(),
+                g.quantities.len(),
+                g.verdicts.len()
+            );
         } else {
             eprintln!("check: {} drift(s) against {}:", drifts.len(), golden_path.display());
             for d in &drifts {

@@ -1,8 +1,8 @@
 //! Sample figures: trace plots, marginal histograms and pair plots.
 
 use super::common::{
-    axis_range, draw_err, series_colour, thin_stride, tick_label, Axis, NamedValues, DESC_SIZE, FONT, TICK_SIZE,
-    TITLE_SIZE,
+    axis_range, draw_err, series_colour, thin_stride, tick_label, x_tick_count, Axis, NamedValues, DESC_SIZE, FONT,
+    TICK_SIZE, TITLE_SIZE,
 };
 use crate::report::error::{ReportError, Result};
 use plotters::coord::Shift;
@@ -186,6 +186,7 @@ fn draw_histograms<DB: DrawingBackend>(
     if let Some(c) = caption {
         builder.caption(c, (FONT, TITLE_SIZE));
     }
+    let plot_width = area.dim_in_pixel().0.saturating_sub(font.0 * 3 + 20 + 16);
     let mut chart = builder
         .margin(8)
         .x_label_area_size(font.0 * 2 + 10)
@@ -199,7 +200,7 @@ fn draw_histograms<DB: DrawingBackend>(
         .y_desc("density")
         .axis_desc_style((FONT, font.0))
         .label_style((FONT, font.1))
-        .x_labels(5)
+        .x_labels(x_tick_count((lo, hi), plot_width, font.1))
         .y_labels(4)
         .x_label_formatter(&tick_label)
         .y_label_formatter(&tick_label)
@@ -371,6 +372,7 @@ pub fn pair_plot(spec: &PairPlot) -> Result<String> {
                     draw_histograms(area, &[&spec.columns[i]], None, ranges[i], bins, r, &[], x_label, None, font)?;
                 } else if j < i {
                     let (xr, yr) = (ranges[j], ranges[i]);
+                    let plot_width = area.dim_in_pixel().0.saturating_sub(font.0 * 3 + 20 + 16);
                     let mut chart = ChartBuilder::on(area)
                         .margin(8)
                         .x_label_area_size(font.0 * 2 + 10)
@@ -384,7 +386,7 @@ pub fn pair_plot(spec: &PairPlot) -> Result<String> {
                         .y_desc(if j == 0 { spec.names[i].as_str() } else { "" })
                         .axis_desc_style((FONT, font.0))
                         .label_style((FONT, font.1))
-                        .x_labels(5)
+                        .x_labels(x_tick_count(xr, plot_width, font.1))
                         .y_labels(5)
                         .x_label_formatter(&tick_label)
                         .y_label_formatter(&tick_label)
