@@ -226,10 +226,13 @@ fn position(s: &ReplicateSummary, k: usize, truth: f64) -> f64 {
 /// A statistic of one or more cases: value from (summaries, cases) in `ids` order.
 type StatFn<'f> = &'f dyn Fn(&[&ReplicateSummary], &[&CaseOutcome]) -> Option<f64>;
 
+/// Whether a statement holds at a value of its statistic.
+type Holds<'f> = &'f dyn Fn(f64) -> bool;
+
 /// How a statistic is judged and labelled.
 struct Check<'f> {
     label: String,
-    holds: &'f dyn Fn(f64) -> bool,
+    holds: Holds<'f>,
     threshold: Option<f64>,
     paper: Option<f64>,
 }
@@ -464,16 +467,12 @@ fn case_2_checks(a: &AuditInput) -> Vec<Verdict> {
     let corr = |x: &'static str, y: &'static str| {
         move |s: &[&ReplicateSummary], c: &[&CaseOutcome]| Some(s[0].correlation[param(c[0], x)?][param(c[0], y)?])
     };
-    let checks: [(&str, &str, &str, &dyn Fn(f64) -> bool, &str); 2] = [
-        ("corr_e0a_delta_positive", "1A", "ρ(e0a, Δ) in 1A", &positive, "> 0"),
-        ("corr_d_delta_negative", "2A", "ρ(d, Δ) in 2A", &negative, "< 0"),
+    let checks = [
+        ("corr_e0a_delta_positive", "1A", "ρ(e0a, Δ) in 1A", &positive as Holds, "> 0", ("nonlocal_e0a_nm", "delta")),
+        ("corr_d_delta_negative", "2A", "ρ(d, Δ) in 2A", &negative as Holds, "< 0", ("diameter_nm", "delta")),
     ];
-    for (id, case, label, holds, tol) in checks {
-        let f = if id == "corr_e0a_delta_positive" {
-            corr("nonlocal_e0a_nm", "delta")
-        } else {
-            corr("diameter_nm", "delta")
-        };
+    for (id, case, label, holds, tol, (x, y)) in checks {
+        let f = corr(x, y);
         let check = Check { label: label.into(), holds, threshold: Some(0.0), paper: None };
         if let Some(stat) = a.replicated(&[case], &f, check) {
             let r = format!("{label} = {:.3}", stat.ours);
@@ -486,14 +485,11 @@ fn case_2_checks(a: &AuditInput) -> Vec<Verdict> {
 /// §4.1: the parametric maps of Figures 1–3 (noise-free: checked once).
 fn map_checks(a: &AuditInput) -> Vec<Verdict> {
     let fwd = a.forward;
-    let mut monotone = true;
-    for (ratio, _) in &fwd.maps {
-        for j in 0..fwd.omega.len() {
-            for i in 1..fwd.e0a.len() {
-                monotone &= ratio[i][j] < ratio[i - 1][j];
-            }
-        }
-    }
+    // ratio[i][j]: e0a index i, Ω index j; strictly decreasing in i at every j.
+    let monotone = fwd
+        .maps
+        .iter()
+        .all(|(ratio, _)| ratio.windows(2).all(|rows| rows[1].iter().zip(&rows[0]).all(|(next, prev)| next < prev)));
     let mut ridge = Vec::new();
     for (r, (_, zeta)) in fwd.maps.iter().enumerate() {
         let row = &zeta[0];

@@ -33,9 +33,12 @@ pub fn fit_table(f: &Fit) -> Table {
     t
 }
 
+/// `(file name, text)` of generated files.
+pub type Files = Vec<(String, String)>;
+
 /// The figure of a noise-dependent verdict: the replicate distribution of its
 /// statistic with our value, the paper's and the statement's boundary marked.
-pub fn audit_figures(verdicts: &[Verdict]) -> Result<(Vec<(String, String)>, Vec<Figure>), ReproduceError> {
+pub fn audit_figures(verdicts: &[Verdict]) -> Result<(Files, Vec<Figure>), ReproduceError> {
     let mut files = Vec::new();
     let mut figures = Vec::new();
     for v in verdicts {

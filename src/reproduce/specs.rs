@@ -343,7 +343,7 @@ impl FrfSpec {
             }
         }
         positive("from_ghz", self.from_ghz)?;
-        if !(self.to_ghz > self.from_ghz) {
+        if self.to_ghz.partial_cmp(&self.from_ghz) != Some(std::cmp::Ordering::Greater) {
             return Err(InputError::new("to_ghz", self.to_ghz, format!("> from_ghz = {}", self.from_ghz)));
         }
         if self.points < 2 || self.quick_points < 2 || self.posterior_draws == 0 || self.quick_posterior_draws == 0 {
