@@ -320,6 +320,49 @@ impl Default for PairPlot {
     }
 }
 
+/// One below-diagonal cell of a pair plot: column `x` against column `y`.
+struct Cell<'a> {
+    x: usize,
+    y: usize,
+    ranges: ((f64, f64), (f64, f64)),
+    stride: usize,
+    font: (u32, u32),
+    x_label: &'a str,
+}
+
+/// Scatter of the thinned draws of two columns, the reference as a cross; the
+/// x tick count fits the cell ([`x_tick_count`]) so long labels (Ω) do not overlap.
+fn scatter_cell<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, spec: &PairPlot, c: &Cell) -> Result<()> {
+    let ((xr, yr), font) = (c.ranges, c.font);
+    let plot_width = area.dim_in_pixel().0.saturating_sub(font.0 * 3 + 20 + 16);
+    let mut chart = ChartBuilder::on(area)
+        .margin(8)
+        .x_label_area_size(font.0 * 2 + 10)
+        .y_label_area_size(font.0 * 3 + 20)
+        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+        .map_err(draw_err)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc(c.x_label)
+        .y_desc(if c.x == 0 { spec.names[c.y].as_str() } else { "" })
+        .axis_desc_style((FONT, font.0))
+        .label_style((FONT, font.1))
+        .x_labels(x_tick_count(xr, plot_width, font.1))
+        .y_labels(5)
+        .x_label_formatter(&tick_label)
+        .y_label_formatter(&tick_label)
+        .draw()
+        .map_err(draw_err)?;
+    let (cx, cy) = (&spec.columns[c.x], &spec.columns[c.y]);
+    let pts = (0..cx.len()).step_by(c.stride).map(|k| (cx[k], cy[k])).filter(|(x, y)| x.is_finite() && y.is_finite());
+    chart.draw_series(pts.map(|p| Circle::new(p, 1, series_colour(0).mix(0.35).filled()))).map_err(draw_err)?;
+    if let Some(r) = &spec.reference {
+        chart.draw_series(std::iter::once(Cross::new((r[c.x], r[c.y]), 6, BLACK.stroke_width(2)))).map_err(draw_err)?;
+    }
+    Ok(())
+}
+
 /// Renders a [`PairPlot`] as SVG text.
 pub fn pair_plot(spec: &PairPlot) -> Result<String> {
     let d = spec.columns.len();
@@ -371,38 +414,8 @@ pub fn pair_plot(spec: &PairPlot) -> Result<String> {
                     let r = spec.reference.as_ref().map(|r| r[i]);
                     draw_histograms(area, &[&spec.columns[i]], None, ranges[i], bins, r, &[], x_label, None, font)?;
                 } else if j < i {
-                    let (xr, yr) = (ranges[j], ranges[i]);
-                    let plot_width = area.dim_in_pixel().0.saturating_sub(font.0 * 3 + 20 + 16);
-                    let mut chart = ChartBuilder::on(area)
-                        .margin(8)
-                        .x_label_area_size(font.0 * 2 + 10)
-                        .y_label_area_size(font.0 * 3 + 20)
-                        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
-                        .map_err(draw_err)?;
-                    chart
-                        .configure_mesh()
-                        .disable_mesh()
-                        .x_desc(x_label)
-                        .y_desc(if j == 0 { spec.names[i].as_str() } else { "" })
-                        .axis_desc_style((FONT, font.0))
-                        .label_style((FONT, font.1))
-                        .x_labels(x_tick_count(xr, plot_width, font.1))
-                        .y_labels(5)
-                        .x_label_formatter(&tick_label)
-                        .y_label_formatter(&tick_label)
-                        .draw()
-                        .map_err(draw_err)?;
-                    let (cx, cy) = (&spec.columns[j], &spec.columns[i]);
-                    let pts =
-                        (0..n).step_by(stride).map(|k| (cx[k], cy[k])).filter(|(x, y)| x.is_finite() && y.is_finite());
-                    chart
-                        .draw_series(pts.map(|p| Circle::new(p, 1, series_colour(0).mix(0.35).filled())))
-                        .map_err(draw_err)?;
-                    if let Some(r) = &spec.reference {
-                        chart
-                            .draw_series(std::iter::once(Cross::new((r[j], r[i]), 6, BLACK.stroke_width(2))))
-                            .map_err(draw_err)?;
-                    }
+                    let cell = Cell { x: j, y: i, ranges: (ranges[j], ranges[i]), stride, font, x_label };
+                    scatter_cell(area, spec, &cell)?;
                 }
             }
         }
