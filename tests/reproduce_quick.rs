@@ -86,7 +86,8 @@ fn compare_printed(a: &serde_yaml::Value, b: &serde_yaml::Value, path: &str, dif
 fn quick_reproduction_produces_everything_and_matches_golden() {
     let (_guard, root) = scratch_root();
     let out = root.join("out");
-    let summary = run(&Options { root: root.clone(), out: out.clone(), quick: true }).expect("quick reproduction runs");
+    let summary = run(&Options { root: root.clone(), out: out.clone(), quick: true, command_line: "test".into() })
+        .expect("quick reproduction runs");
     for f in [
         "report.md",
         "results.json",
@@ -125,8 +126,27 @@ fn quick_reproduction_produces_everything_and_matches_golden() {
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("## 4. Audit"), "report lacks the audit section");
     assert!(!summary.verdicts.is_empty());
+    // The report shows everything: every generated figure is referenced in report.md.
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    let mut svgs = Vec::new();
+    for entry in walk(&out) {
+        if entry.extension().is_some_and(|e| e == "svg") {
+            svgs.push(entry.strip_prefix(&out).unwrap().to_string_lossy().into_owned());
+        }
+    }
+    assert!(svgs.len() > 60, "only {} figures", svgs.len());
+    for f in &svgs {
+        assert!(report.contains(&format!("]({f})")), "{f} is not shown in report.md");
+    }
+    assert!(svgs.iter().any(|f| f.starts_with("audit-")), "no replicate figure");
+    assert!(out.join("case-1a/inference_data.nc").exists());
+    assert!(report.contains("## 7. Provenance") && report.contains("SHA-256 `paper/published.yaml`"));
     for v in &summary.verdicts {
-        assert!(v.pass || !v.note.is_empty(), "unexplained ✗ for {}", v.id);
+        assert!(
+            v.status == nanobeam::reproduce::audit::Status::Reproduced || !v.cause.is_empty(),
+            "unexplained ≈/✗ for {}",
+            v.id
+        );
     }
 
     // The paper's Case-3 data (N̄ = 2 truth, fitted with N = 1) is diagnosed as
@@ -169,6 +189,41 @@ fn quick_reproduction_produces_everything_and_matches_golden() {
     });
 }
 
+fn walk(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            out.extend(walk(&p));
+        } else {
+            out.push(p);
+        }
+    }
+    out
+}
+
+#[test]
+fn a_bad_replicate_count_names_audit_yaml_and_the_field() {
+    let (_guard, root) = scratch_root();
+    let out = root.join("out");
+    let audit = root.join("paper/specs/audit.yaml");
+    let text = std::fs::read_to_string(&audit).unwrap();
+    for (bad, field) in [
+        (text.replace("replicates: 100", "replicates: 5"), "replicates = 5"),
+        (text.replace("quick_replicates: 20", "quick_replicates: 2"), "quick_replicates = 2"),
+        (text.replace("replicates: 100", "replicates: -3"), "replicates"),
+    ] {
+        std::fs::write(&audit, bad).unwrap();
+        let err = run(&Options { root: root.clone(), out: out.clone(), quick: true, command_line: "test".into() })
+            .err()
+            .expect("bad replicate count rejected");
+        let msg = err.to_string();
+        assert!(matches!(err, nanobeam::reproduce::pipeline::ReproduceError::Input(_)), "{msg}");
+        assert!(msg.contains("audit.yaml") && msg.contains(field), "{msg}");
+        assert!(!out.exists(), "partial output directory");
+    }
+}
+
 #[test]
 fn a_bad_spec_names_file_and_field_and_leaves_out_untouched() {
     let (_guard, root) = scratch_root();
@@ -186,7 +241,7 @@ fn a_bad_spec_names_file_and_field_and_leaves_out_untouched() {
         ),
     ] {
         std::fs::write(&case, bad).unwrap();
-        let err = run(&Options { root: root.clone(), out: out.clone(), quick: true })
+        let err = run(&Options { root: root.clone(), out: out.clone(), quick: true, command_line: "test".into() })
             .err()
             .expect("bad spec rejected")
             .to_string();

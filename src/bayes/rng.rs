@@ -38,6 +38,8 @@ pub enum Purpose {
     SyntheticBaseFit = 10,
     /// Measurement noise of synthetic reference data `[case, replicate]`.
     MeasurementNoise = 11,
+    /// Prior draws stored beside a calibration (InferenceData `prior` group) `[0, 0]`.
+    PriorDraws = 12,
 }
 
 /// The stream keyed by `(seed, purpose, index)`.

@@ -1,11 +1,16 @@
 //! Files a calibration writes: `chains.csv` (chain, draw, θ…, log posterior;
-//! readable by pandas/ArviZ), `summary.json`, and SVG trace, marginal and pair
-//! plots. Plain data in, files out; the directory is written atomically.
+//! readable by pandas), `summary.json`, `inference_data.nc` (ArviZ
+//! InferenceData: `arviz.from_netcdf("inference_data.nc")`), and SVG trace,
+//! marginal and pair plots. Plain data in, files out; the directory is
+//! written atomically.
 
 use std::path::Path;
 
+use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::summary::ParameterSummary;
-use crate::calibration::CalibrationResult;
+use crate::bayes::Posterior;
+use crate::calibration::{BeamPosterior, CalibrationResult};
+use crate::report::inference_data::{Group, InferenceData, Variable};
 use crate::report::svg::{self, HistogramPlot, NamedValues, PairPlot, TracePlot};
 use crate::report::table::{fmt_interval, fmt_sig};
 use crate::report::ReportError;
@@ -64,12 +69,154 @@ pub fn summary_json(result: &CalibrationResult) -> serde_json::Value {
     })
 }
 
+/// At most this many draws per chain go into `inference_data.nc` (every k-th
+/// kept draw, k = ⌈kept/1000⌉): the pointwise log-likelihood costs one forward
+/// solve per stored draw, and 1000 draws per chain resolve LOO and posterior
+/// summaries well below their Monte Carlo error at the chains' ESS.
+/// `chains.csv` keeps every draw.
+pub const INFERENCE_DATA_MAX_DRAWS: usize = 1000;
+
+/// Prior draws in the InferenceData `prior` group.
+pub const INFERENCE_DATA_PRIOR_DRAWS: usize = 1000;
+
+/// What the InferenceData file needs besides the chains.
+pub struct InferenceContext<'a> {
+    pub posterior: &'a BeamPosterior,
+    /// The calibration's master seed (attribute; keys the prior draws).
+    pub seed: u64,
+}
+
+fn chain_draw(chains: usize, draws: usize) -> Vec<(String, usize)> {
+    vec![("chain".into(), chains), ("draw".into(), draws)]
+}
+
+/// The groups ArviZ reads: `posterior` and `sample_stats` (chain, draw),
+/// `log_likelihood` (chain, draw, mode; one variable per observable:
+/// `omega_rad_s`, `zeta`, for LOO), `observed_data` (mode), `prior` (1 chain
+/// of prior draws), and attributes (nanobeam version, seed, thinning).
+pub fn inference_data(result: &CalibrationResult, ctx: &InferenceContext) -> InferenceData {
+    let post = ctx.posterior;
+    let kept = result.chains.first().map_or(0, |c| c.draws.len() - result.burn_in);
+    let stride = kept.div_ceil(INFERENCE_DATA_MAX_DRAWS).max(1);
+    let idx: Vec<usize> = (result.burn_in..result.burn_in + kept).step_by(stride).collect();
+    let (nc, nd) = (result.chains.len(), idx.len());
+    let per_draw = |f: &dyn Fn(usize, usize) -> f64| -> Vec<f64> {
+        (0..nc).flat_map(|c| idx.iter().map(move |&i| (c, i))).map(|(c, i)| f(c, i)).collect()
+    };
+    let posterior = Group {
+        name: "posterior".into(),
+        variables: (0..result.names.len())
+            .map(|k| Variable {
+                name: result.names[k].clone(),
+                dims: chain_draw(nc, nd),
+                values: per_draw(&|c, i| result.chains[c].draws[i][k]),
+            })
+            .collect(),
+        ..Group::default()
+    };
+    let stages = result.chains.first().map_or(0, |c| c.accepted.len());
+    let sample_stats = Group {
+        name: "sample_stats".into(),
+        variables: vec![
+            Variable {
+                name: "lp".into(),
+                dims: chain_draw(nc, nd),
+                values: per_draw(&|c, i| result.chains[c].log_posterior[i]),
+            },
+            Variable {
+                name: "acceptance_rate_per_dr_stage".into(),
+                dims: vec![("chain".into(), nc), ("dr_stage".into(), stages)],
+                values: result.chains.iter().flat_map(|c| c.acceptance_per_stage()).collect(),
+            },
+        ],
+        ..Group::default()
+    };
+    let (log_likelihood, observed) = pointwise(result, post, &idx);
+    let mut rng = stream(ctx.seed, Purpose::PriorDraws, [0, 0]);
+    let prior_draws: Vec<Vec<f64>> = (0..INFERENCE_DATA_PRIOR_DRAWS).map(|_| post.sample_prior(&mut rng)).collect();
+    let prior = Group {
+        name: "prior".into(),
+        variables: (0..result.names.len())
+            .map(|k| Variable {
+                name: result.names[k].clone(),
+                dims: chain_draw(1, INFERENCE_DATA_PRIOR_DRAWS),
+                values: prior_draws.iter().map(|t| t[k]).collect(),
+            })
+            .collect(),
+        ..Group::default()
+    };
+    let attributes = vec![
+        ("nanobeam_version".to_string(), env!("CARGO_PKG_VERSION").to_string()),
+        ("inference_library".to_string(), "nanobeam (DRAM)".to_string()),
+        ("seed".to_string(), ctx.seed.to_string()),
+        ("thinning".to_string(), format!("every {stride}-th post-burn-in draw (burn-in {})", result.burn_in)),
+    ];
+    let groups = [posterior, sample_stats, log_likelihood, observed, prior]
+        .into_iter()
+        .map(|mut g| {
+            g.attributes = attributes.clone();
+            g
+        })
+        .collect();
+    InferenceData { groups, attributes }
+}
+
+/// `log_likelihood` and `observed_data`: log N(y_k | A_k(θ), (β σ_k)²) of
+/// every observable at every stored draw (eq. 26/41 term by term; NaN where the
+/// model fails), and y itself.
+fn pointwise(result: &CalibrationResult, post: &BeamPosterior, idx: &[usize]) -> (Group, Group) {
+    use rayon::prelude::*;
+    let (y, sd) = (post.observed(), post.sd());
+    let m = y.len() / 2;
+    let thetas: Vec<&Vec<f64>> = result.chains.iter().flat_map(|c| idx.iter().map(move |&i| &c.draws[i])).collect();
+    let terms: Vec<Vec<f64>> = thetas
+        .par_iter()
+        .map(|t| match post.predict(t) {
+            Some(p) => {
+                let beta = post.beta_at(t);
+                (0..y.len())
+                    .map(|k| {
+                        let s = beta * sd[k];
+                        -0.5 * ((y[k] - p[k]) / s).powi(2) - s.ln() - 0.5 * (2.0 * std::f64::consts::PI).ln()
+                    })
+                    .collect()
+            }
+            None => vec![f64::NAN; y.len()],
+        })
+        .collect();
+    let dims = vec![("chain".into(), result.chains.len()), ("draw".into(), idx.len()), ("mode".into(), m)];
+    let var = |name: &str, off: usize| Variable {
+        name: name.into(),
+        dims: dims.clone(),
+        values: terms.iter().flat_map(|t| t[off..off + m].iter().copied()).collect(),
+    };
+    let obs = |name: &str, off: usize| Variable {
+        name: name.into(),
+        dims: vec![("mode".into(), m)],
+        values: y[off..off + m].to_vec(),
+    };
+    (
+        Group {
+            name: "log_likelihood".into(),
+            variables: vec![var("omega_rad_s", 0), var("zeta", m)],
+            ..Group::default()
+        },
+        Group {
+            name: "observed_data".into(),
+            variables: vec![obs("omega_rad_s", 0), obs("zeta", m)],
+            ..Group::default()
+        },
+    )
+}
+
 /// Writes every file of a calibration into `dir` (which must exist).
-/// `reference` optionally marks true values with dashed lines.
+/// `reference` optionally marks true values with dashed lines; with an
+/// [`InferenceContext`] the ArviZ file `inference_data.nc` is written too.
 pub fn write_calibration_files(
     dir: &Path,
     result: &CalibrationResult,
     reference: Option<&[f64]>,
+    inference: Option<&InferenceContext>,
 ) -> Result<(), ReportError> {
     let io = |path: &Path, e: std::io::Error| ReportError::Io { path: path.to_path_buf(), source: e };
     let write = |name: &str, text: &str| {
@@ -79,6 +226,10 @@ pub fn write_calibration_files(
     write("chains.csv", &chains_csv(result))?;
     let json = serde_json::to_string_pretty(&summary_json(result)).expect("summary serialises");
     write("summary.json", &(json + "\n"))?;
+    if let Some(ctx) = inference {
+        let p = dir.join("inference_data.nc");
+        std::fs::write(&p, inference_data(result, ctx).to_netcdf()?).map_err(|e| io(&p, e))?;
+    }
     for (k, name) in result.names.iter().enumerate() {
         let per_chain: Vec<NamedValues> = result
             .chains

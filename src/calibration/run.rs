@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use crate::bayes::chains::{pooled_acceptance, run_chains};
 use crate::bayes::dram::{ChainOutput, DramSettings};
-use crate::bayes::map::{map_estimate, multi_start_optimum};
+use crate::bayes::map::{map_estimate, multi_start_optimum, MapResult};
 use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::summary::{summarize, Summary};
 use crate::bayes::Posterior;
@@ -146,10 +146,10 @@ fn why_invalid(post: &BeamPosterior, seed: u64) -> String {
 
 /// Any posterior: the beam-agnostic core of [`calibrate`].
 ///
-/// Chains start at the best multi-start optimum, each displaced by one C0
-/// step drawn from its own stream (kept only if the log posterior stays
-/// finite), so split-R̂ across chains can reveal a second mode the chains
-/// find on their own; the starting optimum itself is reported.
+/// Chains start from overdispersed points ([`overdispersed_starts`]): distinct
+/// multi-start optima first, then prior draws carried to their local optimum,
+/// so split-R̂ can reveal a mode the best optimum alone would miss
+/// (Gelman & Rubin 1992, §2: starts "overdispersed with respect to the target").
 pub fn calibrate_posterior(
     post: &dyn Posterior,
     c0_sd: &[f64],
@@ -158,26 +158,11 @@ pub fn calibrate_posterior(
 ) -> Result<CalibrationResult, SamplingError> {
     let names = post.names();
     let settings = dram_settings(sampler);
-    let optima = multi_start_optimum(post, c0_sd, sampler.multistart_points, 4, sampler.seed, 0);
+    let optima = multi_start_optimum(post, c0_sd, sampler.multistart_points, sampler.chains.max(4), sampler.seed, 0);
     let Some(best) = optima.first().filter(|m| m.log_posterior.is_finite()).map(|m| m.theta.clone()) else {
         return Err(SamplingError::NoValidState { draws: sampler.multistart_points, detail: String::new() });
     };
-    let starts: Vec<Vec<f64>> = (0..sampler.chains)
-        .map(|c| {
-            let mut rng = stream(sampler.seed, Purpose::ChainStart, [c as u64, 0]);
-            for _ in 0..100 {
-                let cand: Vec<f64> = best
-                    .iter()
-                    .zip(c0_sd)
-                    .map(|(x, s)| x + s * <StandardNormal as Distribution<f64>>::sample(&StandardNormal, &mut rng))
-                    .collect();
-                if post.log_posterior(&cand).is_finite() {
-                    return cand;
-                }
-            }
-            best.clone()
-        })
-        .collect();
+    let starts = overdispersed_starts(post, c0_sd, &optima, sampler.chains, sampler.seed);
 
     let total = (sampler.chains * sampler.draws_per_chain) as u64;
     let bar = (opts.progress && std::io::stderr().is_terminal()).then(|| {
@@ -278,4 +263,83 @@ fn sampling_health(
         }
     }
     Ok(warnings)
+}
+
+/// Ten proposal steps: two optima closer than this in every coordinate (in
+/// units of the C0 proposal sd) are one optimum. The Nelder–Mead polish stops
+/// at a simplex spread of 1e-12 in −log π, far inside one step, so two polishes
+/// of one mode agree to well under a step; distinct modes of interest (Ω on
+/// either side of a resonance) lie orders of magnitude more steps apart.
+const DISTINCT_STEPS: f64 = 10.0;
+
+fn distinct(a: &[f64], b: &[f64], c0_sd: &[f64]) -> bool {
+    a.iter().zip(b).zip(c0_sd).any(|((x, y), s)| (x - y).abs() > DISTINCT_STEPS * s)
+}
+
+/// One C0 step from `centre` drawn from `rng`, kept only if the log posterior
+/// stays finite (100 tries, else `centre`).
+fn jitter(post: &dyn Posterior, centre: &[f64], c0_sd: &[f64], rng: &mut dyn rand::RngCore) -> Vec<f64> {
+    for _ in 0..100 {
+        let cand: Vec<f64> = centre
+            .iter()
+            .zip(c0_sd)
+            .map(|(x, s)| x + s * <StandardNormal as Distribution<f64>>::sample(&StandardNormal, rng))
+            .collect();
+        if post.log_posterior(&cand).is_finite() {
+            return cand;
+        }
+    }
+    centre.to_vec()
+}
+
+/// The old placement, kept for comparison: every chain one C0 step from the
+/// best optimum (stream `(seed, ChainStart, [c, 0])`). Chains placed this way
+/// agree with each other even when the optimum missed a mode.
+pub fn single_start(post: &dyn Posterior, c0_sd: &[f64], best: &[f64], chains: usize, seed: u64) -> Vec<Vec<f64>> {
+    (0..chains)
+        .map(|c| {
+            let mut rng = stream(seed, Purpose::ChainStart, [c as u64, 0]);
+            jitter(post, best, c0_sd, &mut rng)
+        })
+        .collect()
+}
+
+/// Overdispersed chain starts. Chain c starts at the c-th *distinct* optimum of
+/// `optima` (sorted best first, distinct = more than [`DISTINCT_STEPS`] proposal
+/// steps apart); once those are used up, at a prior draw from the stream
+/// `(seed, ChainStart, [c, 0])` polished by Nelder–Mead to its local optimum
+/// (a raw prior draw can lie far out in a tail that C0-sized steps would take
+/// longer than the burn-in to leave). Every start is then
+/// displaced by one C0 step from the same stream, so no two chains share a point.
+pub fn overdispersed_starts(
+    post: &dyn Posterior,
+    c0_sd: &[f64],
+    optima: &[MapResult],
+    chains: usize,
+    seed: u64,
+) -> Vec<Vec<f64>> {
+    let mut modes: Vec<&[f64]> = Vec::new();
+    for m in optima.iter().filter(|m| m.log_posterior.is_finite()) {
+        if modes.iter().all(|x| distinct(x, &m.theta, c0_sd)) {
+            modes.push(&m.theta);
+        }
+    }
+    (0..chains)
+        .map(|c| {
+            let mut rng = stream(seed, Purpose::ChainStart, [c as u64, 0]);
+            let centre = match modes.get(c) {
+                Some(m) => m.to_vec(),
+                None => {
+                    let draw = (0..100)
+                        .map(|_| post.sample_prior(&mut rng))
+                        .find(|t| post.log_posterior(t).is_finite())
+                        .unwrap_or_else(|| post.sample_prior(&mut rng));
+                    let first = map_estimate(post, &draw, c0_sd, 2000);
+                    let small: Vec<f64> = c0_sd.iter().map(|s| s * 0.1).collect();
+                    map_estimate(post, &first.theta, &small, 2000).theta
+                }
+            };
+            jitter(post, &centre, c0_sd, &mut rng)
+        })
+        .collect()
 }

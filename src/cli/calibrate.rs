@@ -48,7 +48,9 @@ pub fn run(args: &CalibrateArgs, out: &mut dyn std::io::Write) -> Result<(), Cli
         eprintln!("warning: {w}");
     }
     if let Some(dir) = &args.out {
-        write_dir_atomically(dir, |tmp| write_calibration_files(tmp, &result, None))
+        let posterior = crate::calibration::BeamPosterior::new(&data, data.parameters.clone());
+        let ctx = crate::calibration::output::InferenceContext { posterior: &posterior, seed: data.sampler.seed };
+        write_dir_atomically(dir, |tmp| write_calibration_files(tmp, &result, None, Some(&ctx)))
             .map_err(|e| out_dir_error(dir, e))?;
     }
     if args.json {

@@ -10,10 +10,13 @@
 //! * [`table`]: a plain table rendered as Markdown or CSV, and number formatting.
 //! * [`render`]: tera templates from a directory, and atomic writes of files
 //!   and of whole output directories.
+//! * [`inference_data`]: named arrays in named groups as a NetCDF-4 file (the
+//!   layout ArviZ's `from_netcdf` reads).
 //!
 //! All fallible functions return [`ReportError`].
 
 pub mod error;
+pub mod inference_data;
 pub mod render;
 pub mod svg;
 pub mod table;

@@ -112,6 +112,7 @@ pub fn reference_observations(r: &ReferenceModal, rel_omega: f64, rel_zeta: f64)
         .collect()
 }
 
+#[allow(clippy::too_many_arguments)] // private; the multi-start settings travel together only here
 fn fit(
     base: &BeamSpec,
     params: ParameterSet,

@@ -119,6 +119,9 @@ pub enum Truth {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct CaseSpec {
+    /// The file it was loaded from (set by [`Specs::load`]).
+    #[serde(skip)]
+    pub file: PathBuf,
     pub seed: u64,
     pub id: String,
     pub title: String,
@@ -129,6 +132,10 @@ pub struct CaseSpec {
     pub inverse_diameter_nm: f64,
     /// Parameters and priors (the measured-data file's format).
     pub parameters: serde_yaml::Mapping,
+    /// Internal variables of the inverse model's base beam: the start of every
+    /// parameter the set does not calibrate, and of those it does before the
+    /// multi-start (§4.2: Δ = 0.5, Ω = 1e12 rad/s).
+    pub inverse_internal_variables: Vec<crate::beam::InternalVariable>,
     pub sampler: SamplerSpec,
     pub quick_sampler: SamplerSpec,
 }
@@ -152,6 +159,65 @@ pub struct FrfSpec {
     pub quick_posterior_draws: usize,
 }
 
+/// The audit's noise replicates (`audit.yaml`). The noise of replicate r of a
+/// case is keyed by that case's own seed, `stream(case.seed, MeasurementNoise,
+/// [0, r])`, so this spec carries no seed of its own.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AuditSpec {
+    /// Noise replicates per case in the full run (issue 14: ≥ 100).
+    pub replicates: usize,
+    /// Noise replicates per case in `--quick`.
+    pub quick_replicates: usize,
+}
+
+/// One table of calibration cases and its figures (`tables.yaml`).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CaseTable {
+    /// File stem, e.g. `table-7`.
+    pub table: String,
+    /// Case ids, in row order.
+    pub cases: Vec<String>,
+    /// Trace (`<figure>a`) and marginal (`<figure>b`) figures of one parameter across the cases.
+    #[serde(default)]
+    pub parameter_figures: Vec<ParameterFigure>,
+    /// File stem of the pair plots (one per case, suffixed by the case id when there are several).
+    pub pair_figure: String,
+    /// What the report says above the table.
+    pub caption: String,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParameterFigure {
+    pub figure: String,
+    pub parameter: String,
+}
+
+/// The paper's grouping of cases into tables (`tables.yaml`).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TablesSpec {
+    pub tables: Vec<CaseTable>,
+}
+
+/// Case-3 evidence and diagnosis (`evidence.yaml`). The TMCMC runs are keyed
+/// by the seeds of the cases they evaluate.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EvidenceSpec {
+    /// The paper's β-inflated N = 1 case.
+    pub n1_case: String,
+    /// The N = 2 case on the same data.
+    pub n2_case: String,
+    /// TMCMC samples per stage (full, quick).
+    pub tmcmc_samples: usize,
+    pub quick_tmcmc_samples: usize,
+    /// Case whose data `diagnose` examines.
+    pub diagnose_case: String,
+}
+
 /// Every spec, loaded and validated.
 #[derive(Debug, Clone)]
 pub struct Specs {
@@ -159,6 +225,11 @@ pub struct Specs {
     pub forward: ForwardSpec,
     pub cases: Vec<CaseSpec>,
     pub frf: FrfSpec,
+    pub audit: AuditSpec,
+    pub tables: TablesSpec,
+    pub evidence: EvidenceSpec,
+    /// Every file read, in load order (for the provenance block).
+    pub files: Vec<PathBuf>,
 }
 
 fn load<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, SpecError> {
@@ -169,7 +240,7 @@ fn load<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, SpecError> {
 }
 
 impl Specs {
-    /// Loads `dir/{reconstruction,forward,figure-14,case-*}.yaml` and validates all.
+    /// Loads `dir/{reconstruction,forward,figure-14,case-*,audit,tables,evidence}.yaml` and validates all.
     pub fn load(dir: &Path) -> Result<Self, SpecError> {
         let reconstruction: ReconstructionSpec = load(&dir.join("reconstruction.yaml"))?;
         let forward: ForwardSpec = load(&dir.join("forward.yaml"))?;
@@ -187,7 +258,8 @@ impl Specs {
         case_files.sort();
         let mut cases = Vec::new();
         for f in &case_files {
-            let c: CaseSpec = load(f)?;
+            let mut c: CaseSpec = load(f)?;
+            c.file = f.clone();
             c.validate().map_err(|error| SpecError { file: f.clone(), error })?;
             cases.push(c);
         }
@@ -195,7 +267,17 @@ impl Specs {
         reconstruction.validate().map_err(|error| SpecError { file: file("reconstruction.yaml"), error })?;
         forward.validate().map_err(|error| SpecError { file: file("forward.yaml"), error })?;
         frf.validate(&cases).map_err(|error| SpecError { file: file("figure-14.yaml"), error })?;
-        Ok(Specs { reconstruction, forward, cases, frf })
+        let audit: AuditSpec = load(&file("audit.yaml"))?;
+        audit.validate().map_err(|error| SpecError { file: file("audit.yaml"), error })?;
+        let tables: TablesSpec = load(&file("tables.yaml"))?;
+        tables.validate(&cases).map_err(|error| SpecError { file: file("tables.yaml"), error })?;
+        let evidence: EvidenceSpec = load(&file("evidence.yaml"))?;
+        evidence.validate(&cases).map_err(|error| SpecError { file: file("evidence.yaml"), error })?;
+        let mut files: Vec<PathBuf> =
+            ["reconstruction.yaml", "forward.yaml", "figure-14.yaml"].iter().map(|n| file(n)).collect();
+        files.extend(case_files);
+        files.extend(["audit.yaml", "tables.yaml", "evidence.yaml"].iter().map(|n| file(n)));
+        Ok(Specs { reconstruction, forward, cases, frf, audit, tables, evidence, files })
     }
 }
 
@@ -232,6 +314,10 @@ impl ForwardSpec {
 impl CaseSpec {
     fn validate(&self) -> Result<(), InputError> {
         positive("inverse_diameter_nm", self.inverse_diameter_nm)?;
+        for (i, v) in self.inverse_internal_variables.iter().enumerate() {
+            crate::error::non_negative(&format!("inverse_internal_variables[{i}].delta"), v.delta)?;
+            positive(&format!("inverse_internal_variables[{i}].omega_rad_s"), v.omega_rad_s)?;
+        }
         let params = ParameterSet::from_mapping(&self.parameters)?;
         for p in &params.params {
             crate::calibration::parameters::check_physical(&p.prior, &format!("parameters.{}", p.name))?;
@@ -257,11 +343,63 @@ impl FrfSpec {
             }
         }
         positive("from_ghz", self.from_ghz)?;
-        if !(self.to_ghz > self.from_ghz) {
+        if self.to_ghz.partial_cmp(&self.from_ghz) != Some(std::cmp::Ordering::Greater) {
             return Err(InputError::new("to_ghz", self.to_ghz, format!("> from_ghz = {}", self.from_ghz)));
         }
         if self.points < 2 || self.quick_points < 2 || self.posterior_draws == 0 || self.quick_posterior_draws == 0 {
             return Err(InputError::new("points", self.points, ">= 2 (and draws >= 1)"));
+        }
+        Ok(())
+    }
+}
+
+fn known_case(cases: &[CaseSpec], field: &str, id: &str) -> Result<(), InputError> {
+    if cases.iter().any(|c| c.id == id) {
+        Ok(())
+    } else {
+        Err(InputError::new(field, id, "the id of a case-*.yaml spec"))
+    }
+}
+
+impl AuditSpec {
+    fn validate(&self) -> Result<(), InputError> {
+        if !(100..=100_000).contains(&self.replicates) {
+            return Err(InputError::new("replicates", self.replicates, "100..=100000 (issue 14: R >= 100)"));
+        }
+        if !(10..=self.replicates).contains(&self.quick_replicates) {
+            return Err(InputError::new(
+                "quick_replicates",
+                self.quick_replicates,
+                format!("10..={} (at most replicates)", self.replicates),
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl TablesSpec {
+    fn validate(&self, cases: &[CaseSpec]) -> Result<(), InputError> {
+        for (i, t) in self.tables.iter().enumerate() {
+            if t.cases.is_empty() {
+                return Err(InputError::new(format!("tables[{i}].cases"), "[]", "at least one case id"));
+            }
+            for (j, id) in t.cases.iter().enumerate() {
+                known_case(cases, &format!("tables[{i}].cases[{j}]"), id)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl EvidenceSpec {
+    fn validate(&self, cases: &[CaseSpec]) -> Result<(), InputError> {
+        known_case(cases, "n1_case", &self.n1_case)?;
+        known_case(cases, "n2_case", &self.n2_case)?;
+        known_case(cases, "diagnose_case", &self.diagnose_case)?;
+        for (n, v) in [("tmcmc_samples", self.tmcmc_samples), ("quick_tmcmc_samples", self.quick_tmcmc_samples)] {
+            if !(50..=100_000).contains(&v) {
+                return Err(InputError::new(n, v, "50..=100000"));
+            }
         }
         Ok(())
     }

@@ -164,6 +164,18 @@ pub(crate) fn tick_label(v: &f64) -> String {
     format!("{mantissa}{exponent}")
 }
 
+/// How many x-axis tick labels fit side by side in `width_px` without
+/// overlapping (2..=5). Plotters' SVG text is about 0.6·size px per character
+/// (its built-in estimate, no font is read); a label is sized by the longest
+/// of the range's end labels and followed by a one-character gap. Ω axes of
+/// pair plots ("4.08e11" in a 200 px cell) need 2–3 ticks, not 5.
+pub(crate) fn x_tick_count(range: (f64, f64), width_px: u32, font_size: u32) -> usize {
+    let chars =
+        [range.0, range.1, 0.5 * (range.0 + range.1)].iter().map(|v| tick_label(v).chars().count()).max().unwrap_or(1);
+    let per_label = 0.6 * font_size as f64 * (chars + 1) as f64;
+    ((width_px as f64 / per_label).floor() as usize).clamp(2, 5)
+}
+
 /// Font sizes (plotters' size units; its SVG text is about 0.65 of this in px).
 pub(crate) const TITLE_SIZE: u32 = 26;
 pub(crate) const DESC_SIZE: u32 = 20;
@@ -220,3 +232,19 @@ macro_rules! with_chart {
     }};
 }
 pub(crate) use with_chart;
+
+#[cfg(test)]
+mod tick_tests {
+    use super::*;
+
+    #[test]
+    fn x_ticks_of_a_narrow_omega_axis_fit_their_cell() {
+        // A 180 px pair-plot cell with 12-unit tick text: "4.08e11" labels.
+        let n = x_tick_count((3.9e11, 4.25e11), 180, 12);
+        let width = 0.6 * 12.0 * 8.0; // 7 characters + gap
+        assert!(n as f64 * width <= 180.0, "{n} labels of {width} px");
+        assert!(n >= 2);
+        // A wide axis with short labels keeps five.
+        assert_eq!(x_tick_count((0.0, 1.0), 700, 17), 5);
+    }
+}

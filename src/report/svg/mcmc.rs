@@ -1,8 +1,8 @@
 //! Sample figures: trace plots, marginal histograms and pair plots.
 
 use super::common::{
-    axis_range, draw_err, series_colour, thin_stride, tick_label, Axis, NamedValues, DESC_SIZE, FONT, TICK_SIZE,
-    TITLE_SIZE,
+    axis_range, draw_err, series_colour, thin_stride, tick_label, x_tick_count, Axis, NamedValues, DESC_SIZE, FONT,
+    TICK_SIZE, TITLE_SIZE,
 };
 use crate::report::error::{ReportError, Result};
 use plotters::coord::Shift;
@@ -114,6 +114,9 @@ pub struct HistogramPlot {
     /// Number of equal-width bins over the pooled range (or `x_range`).
     pub bins: usize,
     pub reference: Option<f64>,
+    /// Named vertical lines (e.g. "ours", "paper"), each in its own colour and
+    /// listed in the legend.
+    pub marks: Vec<(String, f64)>,
     pub x_range: Option<(f64, f64)>,
     pub size: (u32, u32),
 }
@@ -126,6 +129,7 @@ impl Default for HistogramPlot {
             groups: Vec::new(),
             bins: 40,
             reference: None,
+            marks: Vec::new(),
             x_range: None,
             size: (800, 450),
         }
@@ -169,6 +173,7 @@ fn draw_histograms<DB: DrawingBackend>(
     (lo, hi): (f64, f64),
     bins: usize,
     reference: Option<f64>,
+    marks: &[(String, f64)],
     x_label: &str,
     caption: Option<&str>,
     font: (u32, u32),
@@ -181,6 +186,7 @@ fn draw_histograms<DB: DrawingBackend>(
     if let Some(c) = caption {
         builder.caption(c, (FONT, TITLE_SIZE));
     }
+    let plot_width = area.dim_in_pixel().0.saturating_sub(font.0 * 3 + 20 + 16);
     let mut chart = builder
         .margin(8)
         .x_label_area_size(font.0 * 2 + 10)
@@ -194,7 +200,7 @@ fn draw_histograms<DB: DrawingBackend>(
         .y_desc("density")
         .axis_desc_style((FONT, font.0))
         .label_style((FONT, font.1))
-        .x_labels(5)
+        .x_labels(x_tick_count((lo, hi), plot_width, font.1))
         .y_labels(4)
         .x_label_formatter(&tick_label)
         .y_label_formatter(&tick_label)
@@ -222,7 +228,15 @@ fn draw_histograms<DB: DrawingBackend>(
             .draw_series(DashedLineSeries::new(vec![(r, 0.0), (r, top)], 6, 4, BLACK.stroke_width(2)))
             .map_err(draw_err)?;
     }
-    if names.is_some() {
+    for (k, (name, x)) in marks.iter().enumerate().filter(|(_, (_, x))| x.is_finite()) {
+        let colour = series_colour(groups.len() + k);
+        chart
+            .draw_series(std::iter::once(PathElement::new(vec![(*x, 0.0), (*x, top)], colour.stroke_width(3))))
+            .map_err(draw_err)?
+            .label(name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(3)));
+    }
+    if names.is_some() || !marks.is_empty() {
         chart
             .configure_series_labels()
             .position(SeriesLabelPosition::UpperRight)
@@ -241,8 +255,13 @@ pub fn histogram(spec: &HistogramPlot) -> Result<String> {
         return Err(ReportError::invalid("histogram bins", "must be >= 1"));
     }
     let lists: Vec<&[f64]> = spec.groups.iter().map(|g| g.values.as_slice()).collect();
+    let marks: Vec<f64> = spec.marks.iter().map(|m| m.1).collect();
     let range = pooled_range(
-        lists.iter().copied().chain(spec.reference.as_slice().iter().map(std::slice::from_ref)),
+        lists
+            .iter()
+            .copied()
+            .chain(spec.reference.as_slice().iter().map(std::slice::from_ref))
+            .chain(std::iter::once(marks.as_slice())),
         spec.x_range,
         "histogram values",
     )?;
@@ -258,6 +277,7 @@ pub fn histogram(spec: &HistogramPlot) -> Result<String> {
             range,
             spec.bins,
             spec.reference,
+            &spec.marks,
             &spec.x_label,
             Some(&spec.title),
             (DESC_SIZE, TICK_SIZE),
@@ -298,6 +318,49 @@ impl Default for PairPlot {
             cell_size: 240,
         }
     }
+}
+
+/// One below-diagonal cell of a pair plot: column `x` against column `y`.
+struct Cell<'a> {
+    x: usize,
+    y: usize,
+    ranges: ((f64, f64), (f64, f64)),
+    stride: usize,
+    font: (u32, u32),
+    x_label: &'a str,
+}
+
+/// Scatter of the thinned draws of two columns, the reference as a cross; the
+/// x tick count fits the cell ([`x_tick_count`]) so long labels (Ω) do not overlap.
+fn scatter_cell<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, spec: &PairPlot, c: &Cell) -> Result<()> {
+    let ((xr, yr), font) = (c.ranges, c.font);
+    let plot_width = area.dim_in_pixel().0.saturating_sub(font.0 * 3 + 20 + 16);
+    let mut chart = ChartBuilder::on(area)
+        .margin(8)
+        .x_label_area_size(font.0 * 2 + 10)
+        .y_label_area_size(font.0 * 3 + 20)
+        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+        .map_err(draw_err)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc(c.x_label)
+        .y_desc(if c.x == 0 { spec.names[c.y].as_str() } else { "" })
+        .axis_desc_style((FONT, font.0))
+        .label_style((FONT, font.1))
+        .x_labels(x_tick_count(xr, plot_width, font.1))
+        .y_labels(5)
+        .x_label_formatter(&tick_label)
+        .y_label_formatter(&tick_label)
+        .draw()
+        .map_err(draw_err)?;
+    let (cx, cy) = (&spec.columns[c.x], &spec.columns[c.y]);
+    let pts = (0..cx.len()).step_by(c.stride).map(|k| (cx[k], cy[k])).filter(|(x, y)| x.is_finite() && y.is_finite());
+    chart.draw_series(pts.map(|p| Circle::new(p, 1, series_colour(0).mix(0.35).filled()))).map_err(draw_err)?;
+    if let Some(r) = &spec.reference {
+        chart.draw_series(std::iter::once(Cross::new((r[c.x], r[c.y]), 6, BLACK.stroke_width(2)))).map_err(draw_err)?;
+    }
+    Ok(())
 }
 
 /// Renders a [`PairPlot`] as SVG text.
@@ -349,39 +412,10 @@ pub fn pair_plot(spec: &PairPlot) -> Result<String> {
                 let x_label = if i == d - 1 { spec.names[j].as_str() } else { "" };
                 if i == j {
                     let r = spec.reference.as_ref().map(|r| r[i]);
-                    draw_histograms(area, &[&spec.columns[i]], None, ranges[i], bins, r, x_label, None, font)?;
+                    draw_histograms(area, &[&spec.columns[i]], None, ranges[i], bins, r, &[], x_label, None, font)?;
                 } else if j < i {
-                    let (xr, yr) = (ranges[j], ranges[i]);
-                    let mut chart = ChartBuilder::on(area)
-                        .margin(8)
-                        .x_label_area_size(font.0 * 2 + 10)
-                        .y_label_area_size(font.0 * 3 + 20)
-                        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
-                        .map_err(draw_err)?;
-                    chart
-                        .configure_mesh()
-                        .disable_mesh()
-                        .x_desc(x_label)
-                        .y_desc(if j == 0 { spec.names[i].as_str() } else { "" })
-                        .axis_desc_style((FONT, font.0))
-                        .label_style((FONT, font.1))
-                        .x_labels(5)
-                        .y_labels(5)
-                        .x_label_formatter(&tick_label)
-                        .y_label_formatter(&tick_label)
-                        .draw()
-                        .map_err(draw_err)?;
-                    let (cx, cy) = (&spec.columns[j], &spec.columns[i]);
-                    let pts =
-                        (0..n).step_by(stride).map(|k| (cx[k], cy[k])).filter(|(x, y)| x.is_finite() && y.is_finite());
-                    chart
-                        .draw_series(pts.map(|p| Circle::new(p, 1, series_colour(0).mix(0.35).filled())))
-                        .map_err(draw_err)?;
-                    if let Some(r) = &spec.reference {
-                        chart
-                            .draw_series(std::iter::once(Cross::new((r[j], r[i]), 6, BLACK.stroke_width(2))))
-                            .map_err(draw_err)?;
-                    }
+                    let cell = Cell { x: j, y: i, ranges: (ranges[j], ranges[i]), stride, font, x_label };
+                    scatter_cell(area, spec, &cell)?;
                 }
             }
         }
