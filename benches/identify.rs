@@ -21,6 +21,8 @@ fn record() -> Measurement {
         internal_variables: vec![InternalVariable { delta: 0.4999, omega_rad_s: 3.9925e11 }],
         support_rotational_stiffness_n_m_rad: 0.0,
         point_mass: None,
+        axial_force_n: 0.0,
+        shear_deformation: None,
     };
     let t = modal(&beam, 6).unwrap();
     let (lo, hi) = (0.2 * t.modes[0].omega_rad_s, 0.5 * (t.modes[4].omega_rad_s + t.modes[5].omega_rad_s));

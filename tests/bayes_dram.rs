@@ -59,13 +59,10 @@ fn proposal_chol() -> DMatrix<f64> {
 /// log of the probability flux along a path that is rejected at every stage
 /// but the last and accepted there: π(y0) Π_j q_j(y0 → yj) (1 − α_j) · α_last.
 /// `alpha` is the acceptance function under test.
-fn log_flux(
-    points: &[Vec<f64>],
-    path: &[usize],
-    gammas: &[f64],
-    l: &DMatrix<f64>,
-    alpha: &dyn Fn(&[Vec<f64>], &[f64], &[usize]) -> f64,
-) -> f64 {
+/// An acceptance function α(points, log π, path) under test.
+type AlphaFn<'a> = dyn Fn(&[Vec<f64>], &[f64], &[usize]) -> f64 + 'a;
+
+fn log_flux(points: &[Vec<f64>], path: &[usize], gammas: &[f64], l: &DMatrix<f64>, alpha: &AlphaFn<'_>) -> f64 {
     let log_pi: Vec<f64> = points.iter().map(|p| log_target(p)).collect();
     let y0 = path[0];
     let mut f = log_pi[y0];
@@ -78,7 +75,7 @@ fn log_flux(
 }
 
 /// Largest relative flux mismatch |F_fwd − F_rev| / max(F) over random paths.
-fn worst_balance_error(stages: usize, alpha: &dyn Fn(&[Vec<f64>], &[f64], &[usize]) -> f64) -> f64 {
+fn worst_balance_error(stages: usize, alpha: &AlphaFn<'_>) -> f64 {
     let l = proposal_chol();
     let gammas = [1.0, 0.1, 0.05];
     let mut rng = ChaCha8Rng::seed_from_u64(11);

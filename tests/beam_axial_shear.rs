@@ -1,3 +1,5 @@
+// Mode numbers index several arrays at once in these closed-form checks.
+#![allow(clippy::needless_range_loop)]
 //! The two mechanisms of issue 13 in the forward model: axial force and
 //! shear deformation (nonlocal Timoshenko). Closed forms where they exist
 //! (simply supported), the coupled solver against the state-space reference

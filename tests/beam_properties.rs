@@ -1,3 +1,5 @@
+// Mode numbers index several arrays at once in these closed-form checks.
+#![allow(clippy::needless_range_loop)]
 //! Property tests of the forward model (physics only). Every tolerance is
 //! derived in the comment beside it.
 

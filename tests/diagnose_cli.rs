@@ -57,6 +57,8 @@ fn cli_exits_2_and_leaves_out_dir_untouched_on_bad_input() {
     let out = dir.path().join("out");
     std::fs::create_dir(&out).unwrap();
     std::fs::write(out.join("sentinel"), "x").unwrap();
+    // a directory nanobeam wrote before (its marker), so the bad file is what gets refused
+    std::fs::write(out.join(".nanobeam-output"), "").unwrap();
     let (code, stderr) = run_cli(&input, &out, true);
     assert_eq!(code, 2);
     assert_eq!(stderr.lines().count(), 1, "one line: {stderr}");

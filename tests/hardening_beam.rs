@@ -24,6 +24,8 @@ fn base(support: Support, elements: usize) -> BeamSpec {
         internal_variables: vec![],
         support_rotational_stiffness_n_m_rad: 0.0,
         point_mass: None,
+        axial_force_n: 0.0,
+        shear_deformation: None,
     }
 }
 

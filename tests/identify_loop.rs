@@ -22,6 +22,8 @@ fn paper_beam() -> BeamSpec {
         internal_variables: vec![InternalVariable { delta: 0.4999, omega_rad_s: 3.9925e11 }],
         support_rotational_stiffness_n_m_rad: 0.0,
         point_mass: None,
+        axial_force_n: 0.0,
+        shear_deformation: None,
     }
 }
 

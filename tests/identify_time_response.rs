@@ -22,6 +22,8 @@ fn fourier_transform_of_the_impulse_response_is_the_receptance() {
         internal_variables: vec![InternalVariable { delta: 0.3, omega_rad_s: 5e11 }],
         support_rotational_stiffness_n_m_rad: 0.0,
         point_mass: None,
+        axial_force_n: 0.0,
+        shear_deformation: None,
     };
     let modes = modal(&beam, 8).unwrap();
     let w_top = modes.modes.last().unwrap().omega_rad_s;

@@ -29,7 +29,7 @@ fn flat<A: IntoIterator<Item = f64> + Clone>(a: &A) -> Vec<f64> {
 #[test]
 fn calibration_inference_data_has_the_arviz_groups() {
     let data = measured();
-    let result = calibrate(&data, &CalibrateOptions::default());
+    let result = calibrate(&data, &CalibrateOptions::default()).expect("calibrates");
     let post = BeamPosterior::new(&data, data.parameters.clone());
     let idata = inference_data(&result, &InferenceContext { posterior: &post, seed: 7 });
     let bytes = idata.to_netcdf().unwrap();

@@ -31,7 +31,7 @@ fn laplace_transport_agrees_with_full_dram_on_fresh_replicates() {
     let mut worst: (f64, String) = (0.0, String::new());
     for id in ["1B", "2A"] {
         let spec = specs.cases.iter().find(|c| c.id == id).unwrap();
-        let case = run_case(spec, &rec, &published, true);
+        let case = run_case(spec, &rec, &published, true).expect("case calibrates");
         let scales: Vec<f64> = case.result.summary.parameters.iter().map(|p| p.sd).collect();
         let lap0 = laplace_fit(&case.posterior, &case.result.map_theta, &scales).expect("replicate 0 fits");
         let shape = Shape::measure(&case.result.summary.parameters, &lap0);
@@ -42,7 +42,8 @@ fn laplace_transport_agrees_with_full_dram_on_fresh_replicates() {
             let lap = laplace_fit(&post, &case.result.map_theta, &scales).expect("replicate fits");
             let cheap = shape.apply(&lap);
             let c0: Vec<f64> = post.parameters().params.iter().map(|p| p.proposal_sd).collect();
-            let dram = calibrate_posterior(&post, &c0, &spec.quick_sampler, &CalibrateOptions::default());
+            let dram = calibrate_posterior(&post, &c0, &spec.quick_sampler, &CalibrateOptions::default())
+                .expect("replicate calibrates");
             for (k, p) in dram.summary.parameters.iter().enumerate() {
                 let ess0 = case.result.summary.parameters[k].ess_bulk.min(p.ess_bulk).max(1.0);
                 let tail0 = case.result.summary.parameters[k].ess_tail.min(p.ess_tail).max(1.0);

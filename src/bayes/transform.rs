@@ -113,7 +113,7 @@ mod tests {
         let (a, b) = (1e-3, 1e2);
         let p = Reparameterized::new(LogUniformOnly(Prior::LogUniform { lower: a, upper: b }), vec![true]);
         let flat = -(b / a).ln().ln();
-        for x in [2e-3, 0.5, 80.0] {
+        for x in [2e-3_f64, 0.5, 80.0] {
             let u = x.ln();
             assert!((p.log_prior(&[u]) - flat).abs() < 1e-12, "x = {x}");
             assert!((p.to_inner(&[u])[0] / x - 1.0).abs() < 1e-15);

@@ -229,7 +229,8 @@ mod tests {
 
     #[test]
     fn roots_satisfy_the_family_equation() {
-        let cases: [(f64, f64, f64, Vec<(f64, f64)>); 5] = [
+        type Case = (f64, f64, f64, Vec<(f64, f64)>);
+        let cases: [Case; 5] = [
             (0.0, 97.4, 0.3, vec![]),
             (0.0, 97.4, 30.0, vec![]),
             (0.0, 97.4, 0.1, vec![(0.2, 5.0)]),

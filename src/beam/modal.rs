@@ -376,6 +376,9 @@ fn decoupled_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -
     Ok(assemble(&families, n_modes, model.omega_ref))
 }
 
+/// (a, b, c_φ) of one family's equation and the eigenvector φ it came from.
+type FamilyApproximation = ((f64, f64, f64), Vec<f64>);
+
 /// One-term modal approximation of family j of a coupled model: with φ the
 /// eigenvector of (K + K_spring, M) for λ, the family equation
 /// s² + c_φ s + a + b G(s) = 0 with b = φᵀKφ/φᵀMφ, a = λ − b = φᵀK_springφ/φᵀMφ,
@@ -384,7 +387,7 @@ fn family_approximations(
     model: &ScaledModel,
     count: usize,
     eigen: &mut EigenCache,
-) -> Result<Vec<((f64, f64, f64), Vec<f64>)>, BeamError> {
+) -> Result<Vec<FamilyApproximation>, BeamError> {
     let kt = model.k_total();
     let pairs = eigen.lowest(model.mesh, &model.pencil_params(), &kt, &model.m, model.point_mass.as_ref(), count)?;
     Ok(pairs.iter().map(|p| (rayleigh_of(model, &p.vector).1, p.vector.clone())).collect())

@@ -169,8 +169,9 @@ fn compute(opts: &Options) -> Result<Computed, ReproduceError> {
     })?;
     let rec = clock.time("reconstruction", || reconstruct(&specs.reconstruction, &published));
     let forward = clock.time("table_2_figures_1_3", || forward_stage(&specs, &rec, opts.quick))?;
-    let cases: Vec<CaseOutcome> =
-        clock.time("cases", || specs.cases.par_iter().map(|c| run_case(c, &rec, &published, opts.quick)).collect::<Result<Vec<_>, _>>())?;
+    let cases: Vec<CaseOutcome> = clock.time("cases", || {
+        specs.cases.par_iter().map(|c| run_case(c, &rec, &published, opts.quick)).collect::<Result<Vec<_>, _>>()
+    })?;
     let tables = clock.time("tables_figures_4_13", || {
         specs
             .tables
