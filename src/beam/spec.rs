@@ -179,6 +179,34 @@ fn in_window(field: &str, value: f64, zero_ok: bool) -> Result<(), InputError> {
 }
 
 impl BeamSpec {
+    /// A local elastic beam of this geometry and material: e0a = 0, no
+    /// damping, no internal variables, ideal supports, no point mass, no axial
+    /// force, Euler–Bernoulli (every extension at its default "off").
+    pub fn elastic(
+        length_nm: f64,
+        diameter_nm: f64,
+        youngs_modulus_pa: f64,
+        density_kg_m3: f64,
+        support: Support,
+        elements: usize,
+    ) -> Self {
+        BeamSpec {
+            length_nm,
+            diameter_nm,
+            youngs_modulus_pa,
+            density_kg_m3,
+            support,
+            elements,
+            nonlocal_e0a_nm: 0.0,
+            viscous_damping_n_s_m2: 0.0,
+            internal_variables: vec![],
+            support_rotational_stiffness_n_m_rad: 0.0,
+            point_mass: None,
+            axial_force_n: 0.0,
+            shear_deformation: None,
+        }
+    }
+
     /// Checks every documented range; the error names the field, value and allowed range.
     pub fn validate(&self) -> Result<(), InputError> {
         in_window("length_nm", self.length_nm, false)?;

@@ -128,12 +128,14 @@ pub struct NominalScales {
 impl NominalScales {
     /// Scales of `beam` with e0a = 0, no damping, no extensions, for modes 1..=`max_mode`.
     pub fn of(beam: &BeamSpec, max_mode: usize) -> Result<Self, BeamError> {
-        let mut elastic = beam.clone();
-        elastic.nonlocal_e0a_nm = 0.0;
-        elastic.viscous_damping_n_s_m2 = 0.0;
-        elastic.internal_variables.clear();
-        elastic.support_rotational_stiffness_n_m_rad = 0.0;
-        elastic.point_mass = None;
+        let elastic = BeamSpec::elastic(
+            beam.length_nm,
+            beam.diameter_nm,
+            beam.youngs_modulus_pa,
+            beam.density_kg_m3,
+            beam.support,
+            beam.elements,
+        );
         let modes = crate::beam::modal(&elastic, max_mode)?.modes;
         Ok(Self {
             omega_1_rad_s: modes[0].omega_rad_s,

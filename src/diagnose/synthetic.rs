@@ -50,21 +50,7 @@ impl SyntheticCase {
 
 /// The nominal beam the diagnosis sees (geometry and material only).
 pub fn nominal_beam() -> BeamSpec {
-    BeamSpec {
-        length_nm: 8.0,
-        diameter_nm: 1.0,
-        youngs_modulus_pa: 1.0e12,
-        density_kg_m3: 2300.0,
-        support: Support::SimplySupported,
-        elements: 20,
-        nonlocal_e0a_nm: 0.0,
-        viscous_damping_n_s_m2: 0.0,
-        internal_variables: vec![],
-        support_rotational_stiffness_n_m_rad: 0.0,
-        point_mass: None,
-        axial_force_n: 0.0,
-        shear_deformation: None,
-    }
+    BeamSpec::elastic(8.0, 1.0, 1.0e12, 2300.0, Support::SimplySupported, 20)
 }
 
 /// Effect drawn by seed: clean with probability 1/5, else one of the four causes.

@@ -215,21 +215,14 @@ pub fn reconstruct(spec: &ReconstructionSpec, published: &Published) -> Reconstr
     let me = &published.measurement_error;
     let rel = (me.relative_sd_frequency.value, me.relative_sd_damping.value);
     let find = |id: &str| sets.iter().find(|s| s.set_id == id).expect("published.yaml has both covariance sets");
-    let nominal = BeamSpec {
-        length_nm: 8.0,
-        diameter_nm: spec.diameter_nm,
-        youngs_modulus_pa: spec.youngs_modulus_pa,
-        density_kg_m3: spec.density_kg_m3,
-        support: spec.support,
-        elements: spec.elements,
-        nonlocal_e0a_nm: 0.0,
-        viscous_damping_n_s_m2: 0.0,
-        internal_variables: vec![],
-        support_rotational_stiffness_n_m_rad: 0.0,
-        point_mass: None,
-        axial_force_n: 0.0,
-        shear_deformation: None,
-    };
+    let nominal = BeamSpec::elastic(
+        8.0,
+        spec.diameter_nm,
+        spec.youngs_modulus_pa,
+        spec.density_kg_m3,
+        spec.support,
+        spec.elements,
+    );
     let p14 = ParameterSet::from_mapping(&spec.table_1_4_parameters).expect("validated");
     let n = spec.multistart_points;
     let adopt = |sigma: (BeamSpec, Fit), rounding: (BeamSpec, Fit)| {
