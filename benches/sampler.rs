@@ -37,11 +37,11 @@ fn bench_dram(c: &mut Criterion) {
     group.sample_size(20);
     for (label, n0) in [("adaptive_from_4000", 4000), ("non_adaptive", steps)] {
         let settings = DramSettings {
-            draws: steps,
+            draws_per_chain: steps,
             burn_in: 0,
-            nonadapt_n0: n0,
-            adapt_start: n0,
-            cov_skip: n0.min(3000),
+            nonadaptive_draws: n0,
+            adaptation_start: n0,
+            covariance_skip: n0.min(3000),
             ..DramSettings::default()
         };
         group.bench_function(label, |b| {

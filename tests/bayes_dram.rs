@@ -131,7 +131,7 @@ fn detailed_balance_check_detects_a_wrong_acceptance() {
 }
 
 fn short_settings() -> DramSettings {
-    DramSettings { draws: 40_000, burn_in: 5_000, ..DramSettings::default() }
+    DramSettings { draws_per_chain: 40_000, burn_in: 5_000, ..DramSettings::default() }
 }
 
 /// Pooled post-burn-in draws of parameter k, per chain.
@@ -190,7 +190,7 @@ fn stationary_on_banana() {
         },
     };
     let starts: Vec<Vec<f64>> = (0..4).map(|c| vec![0.1 * c as f64, 0.0]).collect();
-    let s = DramSettings { draws: 60_000, ..short_settings() };
+    let s = DramSettings { draws_per_chain: 60_000, ..short_settings() };
     let chains = run_chains(&target, &s, &[1.0, 1.0], &starts, 3, None);
     let burn = s.burn_in;
     assert_within_mcse(&per_chain(&chains, burn, |t| t[0]), 0.0, "mean x1");
@@ -219,7 +219,7 @@ fn deterministic_for_any_thread_count_and_distinct_across_chains() {
     let target =
         Target { lo: vec![-5.0; 2], hi: vec![5.0; 2], log_lik: |x: &[f64]| -0.5 * (x[0] * x[0] + x[1] * x[1]) };
     let starts = vec![vec![0.0, 0.0]; 3];
-    let s = DramSettings { draws: 6_000, burn_in: 1_000, ..DramSettings::default() };
+    let s = DramSettings { draws_per_chain: 6_000, burn_in: 1_000, ..DramSettings::default() };
     let run = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -243,7 +243,7 @@ fn nan_model_output_is_a_counted_rejection() {
         hi: vec![3.0],
         log_lik: |x: &[f64]| if x[0] > 1.0 { f64::NAN } else { -0.5 * x[0] * x[0] },
     };
-    let s = DramSettings { draws: 10_000, burn_in: 1_000, ..DramSettings::default() };
+    let s = DramSettings { draws_per_chain: 10_000, burn_in: 1_000, ..DramSettings::default() };
     let chains = run_chains(&target, &s, &[1.0], &[vec![0.0]], 1, None);
     assert!(chains[0].rejected_invalid > 100);
     assert!(chains[0].draws.iter().all(|t| t[0] <= 1.0));

@@ -8,8 +8,8 @@ use nanobeam::bayes::chains::run_chains;
 use nanobeam::bayes::diagnostics::rhat;
 use nanobeam::bayes::map::multi_start_optimum;
 use nanobeam::bayes::Posterior;
-use nanobeam::calibration::run::{dram_settings, overdispersed_starts, single_start};
-use nanobeam::calibration::SamplerSpec;
+use nanobeam::calibration::run::{overdispersed_starts, single_start};
+use nanobeam::calibration::DramSettings;
 use rand::{Rng, RngCore};
 
 /// Two Gaussian modes, at x = −4 (sd 0.25, the higher peak) and x = +4 (sd
@@ -45,8 +45,8 @@ impl Posterior for Bimodal {
     }
 }
 
-fn sampler(seed: u64) -> SamplerSpec {
-    SamplerSpec {
+fn sampler(seed: u64) -> DramSettings {
+    DramSettings {
         draws_per_chain: 3000,
         burn_in: 1000,
         nonadaptive_draws: 500,
@@ -55,14 +55,14 @@ fn sampler(seed: u64) -> SamplerSpec {
         chains: 4,
         seed,
         multistart_points: 64,
-        ..SamplerSpec::default()
+        ..DramSettings::default()
     }
 }
 
 /// Post-burn-in x of every chain.
-fn x_chains(post: &Bimodal, starts: &[Vec<f64>], s: &SamplerSpec) -> Vec<Vec<f64>> {
+fn x_chains(post: &Bimodal, starts: &[Vec<f64>], s: &DramSettings) -> Vec<Vec<f64>> {
     let c0 = [0.1, 0.1];
-    run_chains(post, &dram_settings(s), &c0, starts, s.seed, None)
+    run_chains(post, s, &c0, starts, s.seed, None)
         .iter()
         .map(|c| c.draws[s.burn_in..].iter().map(|t| t[0]).collect())
         .collect()

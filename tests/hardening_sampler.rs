@@ -4,7 +4,7 @@
 use nanobeam::bayes::chains::chain_rng;
 use nanobeam::bayes::dram::{run_chain, DramSettings};
 use nanobeam::bayes::Posterior;
-use nanobeam::calibration::{calibrate_posterior, CalibrateOptions, SamplerSpec, SamplingError};
+use nanobeam::calibration::{calibrate_posterior, CalibrateOptions, SamplingError};
 use rand::{Rng, RngCore};
 
 /// Standard normal in d dimensions.
@@ -31,11 +31,11 @@ impl Posterior for Gauss {
 #[test]
 fn an_underflowing_proposal_covariance_does_not_panic() {
     let s = DramSettings {
-        draws: 300,
+        draws_per_chain: 300,
         burn_in: 10,
-        nonadapt_n0: 100,
-        adapt_start: 100,
-        cov_skip: 50,
+        nonadaptive_draws: 100,
+        adaptation_start: 100,
+        covariance_skip: 50,
         ..Default::default()
     };
     // sd² = 1e-400 underflows to 0: C0 = diag(sd²) is not factorisable
@@ -71,8 +71,8 @@ impl Posterior for Lattice {
     }
 }
 
-fn small() -> SamplerSpec {
-    SamplerSpec {
+fn small() -> DramSettings {
+    DramSettings {
         draws_per_chain: 400,
         burn_in: 100,
         nonadaptive_draws: 200,
@@ -80,7 +80,7 @@ fn small() -> SamplerSpec {
         covariance_skip: 100,
         chains: 2,
         multistart_points: 8,
-        ..SamplerSpec::default()
+        ..DramSettings::default()
     }
 }
 

@@ -3,8 +3,8 @@
 //!
 //! * Stage 1 proposes θ1 ~ N(θn, C¹n) (eq. 27 with a symmetric q1).
 //! * C¹n = C0 for n ≤ n0; afterwards C¹n = sd·Cov(θ_k … θ_{n−1}) + sd·λ·D,
-//!   eq. (30), where k = `cov_skip` states are ignored, adaptation starts at
-//!   `adapt_start`, and D = diag(C0) makes the regulariser λ relative to the
+//!   eq. (30), where k = `covariance_skip` states are ignored, adaptation starts at
+//!   `adaptation_start`, and D = diag(C0) makes the regulariser λ relative to the
 //!   parameter scales (an absolute λ·I is meaningless when Ω ~ 1e12 rad/s
 //!   and Δ ~ 0.5 share one vector). The covariance is updated recursively
 //!   (Welford's form of eq. 33) at every state.
@@ -26,85 +26,155 @@ use serde::{Deserialize, Serialize};
 use crate::bayes::Posterior;
 use crate::error::InputError;
 
-/// Settings of one DRAM chain. Defaults are the paper's §4.2 values.
+/// Sampler settings; every field defaults to the paper's §4.2 value.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct DramSettings {
-    /// States drawn, burn-in included (paper: 20 000).
-    pub draws: usize,
-    /// Leading states flagged as burn-in (paper: 5 000).
+    /// States drawn per chain, burn-in included (paper: 20 000).
+    pub draws_per_chain: usize,
+    /// Leading states discarded from every summary (paper: 5 000).
     pub burn_in: usize,
-    /// Non-adaptation period n0 (paper: 4 000).
-    pub nonadapt_n0: usize,
+    /// Non-adaptation period n0 with proposal C0, eq. (30) (paper: 4 000).
+    pub nonadaptive_draws: usize,
     /// State at which adaptation starts (paper: 4 000).
-    pub adapt_start: usize,
-    /// The adapted covariance ignores the first `cov_skip` states (paper: 3 000).
-    pub cov_skip: usize,
-    /// γ of stages 2, 3, …: stage i proposes from N(θn, γi C¹n) (paper: [0.1]).
-    pub dr_gammas: Vec<f64>,
-    /// Scaling sd of eq. (30); `None` = 2.4²/d.
-    pub sd: Option<f64>,
-    /// λ of eq. (30), relative to diag(C0).
-    pub lambda: f64,
+    pub adaptation_start: usize,
+    /// The adapted covariance ignores the first this-many states (paper: 3 000).
+    pub covariance_skip: usize,
+    /// Delayed-rejection shrink factors γ2, γ3, ... on the covariance of the
+    /// stage-1 proposal (paper: two stages, γ1 = 0.1 → `[0.1]`).
+    pub dr_shrink_factors: Vec<f64>,
+    /// Independent chains, run in parallel (≥ 4 for split-R̂).
+    pub chains: usize,
+    /// Master seed: chain c uses the stream (seed, c).
+    pub seed: u64,
+    /// Prior draws screened by the multi-start optimiser that places the chains.
+    pub multistart_points: usize,
+    /// Scaling sd of eq. (30); `None` (default) = 2.4²/d (Gelman, Roberts & Gilks 1996).
+    #[serde(default)]
+    pub adaptive_scale: Option<f64>,
+    /// λ of eq. (30), relative to diag(C0) (default 1e-8).
+    pub covariance_regularization: f64,
 }
 
 impl Default for DramSettings {
     fn default() -> Self {
         Self {
-            draws: 20_000,
+            draws_per_chain: 20_000,
             burn_in: 5_000,
-            nonadapt_n0: 4_000,
-            adapt_start: 4_000,
-            cov_skip: 3_000,
-            dr_gammas: vec![0.1],
-            sd: None,
-            lambda: 1e-8,
+            nonadaptive_draws: 4_000,
+            adaptation_start: 4_000,
+            covariance_skip: 3_000,
+            dr_shrink_factors: vec![0.1],
+            chains: 4,
+            seed: 20_201_228,
+            multistart_points: 256,
+            adaptive_scale: None,
+            covariance_regularization: 1e-8,
         }
     }
 }
 
-/// Most states one chain may hold: 2^27 ≈ 1.3e8 states of even one
-/// parameter are ≥ 6 GiB (48-byte `Vec` + 8-byte log posterior each); the
-/// caller's per-run budget (`calibration::sampler`) is tighter.
-pub const MAX_DRAWS: usize = 1 << 27;
+/// Memory budget for the stored chains (bytes). A stored state costs
+/// `state_bytes(dim)`; `calibrate` holds every state once in the chains and
+/// once more in the post-burn-in copy that the summaries read.
+pub const MAX_CHAIN_MEMORY_BYTES: f64 = 2.0 * 1024.0 * 1024.0 * 1024.0;
+
+/// Bytes per stored state of a `dim`-parameter chain: a `Vec<f64>` (24-byte
+/// header + 8·dim heap bytes + ~16 bytes allocator overhead) and its log
+/// posterior (8), twice (chains + the kept copy).
+pub fn state_bytes(dim: usize) -> f64 {
+    2.0 * (24.0 + 8.0 * dim as f64 + 16.0 + 8.0)
+}
+
+/// Least post-burn-in draws per chain: the rank-normalised split-R̂ and the
+/// bulk/tail ESS split each chain in halves and need a few draws in each
+/// tail quantile (5 %) of each half: 2 × 20 = 40 keeps them finite.
+pub const MIN_KEPT_DRAWS: usize = 40;
 
 impl DramSettings {
-    pub fn validate(&self) -> Result<(), InputError> {
-        if self.draws == 0 || self.draws > MAX_DRAWS {
-            return Err(InputError::new("sampler.draws", self.draws, format!("1..={MAX_DRAWS}")));
-        }
-        if self.burn_in >= self.draws {
-            return Err(InputError::new("sampler.burn_in", self.burn_in, format!("< draws = {}", self.draws)));
-        }
-        if self.nonadapt_n0 >= self.draws || self.adapt_start >= self.draws {
+    /// Checks every setting for a sampler of `dim` parameters (the one
+    /// validation of the `sampler:` section; samplers assume it passed).
+    pub fn validate(&self, dim: usize) -> Result<(), InputError> {
+        let f = |name: &str| format!("sampler.{name}");
+        if self.chains < 2 || self.chains > 64 {
             return Err(InputError::new(
-                "sampler.nonadapt_n0",
-                self.nonadapt_n0.max(self.adapt_start),
-                format!("< draws = {} (otherwise adaptation never starts)", self.draws),
+                f("chains"),
+                self.chains,
+                "2..=64 (R-hat compares chains; >= 4 recommended for split-R-hat)",
             ));
         }
-        if self.cov_skip > self.adapt_start {
+        let max_draws = (MAX_CHAIN_MEMORY_BYTES / (state_bytes(dim.max(1)) * self.chains as f64)).floor() as usize;
+        if self.draws_per_chain > max_draws {
             return Err(InputError::new(
-                "sampler.cov_skip",
-                self.cov_skip,
-                format!("<= adapt_start = {}", self.adapt_start),
+                f("draws_per_chain"),
+                self.draws_per_chain,
+                format!(
+                    "<= {max_draws} (the {} chains of {dim} parameters must fit in {} GiB)",
+                    self.chains,
+                    MAX_CHAIN_MEMORY_BYTES / 1024f64.powi(3)
+                ),
             ));
         }
-        for (i, &g) in self.dr_gammas.iter().enumerate() {
-            if !(g.is_finite() && g > 0.0 && g <= 1.0) {
-                return Err(InputError::new(format!("sampler.dr_gammas[{i}]"), g, "0 < gamma <= 1"));
+        if self.draws_per_chain < self.burn_in + MIN_KEPT_DRAWS {
+            return Err(InputError::new(
+                f("draws_per_chain"),
+                self.draws_per_chain,
+                format!(
+                    ">= burn_in + {MIN_KEPT_DRAWS} = {} (draws kept for the diagnostics)",
+                    self.burn_in + MIN_KEPT_DRAWS
+                ),
+            ));
+        }
+        if self.nonadaptive_draws >= self.draws_per_chain {
+            return Err(InputError::new(
+                f("nonadaptive_draws"),
+                self.nonadaptive_draws,
+                format!("< draws_per_chain = {} (otherwise adaptation never starts)", self.draws_per_chain),
+            ));
+        }
+        if self.adaptation_start >= self.draws_per_chain {
+            return Err(InputError::new(
+                f("adaptation_start"),
+                self.adaptation_start,
+                format!("< draws_per_chain = {} (otherwise adaptation never starts)", self.draws_per_chain),
+            ));
+        }
+        if self.covariance_skip > self.adaptation_start {
+            return Err(InputError::new(
+                f("covariance_skip"),
+                self.covariance_skip,
+                format!("<= adaptation_start = {}", self.adaptation_start),
+            ));
+        }
+        if self.dr_shrink_factors.len() > 8 {
+            return Err(InputError::new(
+                f("dr_shrink_factors"),
+                format!("({} factors)", self.dr_shrink_factors.len()),
+                "at most 8 (each stage costs one model run; the acceptance recursion is exponential in stages)",
+            ));
+        }
+        for (i, &g) in self.dr_shrink_factors.iter().enumerate() {
+            if !(g.is_finite() && (1e-6..=1.0).contains(&g)) {
+                return Err(InputError::new(
+                    format!("sampler.dr_shrink_factors[{i}]"),
+                    crate::error::fmt_num(g),
+                    "1e-6 <= gamma <= 1 (gamma * sd^2 must stay a normal number)",
+                ));
             }
         }
-        if let Some(sd) = self.sd {
-            crate::error::positive("sampler.sd", sd)?;
+        if self.multistart_points == 0 || self.multistart_points > 100_000 {
+            return Err(InputError::new(f("multistart_points"), self.multistart_points, "1..=100000"));
         }
-        crate::error::non_negative("sampler.lambda", self.lambda)?;
+        if let Some(sd) = self.adaptive_scale {
+            crate::error::positive(&f("adaptive_scale"), sd)?;
+        }
+        crate::error::non_negative(&f("covariance_regularization"), self.covariance_regularization)?;
         Ok(())
     }
 
     /// Number of DR stages (1 = plain adaptive Metropolis).
     pub fn stages(&self) -> usize {
-        1 + self.dr_gammas.len()
+        1 + self.dr_shrink_factors.len()
     }
 }
 
@@ -258,18 +328,18 @@ pub fn run_chain(
 ) -> ChainOutput {
     let d = start.len();
     let stages = settings.stages();
-    let gammas: Vec<f64> = std::iter::once(1.0).chain(settings.dr_gammas.iter().copied()).collect();
-    let sd = settings.sd.unwrap_or(2.4 * 2.4 / d as f64);
+    let gammas: Vec<f64> = std::iter::once(1.0).chain(settings.dr_shrink_factors.iter().copied()).collect();
+    let sd = settings.adaptive_scale.unwrap_or(2.4 * 2.4 / d as f64);
     let c0 = DMatrix::from_diagonal(&DVector::from_iterator(d, c0_sd.iter().map(|s| s * s)));
-    let regulariser = &c0 * (sd * settings.lambda);
+    let regulariser = &c0 * (sd * settings.covariance_regularization);
     // Cholesky of diag(sd²) where it exists (bit-identical to earlier runs);
     // diag(sd) itself when sd² underflows and the factorisation fails.
     let mut proposal = Proposal::from_covariance(&c0).unwrap_or_else(|| Proposal::diagonal(c0_sd));
     let mut current_cov = c0.clone();
 
     let mut out = ChainOutput {
-        draws: Vec::with_capacity(settings.draws),
-        log_posterior: Vec::with_capacity(settings.draws),
+        draws: Vec::with_capacity(settings.draws_per_chain),
+        log_posterior: Vec::with_capacity(settings.draws_per_chain),
         proposed: vec![0; stages],
         accepted: vec![0; stages],
         rejected_invalid: 0,
@@ -283,7 +353,7 @@ pub fn run_chain(
     let mut log_pi: Vec<f64> = Vec::with_capacity(stages + 1);
     let mut path: Vec<usize> = Vec::with_capacity(stages + 1);
 
-    for n in 0..settings.draws {
+    for n in 0..settings.draws_per_chain {
         if n > 0 {
             // One DRAM step from θ_{n−1}.
             points.clear();
@@ -318,10 +388,10 @@ pub fn run_chain(
         out.log_posterior.push(lp);
 
         // Adaptation, eq. (30): the covariance of states cov_skip … n.
-        if n >= settings.cov_skip {
+        if n >= settings.covariance_skip {
             running.push(&theta);
         }
-        if n + 1 > settings.nonadapt_n0 && n + 1 >= settings.adapt_start {
+        if n + 1 > settings.nonadaptive_draws && n + 1 >= settings.adaptation_start {
             if let Some(cov) = running.covariance() {
                 let c = cov * sd + &regulariser;
                 match Proposal::from_covariance(&c) {

@@ -11,10 +11,10 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::bayes::dram::DramSettings;
 use crate::beam::spec::{RAW_MAX, RAW_MIN};
 use crate::beam::BeamSpec;
 use crate::calibration::parameters::ParameterSet;
-use crate::calibration::sampler::SamplerSpec;
 use crate::error::{fmt_num, InputError};
 
 /// One measured mode: natural frequency and damping ratio with their
@@ -41,7 +41,7 @@ pub struct MeasuredFile {
     #[serde(default)]
     pub parameters: Option<serde_yaml::Mapping>,
     #[serde(default)]
-    pub sampler: Option<SamplerSpec>,
+    pub sampler: Option<DramSettings>,
 }
 
 /// A validated measured-data file, with the parameter set resolved.
@@ -51,7 +51,7 @@ pub struct MeasuredData {
     pub modes: Vec<ModeObservation>,
     pub held_out_modes: Vec<ModeObservation>,
     pub parameters: ParameterSet,
-    pub sampler: SamplerSpec,
+    pub sampler: DramSettings,
 }
 
 impl MeasuredData {

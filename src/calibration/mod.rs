@@ -7,10 +7,9 @@ pub mod output;
 pub mod parameters;
 pub mod posterior;
 pub mod run;
-pub mod sampler;
 
+pub use crate::bayes::dram::DramSettings;
 pub use measured::{MeasuredData, ModeObservation};
 pub use parameters::{Parameter, ParameterSet, Target};
 pub use posterior::{observables, BeamPosterior, Observable, Quantity};
 pub use run::{calibrate, calibrate_posterior, CalibrateOptions, CalibrationResult, SamplingError};
-pub use sampler::SamplerSpec;

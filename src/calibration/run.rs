@@ -11,7 +11,7 @@ use crate::bayes::map::{map_estimate, multi_start_optimum, MapResult};
 use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::summary::{summarize, Summary};
 use crate::bayes::Posterior;
-use crate::calibration::{BeamPosterior, MeasuredData, SamplerSpec};
+use crate::calibration::{BeamPosterior, MeasuredData};
 use rand_distr::{Distribution, StandardNormal};
 
 /// Caller-side options that do not change the numbers.
@@ -60,6 +60,9 @@ pub enum SamplingError {
     /// The summaries are not finite numbers.
     #[error("the posterior summary is not finite for {name} (mean {mean}, sd {sd}): narrow its prior")]
     NonFinite { name: String, mean: f64, sd: f64 },
+    /// A sampler setting outside its range (bad input: exit 2).
+    #[error("{0}")]
+    Settings(#[from] crate::error::InputError),
 }
 
 /// Least pooled acceptance (all DR stages) below which a run is reported
@@ -96,19 +99,6 @@ impl CalibrationResult {
             log_posterior_map: self.log_posterior_map,
             warnings: &self.warnings,
         }
-    }
-}
-
-/// DRAM settings of a sampler section.
-pub fn dram_settings(s: &SamplerSpec) -> DramSettings {
-    DramSettings {
-        draws: s.draws_per_chain,
-        burn_in: s.burn_in,
-        nonadapt_n0: s.nonadaptive_draws,
-        adapt_start: s.adaptation_start,
-        cov_skip: s.covariance_skip,
-        dr_gammas: s.dr_shrink_factors.clone(),
-        ..DramSettings::default()
     }
 }
 
@@ -153,11 +143,11 @@ fn why_invalid(post: &BeamPosterior, seed: u64) -> String {
 pub fn calibrate_posterior(
     post: &dyn Posterior,
     c0_sd: &[f64],
-    sampler: &SamplerSpec,
+    sampler: &DramSettings,
     opts: &CalibrateOptions,
 ) -> Result<CalibrationResult, SamplingError> {
+    sampler.validate(post.dim())?;
     let names = post.names();
-    let settings = dram_settings(sampler);
     let optima = multi_start_optimum(post, c0_sd, sampler.multistart_points, sampler.chains.max(4), sampler.seed, 0);
     let Some(best) = optima.first().filter(|m| m.log_posterior.is_finite()).map(|m| m.theta.clone()) else {
         return Err(SamplingError::NoValidState { draws: sampler.multistart_points, detail: String::new() });
@@ -178,7 +168,7 @@ pub fn calibrate_posterior(
             pb.inc(n as u64);
         }
     };
-    let chains = run_chains(post, &settings, c0_sd, &starts, sampler.seed, Some(&tick));
+    let chains = run_chains(post, sampler, c0_sd, &starts, sampler.seed, Some(&tick));
     if let Some(pb) = &bar {
         pb.finish_and_clear();
     }

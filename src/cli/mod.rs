@@ -15,6 +15,7 @@ use clap::{Parser, Subcommand};
 
 use crate::bayes::BayesError;
 use crate::beam::{BeamError, BeamSpec};
+use crate::calibration::SamplingError;
 use crate::diagnose::DiagnoseError;
 use crate::error::InputError;
 use crate::report::ReportError;
@@ -81,6 +82,15 @@ impl From<DiagnoseError> for CliError {
         match e {
             DiagnoseError::Input(i) => CliError::Input(i),
             DiagnoseError::Evidence { source: BayesError::Config(i), .. } => CliError::Input(i),
+            other => CliError::Failure(other.to_string()),
+        }
+    }
+}
+
+impl From<SamplingError> for CliError {
+    fn from(e: SamplingError) -> Self {
+        match e {
+            SamplingError::Settings(i) => CliError::Input(i),
             other => CliError::Failure(other.to_string()),
         }
     }

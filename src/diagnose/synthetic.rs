@@ -19,7 +19,7 @@ use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::Posterior;
 use crate::beam::{BeamSpec, InternalVariable, PointMass, Support};
 use crate::calibration::measured::MeasuredFile;
-use crate::calibration::{MeasuredData, ModeObservation, ParameterSet, SamplerSpec};
+use crate::calibration::{DramSettings, MeasuredData, ModeObservation, ParameterSet};
 
 use super::{model_posterior, Model, ModelClass, NominalScales};
 use crate::bayes::map::map_estimate;
@@ -188,7 +188,7 @@ fn finish(
         modes,
         held_out_modes: vec![],
         parameters: None,
-        sampler: Some(SamplerSpec { seed, ..SamplerSpec::default() }),
+        sampler: Some(DramSettings { seed, ..DramSettings::default() }),
     };
     SyntheticCase { file, truth: effect, truth_beam: truth, base_fit_max_z: z }
 }

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use crate::beam::Support;
-use crate::calibration::{ParameterSet, SamplerSpec};
+use crate::calibration::{DramSettings, ParameterSet};
 use crate::error::{positive, InputError};
 
 /// A spec that failed to load: file + field.
@@ -136,8 +136,8 @@ pub struct CaseSpec {
     /// parameter the set does not calibrate, and of those it does before the
     /// multi-start (§4.2: Δ = 0.5, Ω = 1e12 rad/s).
     pub inverse_internal_variables: Vec<crate::beam::InternalVariable>,
-    pub sampler: SamplerSpec,
-    pub quick_sampler: SamplerSpec,
+    pub sampler: DramSettings,
+    pub quick_sampler: DramSettings,
 }
 
 /// Figure 14: FRF of the Case-3 reference vs the calibrated N = 1 model.
