@@ -202,58 +202,10 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
         // Proposal: β²Σ_w, Σ_w = D R D, Cholesky of R.
         let chol = proposal_factor(&samples, &wbar, &prior_sd);
 
-        // Multinomial resampling (one sequential stream per stage).
-        let mut rs = stream(seed, Purpose::TmcmcResample, [stage as u64, 0]);
-        let cdf: Vec<f64> = wbar
-            .iter()
-            .scan(0.0, |acc, x| {
-                *acc += x;
-                Some(*acc)
-            })
-            .collect();
-        let idx: Vec<usize> = (0..n)
-            .map(|_| {
-                let u: f64 = rs.gen::<f64>() * cdf[n - 1];
-                cdf.partition_point(|&c| c <= u).min(n - 1)
-            })
-            .collect();
-
-        // MH moves, in parallel, one stream per sample.
-        let moved: Vec<(Vec<f64>, f64, f64, usize)> = idx
-            .par_iter()
-            .enumerate()
-            .map(|(i, &k)| {
-                let mut rng = stream(seed, Purpose::TmcmcMove, [stage as u64, i as u64]);
-                let mut th = samples[k].clone();
-                let (mut lp, mut ll) = (logprior[k], loglik[k]);
-                let mut acc = 0usize;
-                let mut z = vec![0.0; d];
-                for _ in 0..steps {
-                    for zi in z.iter_mut() {
-                        *zi = rng.sample(StandardNormal);
-                    }
-                    let prop: Vec<f64> =
-                        (0..d).map(|a| th[a] + beta * (0..=a).map(|b| chol[a][b] * z[b]).sum::<f64>()).collect();
-                    let lp_new = posterior.log_prior(&prop);
-                    let u: f64 = rng.gen();
-                    if !lp_new.is_finite() {
-                        continue;
-                    }
-                    let ll_new = finite_or_neg_inf(posterior.log_likelihood(&prop));
-                    if ll_new == f64::NEG_INFINITY {
-                        continue;
-                    }
-                    let log_alpha = lp_new + p_next * ll_new - lp - p_next * ll;
-                    if u.ln() < log_alpha {
-                        th = prop;
-                        lp = lp_new;
-                        ll = ll_new;
-                        acc += 1;
-                    }
-                }
-                (th, lp, ll, acc)
-            })
-            .collect();
+        let idx = resample(seed, stage, &wbar);
+        let population = Population { samples: &samples, logprior: &logprior, loglik: &loglik };
+        let walk = Walk { chol: &chol, beta, p: p_next, steps, seed, stage };
+        let moved = mh_moves(posterior, &population, &idx, &walk);
         let accepted: usize = moved.iter().map(|m| m.3).sum();
         let rate = accepted as f64 / (n * steps) as f64;
         samples = Vec::with_capacity(n);
@@ -327,6 +279,84 @@ fn next_increment(loglik: &[f64], l_max: f64, max_dp: f64, target: f64) -> f64 {
     } else {
         hi
     }
+}
+
+/// Multinomial resampling of the stage's normalised weights `wbar` (one
+/// sequential stream per stage): the index of each new sample's parent.
+fn resample(seed: u64, stage: usize, wbar: &[f64]) -> Vec<usize> {
+    let n = wbar.len();
+    let mut rs = stream(seed, Purpose::TmcmcResample, [stage as u64, 0]);
+    let cdf: Vec<f64> = wbar
+        .iter()
+        .scan(0.0, |acc, x| {
+            *acc += x;
+            Some(*acc)
+        })
+        .collect();
+    (0..n)
+        .map(|_| {
+            let u: f64 = rs.gen::<f64>() * cdf[n - 1];
+            cdf.partition_point(|&c| c <= u).min(n - 1)
+        })
+        .collect()
+}
+
+/// The current population: samples with their log prior and log likelihood.
+struct Population<'a> {
+    samples: &'a [Vec<f64>],
+    logprior: &'a [f64],
+    loglik: &'a [f64],
+}
+
+/// One stage's random walk: proposal θ + β·L·z with L the Cholesky factor of
+/// the weighted covariance, target π(θ)·L(θ)^p, `steps` moves per sample.
+struct Walk<'a> {
+    chol: &'a [Vec<f64>],
+    beta: f64,
+    p: f64,
+    steps: usize,
+    seed: u64,
+    stage: usize,
+}
+
+/// Metropolis moves of every resampled parent `idx[i]`, in parallel, one
+/// stream per sample: (θ, log prior, log likelihood, accepted moves).
+fn mh_moves(posterior: &dyn Posterior, pop: &Population, idx: &[usize], w: &Walk) -> Vec<(Vec<f64>, f64, f64, usize)> {
+    let d = posterior.dim();
+    idx.par_iter()
+        .enumerate()
+        .map(|(i, &k)| {
+            let mut rng = stream(w.seed, Purpose::TmcmcMove, [w.stage as u64, i as u64]);
+            let mut th = pop.samples[k].clone();
+            let (mut lp, mut ll) = (pop.logprior[k], pop.loglik[k]);
+            let mut acc = 0usize;
+            let mut z = vec![0.0; d];
+            for _ in 0..w.steps {
+                for zi in z.iter_mut() {
+                    *zi = rng.sample(StandardNormal);
+                }
+                let prop: Vec<f64> =
+                    (0..d).map(|a| th[a] + w.beta * (0..=a).map(|b| w.chol[a][b] * z[b]).sum::<f64>()).collect();
+                let lp_new = posterior.log_prior(&prop);
+                let u: f64 = rng.gen();
+                if !lp_new.is_finite() {
+                    continue;
+                }
+                let ll_new = finite_or_neg_inf(posterior.log_likelihood(&prop));
+                if ll_new == f64::NEG_INFINITY {
+                    continue;
+                }
+                let log_alpha = lp_new + w.p * ll_new - lp - w.p * ll;
+                if u.ln() < log_alpha {
+                    th = prop;
+                    lp = lp_new;
+                    ll = ll_new;
+                    acc += 1;
+                }
+            }
+            (th, lp, ll, acc)
+        })
+        .collect()
 }
 
 /// Weighted mean and per-coordinate standard deviation (weights sum to 1).
