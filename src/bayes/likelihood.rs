@@ -1,6 +1,8 @@
 //! Gaussian likelihood with diagonal covariance, eqs. (26), (38), scaled by β²
 //! as in eq. (41): Σ̃ = β² Σεε.
 
+use statrs::distribution::{Continuous, Normal};
+
 /// log L = −½ Σ r_k²/(β² σ_k²) − Σ ln(β σ_k) − (n/2) ln 2π with r = y − A(θ).
 ///
 /// The normalising constant depends on β and is kept. A NaN prediction gives
@@ -8,15 +10,15 @@
 pub fn gaussian_log_likelihood(observed: &[f64], predicted: &[f64], sd: &[f64], beta: f64) -> f64 {
     debug_assert_eq!(observed.len(), predicted.len());
     debug_assert_eq!(observed.len(), sd.len());
-    let n = observed.len() as f64;
-    let mut quad = 0.0;
-    let mut log_sd = 0.0;
-    for ((&y, &p), &s) in observed.iter().zip(predicted).zip(sd) {
-        let z = (y - p) / s;
-        quad += z * z;
-        log_sd += s.ln();
-    }
-    -0.5 * quad / (beta * beta) - log_sd - n * beta.ln() - 0.5 * n * (2.0 * std::f64::consts::PI).ln()
+    observed
+        .iter()
+        .zip(predicted)
+        .zip(sd)
+        .map(|((&y, &p), &s)| match Normal::new(p, beta * s) {
+            Ok(n) => n.ln_pdf(y),
+            Err(_) => f64::NAN, // a NaN prediction (or sd): the sampler counts it as a rejection
+        })
+        .sum()
 }
 
 /// Standardised residuals (y − A(θ)) / σ.

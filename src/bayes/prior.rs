@@ -83,10 +83,10 @@ impl Prior {
         }
         match *self {
             Prior::Uniform { lower, upper } => -(upper - lower).ln(),
-            Prior::Normal { mean, sd } => {
-                let z = (x - mean) / sd;
-                -0.5 * z * z - sd.ln() - 0.5 * (2.0 * std::f64::consts::PI).ln()
-            }
+            Prior::Normal { mean, sd } => statrs::distribution::Continuous::ln_pdf(
+                &statrs::distribution::Normal::new(mean, sd).expect("validated sd > 0"),
+                x,
+            ),
             Prior::InverseGamma { shape, scale } => {
                 shape * scale.ln() - ln_gamma(shape) - (shape + 1.0) * x.ln() - scale / x
             }
