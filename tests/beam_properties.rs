@@ -10,21 +10,7 @@ use nanobeam::beam::{
 use proptest::prelude::*;
 
 fn swcnt(support: Support, elements: usize) -> BeamSpec {
-    BeamSpec {
-        length_nm: 8.0,
-        diameter_nm: 1.0,
-        youngs_modulus_pa: 1e12,
-        density_kg_m3: 2300.0,
-        support,
-        elements,
-        nonlocal_e0a_nm: 0.0,
-        viscous_damping_n_s_m2: 0.0,
-        internal_variables: vec![],
-        support_rotational_stiffness_n_m_rad: 0.0,
-        point_mass: None,
-        axial_force_n: 0.0,
-        shear_deformation: None,
-    }
+    BeamSpec::elastic(8.0, 1.0, 1e12, 2300.0, support, elements)
 }
 
 /// √(EI/ρA)/L² in rad/s.
