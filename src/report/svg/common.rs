@@ -233,6 +233,24 @@ macro_rules! with_chart {
 }
 pub(crate) use with_chart;
 
+/// The mesh builder of an (x, y) chart with the house axis style: axis
+/// descriptions from the two [`Axis`] labels, the house fonts and the tick
+/// formatter. The caller adds grid options and calls `draw()`. A macro for the
+/// same reason as [`with_chart`]: the chart's coordinate type varies.
+macro_rules! axes_mesh {
+    ($chart:ident, $x_axis:expr, $y_axis:expr) => {
+        $chart
+            .configure_mesh()
+            .x_desc(&$x_axis.label)
+            .y_desc(&$y_axis.label)
+            .axis_desc_style(($crate::report::svg::common::FONT, $crate::report::svg::common::DESC_SIZE))
+            .label_style(($crate::report::svg::common::FONT, $crate::report::svg::common::TICK_SIZE))
+            .x_label_formatter(&$crate::report::svg::common::tick_label)
+            .y_label_formatter(&$crate::report::svg::common::tick_label)
+    };
+}
+pub(crate) use axes_mesh;
+
 #[cfg(test)]
 mod tick_tests {
     use super::*;

@@ -1,7 +1,9 @@
 //! Heatmaps: a scalar field z(x, y) on a rectangular grid with a colour bar
 //! (e.g. normalized ω_r and ζ_r over an e0a × Ω grid, paper Figs 1–3).
 
-use super::common::{draw_err, drawable, tick_label, with_chart, Axis, Scale, DESC_SIZE, FONT, TICK_SIZE, TITLE_SIZE};
+use super::common::{
+    axes_mesh, draw_err, drawable, tick_label, with_chart, Axis, Scale, DESC_SIZE, FONT, TICK_SIZE, TITLE_SIZE,
+};
 use crate::report::error::{ReportError, Result};
 use plotters::prelude::*;
 
@@ -136,17 +138,7 @@ pub fn heatmap(spec: &Heatmap) -> Result<String> {
         let xr = (xe[0], xe[xe.len() - 1]);
         let yr = (ye[0], ye[ye.len() - 1]);
         with_chart!(builder, spec.x_axis.scale, xr, spec.y_axis.scale, yr, |chart| {
-            chart
-                .configure_mesh()
-                .disable_mesh()
-                .x_desc(&spec.x_axis.label)
-                .y_desc(&spec.y_axis.label)
-                .axis_desc_style((FONT, DESC_SIZE))
-                .label_style((FONT, TICK_SIZE))
-                .x_label_formatter(&tick_label)
-                .y_label_formatter(&tick_label)
-                .draw()
-                .map_err(draw_err)?;
+            axes_mesh!(chart, spec.x_axis, spec.y_axis).disable_mesh().draw().map_err(draw_err)?;
             let (xe, ye, colour) = (&xe, &ye, &colour);
             let cells = spec.z.iter().enumerate().flat_map(|(j, row)| {
                 row.iter()

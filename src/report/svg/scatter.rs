@@ -3,8 +3,8 @@
 //! with dashed reference lines.
 
 use super::common::{
-    axis_range, drawable, same_len, series_colour, tick_label, with_chart, Axis, RefLine, Series, DESC_SIZE, FONT,
-    TICK_SIZE, TITLE_SIZE,
+    axes_mesh, axis_range, drawable, same_len, series_colour, with_chart, Axis, RefLine, Series, FONT, TICK_SIZE,
+    TITLE_SIZE,
 };
 use crate::report::error::Result;
 use plotters::prelude::*;
@@ -52,17 +52,7 @@ pub fn scatter_plot(spec: &ScatterPlot) -> Result<String> {
         let mut builder = ChartBuilder::on(&root);
         builder.caption(&spec.title, (FONT, TITLE_SIZE)).margin(12).x_label_area_size(55).y_label_area_size(80);
         with_chart!(builder, xs, xr, ys, yr, |chart| {
-            chart
-                .configure_mesh()
-                .x_desc(&spec.x_axis.label)
-                .y_desc(&spec.y_axis.label)
-                .axis_desc_style((FONT, DESC_SIZE))
-                .label_style((FONT, TICK_SIZE))
-                .x_label_formatter(&tick_label)
-                .y_label_formatter(&tick_label)
-                .light_line_style(WHITE.mix(0.0))
-                .draw()
-                .map_err(draw_err)?;
+            axes_mesh!(chart, spec.x_axis, spec.y_axis).light_line_style(WHITE.mix(0.0)).draw().map_err(draw_err)?;
             for r in &spec.ref_lines {
                 let line = match *r {
                     RefLine::Horizontal(v) => vec![(xr.0, v), (xr.1, v)],
