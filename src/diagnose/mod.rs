@@ -382,7 +382,7 @@ fn misfits(problem: &Problem, run: &ModelRun) -> bool {
     let fitted = observables(&problem.data.modes);
     let draws = predictive(run, &fitted, problem.data.max_mode());
     let per_test = ppc::sidak_level(problem.settings.family_alpha, fitted.len());
-    ppc::check(&fitted, &draws, 0).iter().any(|p| p.check.ppp < per_test)
+    ppc::check_fitted(&fitted, &draws).iter().any(|c| c.ppp < per_test)
 }
 
 /// The checks and the verdict (module doc, step 3).
@@ -429,9 +429,8 @@ impl Decision {
         let z_base = run(&Model::BASE).tmcmc.log_evidence;
         let nf = self.fitted.len();
         let per_test = ppc::sidak_level(s.family_alpha, nf);
-        let misfit: Vec<Check> = ppc::check(&self.fitted, &self.draws_base, 0).iter().map(|p| p.check).collect();
-        let misfit_after: Vec<Check> =
-            ppc::check(&self.fitted, &self.draws_selected, 0).iter().map(|p| p.check).collect();
+        let misfit = ppc::check_fitted(&self.fitted, &self.draws_base);
+        let misfit_after = ppc::check_fitted(&self.fitted, &self.draws_selected);
         let flags = |c: &[Check]| c.iter().any(|c| c.ppp < per_test);
         let misfit_detected = flags(&misfit);
 

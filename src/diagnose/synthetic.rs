@@ -17,7 +17,7 @@ use rand_distr::{Distribution, StandardNormal};
 
 use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::Posterior;
-use crate::beam::{BeamSpec, InternalVariable, PointMass, Support};
+use crate::beam::{BeamSpec, InternalVariable, PointMass, ShearDeformation, Support};
 use crate::calibration::measured::MeasuredFile;
 use crate::calibration::{DramSettings, MeasuredData, ModeObservation, ParameterSet};
 
@@ -31,12 +31,66 @@ pub const MIN_SHIFT_SIGMA: f64 = 5.0;
 pub const OMEGA_REL_SD: f64 = 0.003;
 pub const ZETA_REL_SD: f64 = 0.03;
 
+/// An effect no candidate class models (the open-world part of the tests).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Foreign {
+    /// One end clamped, the other pinned, while the nominal beam is simply
+    /// supported: the support spring class acts on both ends alike, so an
+    /// asymmetric support is outside it (β_nL ≈ (n + ¼)π instead of nπ).
+    ClampedEnd,
+    /// A uniform adsorbate coating: mass per length ρA(1 + ε) with the
+    /// stiffness unchanged, so every frequency drops by the same factor
+    /// 1/√(1 + ε), which no class (all change modes unequally) reproduces.
+    Coating,
+}
+
+impl Foreign {
+    pub const ALL: [Foreign; 2] = [Foreign::ClampedEnd, Foreign::Coating];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Foreign::ClampedEnd => "clamped-end",
+            Foreign::Coating => "coating",
+        }
+    }
+}
+
+/// What a synthetic case hides: any number of catalogue causes and at most one foreign effect.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Hidden {
+    pub causes: Vec<ModelClass>,
+    pub foreign: Option<Foreign>,
+}
+
+impl Hidden {
+    pub fn clean() -> Self {
+        Self::default()
+    }
+
+    pub fn causes(causes: &[ModelClass]) -> Self {
+        Self { causes: causes.to_vec(), foreign: None }
+    }
+
+    pub fn foreign(f: Foreign) -> Self {
+        Self { causes: vec![], foreign: Some(f) }
+    }
+
+    /// `none`, the causes joined by `+`, or `foreign:<name>`.
+    pub fn label(&self) -> String {
+        match (self.foreign, self.causes.is_empty()) {
+            (Some(f), _) => format!("foreign:{}", f.name()),
+            (None, true) => "none".into(),
+            (None, false) => self.causes.iter().map(|c| c.name()).collect::<Vec<_>>().join("+"),
+        }
+    }
+}
+
 /// A generated case.
 #[derive(Debug, Clone)]
 pub struct SyntheticCase {
     pub file: MeasuredFile,
-    /// The hidden effect (`None`: clean truth).
-    pub truth: Option<ModelClass>,
+    /// The hidden effects.
+    pub hidden: Hidden,
     pub truth_beam: BeamSpec,
     /// max_j |y0_j − ŷ_j(θ̂_base)| / σ_j of the best base fit to the noise-free truth.
     pub base_fit_max_z: f64,
@@ -53,21 +107,72 @@ pub fn nominal_beam() -> BeamSpec {
     BeamSpec::elastic(8.0, 1.0, 1.0e12, 2300.0, Support::SimplySupported, 20)
 }
 
-/// Effect drawn by seed: clean with probability 1/5, else one of the four causes.
+/// Effect drawn by seed: clean with probability 1/7, else one of the six causes.
 pub fn draw_truth(seed: u64) -> Option<ModelClass> {
     let mut rng = stream(seed, Purpose::SyntheticEffect, [0, 0]);
-    let k = rng.gen_range(0..5);
-    (k < 4).then(|| ModelClass::CAUSES[k])
+    let k = rng.gen_range(0..=ModelClass::CAUSES.len());
+    ModelClass::CAUSES.get(k).copied()
 }
 
 fn log_uniform(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> f64 {
     rng.gen_range(lo.ln()..hi.ln()).exp()
 }
 
-/// Generates the case of `seed` with the given hidden effect (`None` = clean).
+/// Generates the case of `seed` with one hidden cause or none.
 pub fn generate(seed: u64, effect: Option<ModelClass>) -> SyntheticCase {
+    generate_hidden(seed, &Hidden { causes: effect.into_iter().collect(), foreign: None })
+}
+
+/// Starting magnitude and growth cap of each effect, in the relative units of [`with_effect`].
+fn magnitude_range(effect: Effect) -> (f64, f64) {
+    match effect {
+        Effect::Cause(ModelClass::ExtraRelaxation) => (0.03, 1.0),
+        Effect::Cause(ModelClass::ViscousDamping) => (0.002, 0.3),
+        Effect::Cause(ModelClass::SupportRotationalStiffness) => (0.02, 100.0),
+        Effect::Cause(ModelClass::AttachedMass) => (0.005, 1.0),
+        // |N|/|N_cr|: tension up to 2, compression up to 0.5 (the class's prior)
+        Effect::Cause(ModelClass::AxialForce) => (0.02, 2.0),
+        // 1/κ from κ = 1 down to the prior's 0.3
+        Effect::Cause(ModelClass::ShearDeformation) => (1.0, 1.0 / 0.3),
+        Effect::Foreign(Foreign::ClampedEnd) => (1.0, 1.0),
+        Effect::Foreign(Foreign::Coating) => (0.005, 0.5),
+    }
+}
+
+/// One effect to hide.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Effect {
+    Cause(ModelClass),
+    Foreign(Foreign),
+}
+
+/// Draws the shape of an effect (position, relaxation time, sign; 0 when it has none).
+fn draw_shape(effect: Effect, clean: &[Mode], length_nm: f64, rng: &mut ChaCha8Rng) -> f64 {
+    match effect {
+        Effect::Cause(ModelClass::ExtraRelaxation) => {
+            log_uniform(rng, clean[0].omega_rad_s, clean[clean.len() - 1].omega_rad_s)
+        }
+        Effect::Cause(ModelClass::AttachedMass) => rng.gen_range(0.1..0.9) * length_nm,
+        // tension twice as likely as compression
+        Effect::Cause(ModelClass::AxialForce) => {
+            if rng.gen_range(0..3) < 2 {
+                1.0
+            } else {
+                -1.0
+            }
+        }
+        _ => 0.0,
+    }
+}
+
+/// Generates the case of `seed` hiding `hidden`. Every effect alone is grown
+/// until the best base fit misses some observable by ≥ [`MIN_SHIFT_SIGMA`];
+/// the case then carries all of them at once.
+pub fn generate_hidden(seed: u64, hidden: &Hidden) -> SyntheticCase {
     let mut rng = stream(seed, Purpose::SyntheticCase, [0, 0]);
     let n_modes = rng.gen_range(4..=6);
+    let effects: Vec<Effect> =
+        hidden.causes.iter().map(|&c| Effect::Cause(c)).chain(hidden.foreign.map(Effect::Foreign)).collect();
     'truth: loop {
         let mut truth = nominal_beam();
         truth.nonlocal_e0a_nm = rng.gen_range(0.8..1.2);
@@ -75,54 +180,73 @@ pub fn generate(seed: u64, effect: Option<ModelClass>) -> SyntheticCase {
             vec![InternalVariable { delta: rng.gen_range(0.3..0.6), omega_rad_s: log_uniform(&mut rng, 1e11, 1e12) }];
         let Ok(clean) = predict(&truth, n_modes) else { continue };
         let scales = NominalScales::of(&truth, n_modes).expect("nominal beam computes");
-        if let Some(class) = effect {
-            // (shape, magnitude, growth cap)
-            let mut tries = 0;
-            loop {
-                tries += 1;
-                if tries > 6 {
-                    continue 'truth;
-                }
-                let (mut mag, cap) = match class {
-                    ModelClass::ExtraRelaxation => (0.03, 1.0),
-                    ModelClass::ViscousDamping => (0.002, 0.3),
-                    ModelClass::SupportRotationalStiffness => (0.02, 100.0),
-                    ModelClass::AttachedMass => (0.005, 1.0),
-                };
-                let shape = match class {
-                    ModelClass::ExtraRelaxation => {
-                        log_uniform(&mut rng, clean[0].omega_rad_s, clean[n_modes - 1].omega_rad_s)
-                    }
-                    ModelClass::AttachedMass => rng.gen_range(0.1..0.9) * truth.length_nm,
-                    _ => 0.0,
-                };
-                while mag <= cap {
-                    let b = with_effect(&truth, class, shape, mag, &scales);
-                    if let Ok(y0) = predict(&b, n_modes) {
-                        let z = base_fit_max_z(&y0, &truth, &scales, seed);
-                        if z >= MIN_SHIFT_SIGMA {
-                            return finish(seed, b, y0, Some(class), z, &mut rng);
-                        }
-                    }
-                    mag *= 1.5;
-                }
-            }
+        let mut combined = truth.clone();
+        for &effect in &effects {
+            let Some((shape, mag)) = visible_effect(seed, effect, &truth, &clean, &scales, &mut rng) else {
+                continue 'truth;
+            };
+            combined = with_effect(&combined, effect, shape, mag, &scales);
         }
-        let fit_z = base_fit_max_z(&clean, &truth, &scales, seed);
-        return finish(seed, truth, clean, None, fit_z, &mut rng);
+        let Ok(y0) = predict(&combined, n_modes) else { continue };
+        let z = base_fit_max_z(&y0, &truth, &scales, seed);
+        return finish(seed, combined, y0, hidden.clone(), z, &mut rng);
     }
 }
 
-/// The truth with the effect at `mag` (relative units of [`super::classes`]).
-fn with_effect(base: &BeamSpec, class: ModelClass, shape: f64, mag: f64, s: &NominalScales) -> BeamSpec {
+/// (shape, magnitude) of `effect` on `truth` that the base model cannot
+/// absorb, growing the magnitude ×1.5 up to its cap and redrawing the shape
+/// (at most 6 times) when the cap is reached; `None` gives up on this truth.
+fn visible_effect(
+    seed: u64,
+    effect: Effect,
+    truth: &BeamSpec,
+    clean: &[Mode],
+    scales: &NominalScales,
+    rng: &mut ChaCha8Rng,
+) -> Option<(f64, f64)> {
+    for _ in 0..6 {
+        let (mut mag, cap) = magnitude_range(effect);
+        let shape = draw_shape(effect, clean, truth.length_nm, rng);
+        // compression is capped at half the buckling load (the class prior)
+        let cap = if shape < 0.0 { cap.min(0.5) } else { cap };
+        while mag <= cap * (1.0 + 1e-12) {
+            let b = with_effect(truth, effect, shape, mag, scales);
+            if let Ok(y0) = predict(&b, clean.len()) {
+                if base_fit_max_z(&y0, truth, scales, seed) >= MIN_SHIFT_SIGMA {
+                    return Some((shape, mag));
+                }
+            }
+            mag *= 1.5;
+        }
+    }
+    None
+}
+
+/// The beam with `effect` at `mag` (relative units of [`super::classes`]).
+fn with_effect(base: &BeamSpec, effect: Effect, shape: f64, mag: f64, s: &NominalScales) -> BeamSpec {
     let mut b = base.clone();
-    match class {
-        ModelClass::ExtraRelaxation => b.internal_variables.push(InternalVariable { delta: mag, omega_rad_s: shape }),
-        ModelClass::ViscousDamping => b.viscous_damping_n_s_m2 = 2.0 * s.rho_a_kg_m * s.omega_1_rad_s * mag,
-        ModelClass::SupportRotationalStiffness => b.support_rotational_stiffness_n_m_rad = mag * s.ei_n_m2 / s.length_m,
-        ModelClass::AttachedMass => {
+    match effect {
+        Effect::Cause(ModelClass::ExtraRelaxation) => {
+            b.internal_variables.push(InternalVariable { delta: mag, omega_rad_s: shape })
+        }
+        Effect::Cause(ModelClass::ViscousDamping) => {
+            b.viscous_damping_n_s_m2 = 2.0 * s.rho_a_kg_m * s.omega_1_rad_s * mag
+        }
+        Effect::Cause(ModelClass::SupportRotationalStiffness) => {
+            b.support_rotational_stiffness_n_m_rad = mag * s.ei_n_m2 / s.length_m
+        }
+        Effect::Cause(ModelClass::AttachedMass) => {
             b.point_mass = Some(PointMass { mass_kg: mag * s.rho_a_kg_m * s.length_m, x_nm: shape })
         }
+        Effect::Cause(ModelClass::AxialForce) => b.axial_force_n = shape * mag * s.buckling_load_n,
+        Effect::Cause(ModelClass::ShearDeformation) => {
+            b.shear_deformation = Some(ShearDeformation {
+                poisson_ratio: crate::calibration::parameters::DEFAULT_POISSON_RATIO,
+                shear_coefficient: 1.0 / mag,
+            })
+        }
+        Effect::Foreign(Foreign::ClampedEnd) => b.support = Support::ClampedPinned,
+        Effect::Foreign(Foreign::Coating) => b.density_kg_m3 *= 1.0 + mag,
     }
     b
 }
@@ -172,7 +296,7 @@ fn finish(
     seed: u64,
     truth: BeamSpec,
     y0: Vec<Mode>,
-    effect: Option<ModelClass>,
+    hidden: Hidden,
     z: f64,
     rng: &mut ChaCha8Rng,
 ) -> SyntheticCase {
@@ -190,5 +314,5 @@ fn finish(
         parameters: None,
         sampler: Some(DramSettings { seed, ..DramSettings::default() }),
     };
-    SyntheticCase { file, truth: effect, truth_beam: truth, base_fit_max_z: z }
+    SyntheticCase { file, hidden, truth_beam: truth, base_fit_max_z: z }
 }
