@@ -30,6 +30,13 @@ pub const REAL_TOL: f64 = 1e-7;
 
 /// Roots of the family polynomial, conjugate pairs exact, reals exactly real.
 pub fn family_roots(a: f64, b: f64, c: f64, ivs: &[(f64, f64)]) -> Result<Roots, BeamError> {
+    let mut roots = Roots::default();
+    family_roots_into(a, b, c, ivs, &mut roots)?;
+    Ok(roots)
+}
+
+/// [`family_roots`] into `roots` (no copy of the root buffer: the hot path).
+pub fn family_roots_into(a: f64, b: f64, c: f64, ivs: &[(f64, f64)], roots: &mut Roots) -> Result<(), BeamError> {
     let w = (a + b).sqrt();
     if !(w.is_finite() && w > 0.0) {
         return Err(BeamError::numerical("non-positive family stiffness"));
@@ -45,18 +52,15 @@ pub fn family_roots(a: f64, b: f64, c: f64, ivs: &[(f64, f64)]) -> Result<Roots,
         *slot = (d, om / w);
     }
     let ivh = &ivh[..nv];
-    let mut roots = if nv == 0 {
-        quadratic(ch)
-    } else {
-        match newton_family(ch, bh, ivh) {
-            Some(r) => r,
-            None => Roots::from_slice(&aberth(ch, bh, ivh)?),
-        }
-    };
+    if nv == 0 {
+        *roots = quadratic(ch);
+    } else if !newton_family(ch, bh, ivh, roots) {
+        *roots = Roots::from_slice(&aberth(ch, bh, ivh)?);
+    }
     for r in roots.buf[..roots.len].iter_mut() {
         *r *= w;
     }
-    Ok(roots)
+    Ok(())
 }
 
 /// The N + 2 roots of one family, on the stack (no allocation per call).
@@ -69,10 +73,13 @@ pub struct Roots {
 /// 16 internal variables + the oscillatory pair.
 const MAX_ROOTS: usize = 18;
 
-impl Roots {
-    fn new() -> Self {
+impl Default for Roots {
+    fn default() -> Self {
         Roots { buf: [Complex64::new(0.0, 0.0); MAX_ROOTS], len: 0 }
     }
+}
+
+impl Roots {
 
     fn push(&mut self, s: Complex64) {
         self.buf[self.len] = s;
@@ -80,7 +87,7 @@ impl Roots {
     }
 
     fn from_slice(z: &[Complex64]) -> Self {
-        let mut r = Self::new();
+        let mut r = Self::default();
         z.iter().for_each(|&s| r.push(s));
         r
     }
@@ -105,39 +112,57 @@ impl std::ops::Deref for Roots {
 /// from the product of the roots, |ŝ|²·r = −Ω̂ (p(0) = Ω̂, no cancellation).
 /// A near-critical pair (|Im ŝ| ≤ REAL_TOL·|ŝ|), equal Ω̂ᵢ or a stalled Newton
 /// returns `None`: Aberth's simultaneous iteration handles those.
-fn newton_family(c: f64, b: f64, ivs: &[(f64, f64)]) -> Option<Roots> {
+fn newton_family(c: f64, b: f64, ivs: &[(f64, f64)], roots: &mut Roots) -> bool {
     let mut sorted = [(0.0, 0.0); 16];
     let sorted = &mut sorted[..ivs.len()];
     sorted.copy_from_slice(ivs);
-    sorted.sort_unstable_by(|x, y| x.1.total_cmp(&y.1));
+    if sorted.len() > 1 {
+        sorted.sort_unstable_by(|x, y| x.1.total_cmp(&y.1));
+    }
     // equal Ω̂ (within 1e-9): an empty bracket, the counting argument fails
     if sorted.windows(2).any(|w| w[1].1 <= w[0].1 * (1.0 + 1e-9)) {
-        return None;
+        return false;
     }
-    let pair = newton_pair(c, b, sorted)?;
-    let mut roots = Roots::new();
+    let Some(pair) = newton_pair(c, b, sorted) else { return false };
+    roots.len = 0;
     if sorted.len() == 1 {
         roots.push(Complex64::new(-sorted[0].1 / pair.norm_sqr(), 0.0));
     } else {
         for i in 0..sorted.len() {
             let right = if i == 0 { 0.0 } else { -sorted[i - 1].1 };
-            roots.push(Complex64::new(bracketed_real_root(c, b, sorted, i, right)?, 0.0));
+            let Some(x) = bracketed_real_root(c, b, sorted, i, right) else { return false };
+            roots.push(Complex64::new(x, 0.0));
         }
     }
     roots.push(pair);
     roots.push(pair.conj());
-    Some(roots)
+    true
+}
+
+/// √z with Im ≥ 0 (a start value only; num-complex goes through atan2 and
+/// sincos, 3× the cost): the stable half-angle formulas.
+fn sqrt_upper(z: Complex64) -> Complex64 {
+    let r = z.norm_sqr().sqrt();
+    let (re, im) = if z.re >= 0.0 {
+        let t = (0.5 * (r + z.re)).sqrt();
+        (t, if t > 0.0 { 0.5 * z.im / t } else { 0.0 })
+    } else {
+        let t = (0.5 * (r - z.re)).sqrt();
+        (0.5 * z.im.abs() / t, t.copysign(z.im))
+    };
+    if im < 0.0 {
+        Complex64::new(-re, -im)
+    } else {
+        Complex64::new(re, im)
+    }
 }
 
 /// Newton on f for the non-real root (Im > 0), or `None` (see [`newton_family`]).
 fn newton_pair(c: f64, b: f64, ivs: &[(f64, f64)]) -> Option<Complex64> {
     let i = Complex64::new(0.0, 1.0);
     let q = 1.0 + ivs.iter().fold(Complex64::new(0.0, 0.0), |acc, &(d, om)| acc + b * d * i / (i + om));
-    let mut w = (0.25 * c * c - q).sqrt();
-    if w.im < 0.0 {
-        w = -w;
-    }
-    let mut s = -0.5 * c + w;
+    let mut s = -0.5 * c + sqrt_upper(0.25 * c * c - q);
+    let mut prev = f64::INFINITY;
     for _ in 0..60 {
         let mut f = s * s + c * s + 1.0;
         let mut df = 2.0 * s + c;
@@ -151,10 +176,14 @@ fn newton_pair(c: f64, b: f64, ivs: &[(f64, f64)]) -> Option<Complex64> {
             return None;
         }
         s -= step;
-        // quadratic convergence: a step at round-off level (4 eps) ends it
-        if step.norm_sqr() <= 16.0 * f64::EPSILON * f64::EPSILON * s.norm_sqr() {
-            return (s.im.abs() > REAL_TOL * s.norm()).then(|| Complex64::new(s.re, s.im.abs()));
+        // quadratic convergence: a step at round-off level (4 eps) ends it; so
+        // does a tiny step (≤ 1e-10·|ŝ|) that no longer halves: the noise floor
+        // of f (same argument as in `bracketed_real_root`)
+        let (moved, size) = (step.norm_sqr(), s.norm_sqr());
+        if moved <= 16.0 * f64::EPSILON * f64::EPSILON * size || (moved <= 1e-20 * size && moved > 0.25 * prev) {
+            return (s.im * s.im > REAL_TOL * REAL_TOL * size).then(|| Complex64::new(s.re, s.im.abs()));
         }
+        prev = moved;
     }
     None
 }
@@ -177,6 +206,7 @@ fn bracketed_real_root(c: f64, b: f64, ivs: &[(f64, f64)], i: usize, right: f64)
     };
     let (mut lo, mut hi) = (-oi, right);
     let mut x = lo;
+    let mut prev_step = f64::INFINITY;
     for _ in 0..200 {
         let (hx, dhx) = h(x);
         if hx == 0.0 {
@@ -187,11 +217,24 @@ fn bracketed_real_root(c: f64, b: f64, ivs: &[(f64, f64)], i: usize, right: f64)
         } else {
             hi = x;
         }
-        let newton = x - hx / dhx;
-        let next = if newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
-        let moved = (next - x).abs();
-        x = next;
-        if moved <= 4.0 * f64::EPSILON * x.abs() || hi - lo <= 4.0 * f64::EPSILON * x.abs() {
+        let step = hx / dhx;
+        // quadratic convergence: a Newton step at round-off level (4 eps) ends
+        // it; so does a tiny one (≤ 1e-10·|x|: the quadratic phase had started)
+        // that no longer halves: h is a difference of terms ~|x + Ω̂ᵢ|·|rest| and
+        // b̂Δᵢ|x|, known only to ~eps of those, and the step moves within that noise
+        let tiny = step.abs() <= 1e-10 * x.abs() && step.abs() > 0.5 * prev_step;
+        if step.abs() <= 4.0 * f64::EPSILON * x.abs() || tiny {
+            return Some(x - step);
+        }
+        let newton = x - step;
+        x = if newton > lo && newton < hi {
+            prev_step = step.abs();
+            newton
+        } else {
+            prev_step = f64::INFINITY;
+            0.5 * (lo + hi)
+        };
+        if hi - lo <= 4.0 * f64::EPSILON * x.abs() {
             return Some(x);
         }
     }
@@ -416,10 +459,11 @@ mod tests {
                             let ivs: Vec<(f64, f64)> =
                                 (0..n).map(|i| (d / (1 + i) as f64, om * 7f64.powi(i as i32))).collect();
                             let reference = aberth(c, bh, &ivs).unwrap();
-                            let Some(fast) = newton_family(c, bh, &ivs) else {
+                            let mut fast = Roots::default();
+                            if !newton_family(c, bh, &ivs, &mut fast) {
                                 declined += 1;
                                 continue;
-                            };
+                            }
                             used += 1;
                             assert_eq!(fast.len(), reference.len());
                             for s in reference.iter() {

@@ -41,7 +41,7 @@ use serde::{Deserialize, Serialize};
 use crate::beam::band::{ldl_factor_for_inverse_iteration, ldl_solve, BandLu, ShiftedLdl, SymBand};
 use crate::beam::dual::Dual;
 use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
-use crate::beam::family::{family_roots, Roots, REAL_TOL};
+use crate::beam::family::{family_roots, family_roots_into, Roots, REAL_TOL};
 use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
 use crate::beam::spectrum::SpectrumTable;
 use crate::beam::spec::BeamSpec;
@@ -363,9 +363,9 @@ impl ModalSolver {
             ivs[nv] = (iv.delta, iv.omega_rad_s / sc.omega_ref);
             nv += 1;
         }
-        self.roots.clear();
-        for &lambda in &self.lambdas {
-            self.roots.push(family_roots(0.0, lambda, sc.c, &ivs[..nv]).ok()?);
+        self.roots.resize(n_modes, Roots::default());
+        for (&lambda, roots) in self.lambdas.iter().zip(self.roots.iter_mut()) {
+            family_roots_into(0.0, lambda, sc.c, &ivs[..nv], roots).ok()?;
         }
         Some(assemble(&self.roots, n_modes, sc.omega_ref))
     }
@@ -424,8 +424,10 @@ fn assemble<F: std::ops::Deref<Target = [Complex64]>>(families: &[F], n_modes: u
         let pair = fam.iter().copied().filter(|s| s.im > 0.0).max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()));
         match pair {
             Some(s) => {
-                let s = s * omega_ref;
-                modes.push(Mode { mode: j + 1, omega_rad_s: s.norm(), zeta: -s.re / s.norm(), pole: s });
+                // |s̃| in scaled units (O(1)..O(1e6): no overflow in the square,
+                // so no hypot), then to rad/s
+                let r = s.norm_sqr().sqrt();
+                modes.push(Mode { mode: j + 1, omega_rad_s: r * omega_ref, zeta: -s.re / r, pole: s * omega_ref });
             }
             None => {
                 let mut poles: Vec<f64> = fam.iter().filter(|s| s.im == 0.0).map(|s| s.re * omega_ref).collect();
