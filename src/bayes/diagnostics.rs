@@ -61,6 +61,26 @@ pub fn rhat(chains: &[Vec<f64>]) -> f64 {
     bulk.max(tail)
 }
 
+/// (rank R̂, bulk ESS, tail ESS) together, bit-identical to [`rhat`],
+/// [`ess_bulk`], [`ess_tail`] called one by one: with an even number of draws
+/// per chain, splitting keeps every draw, so the rank normalisation of the
+/// split chains is the split of the rank normalisation (ranks depend on the
+/// pooled values only) and is computed once for both (`calibrate` summarises
+/// every parameter: one sort of all draws fewer each).
+pub fn convergence(chains: &[Vec<f64>]) -> (f64, f64, f64) {
+    let n = match valid_draws_per_chain(chains) {
+        Some(n) if n >= 4 && n % 2 == 0 => n,
+        _ => return (rhat(chains), ess_bulk(chains), ess_tail(chains)),
+    };
+    debug_assert!(n % 2 == 0);
+    let ranked_split = split_chains(&rank_normalize(chains));
+    let bulk = classic_rhat(&ranked_split);
+    let med = median(&pooled(chains));
+    let folded: Vec<Vec<f64>> = chains.iter().map(|c| c.iter().map(|x| (x - med).abs()).collect()).collect();
+    let tail = classic_rhat(&rank_normalize(&split_chains(&folded)));
+    (bulk.max(tail), ess(&ranked_split), ess_tail(chains))
+}
+
 /// Bulk effective sample size: ESS of the rank-normalised split chains.
 pub fn ess_bulk(chains: &[Vec<f64>]) -> f64 {
     let Some(n) = valid_draws_per_chain(chains) else {
@@ -418,6 +438,21 @@ pub(crate) fn variance_ddof1(x: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The shared computation gives the bits of the three separate ones (even
+    /// and odd chain lengths, ties from repeated states included).
+    #[test]
+    fn convergence_equals_the_separate_diagnostics() {
+        for n in [4usize, 9, 50, 51] {
+            let chains: Vec<Vec<f64>> = (0..4)
+                .map(|c| (0..n).map(|i| (((i / 3) * 7919 + c * 104_729) % 97) as f64 * 0.01 + c as f64 * 0.1).collect())
+                .collect();
+            let (r, b, t) = convergence(&chains);
+            assert_eq!(r.to_bits(), rhat(&chains).to_bits(), "n = {n}");
+            assert_eq!(b.to_bits(), ess_bulk(&chains).to_bits(), "n = {n}");
+            assert_eq!(t.to_bits(), ess_tail(&chains).to_bits(), "n = {n}");
+        }
+    }
 
     /// Selection gives the bits of the sorted type-7 quantile, ties and ends included.
     #[test]

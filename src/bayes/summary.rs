@@ -13,7 +13,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::diagnostics::{ess_bulk, ess_tail, quantile_select, quantile_sorted, rhat};
+use super::diagnostics::{convergence, quantile_select, quantile_sorted};
 
 /// Summary of one scalar parameter. Parameters are in their own units (the
 /// name carries the unit); `cov` is dimensionless.
@@ -97,6 +97,7 @@ pub fn summarize(names: &[String], chains: &[Vec<Vec<f64>>]) -> Summary {
             let mut draws = pooled[i].clone();
             let ci95 = [quantile_select(&mut draws, 0.025), quantile_select(&mut draws, 0.975)];
             let sd = cov[i][i].sqrt();
+            let (rhat, ess_bulk, ess_tail) = convergence(&per_param[i]);
             ParameterSummary {
                 name: names[i].clone(),
                 mean: means[i],
@@ -104,9 +105,9 @@ pub fn summarize(names: &[String], chains: &[Vec<Vec<f64>>]) -> Summary {
                 cv: sd / means[i].abs(),
                 ci95,
                 map: None,
-                rhat: rhat(&per_param[i]),
-                ess_bulk: ess_bulk(&per_param[i]),
-                ess_tail: ess_tail(&per_param[i]),
+                rhat,
+                ess_bulk,
+                ess_tail,
             }
         })
         .collect();
