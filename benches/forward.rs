@@ -69,7 +69,8 @@ fn bench(c: &mut Criterion) {
         };
         // the chain path: interpolated eigenvalues (issue 15) for 3 and 6
         // modes, and the direct eigen-solve (RQI from the grid pencil) before it
-        for (label, modes, direct) in [("fast_chain", 3, false), ("fast_chain_6modes", 6, false), ("direct_chain", 3, true)]
+        for (label, modes, direct) in
+            [("fast_chain", 3, false), ("fast_chain_6modes", 6, false), ("direct_chain", 3, true)]
         {
             let mut solver = if direct { ModalSolver::direct_only() } else { ModalSolver::new() };
             solver.modal(&walk, modes).unwrap();

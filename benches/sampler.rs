@@ -56,7 +56,8 @@ fn bench_dram(c: &mut Criterion) {
 
 fn bench_beam(c: &mut Criterion) {
     use nanobeam::calibration::{BeamPosterior, MeasuredData};
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/benches/pymcmcstat/measured.yaml")).unwrap();
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/benches/pymcmcstat/measured.yaml")).unwrap();
     let data = MeasuredData::from_yaml(&text).unwrap();
     let post = BeamPosterior::new(&data, data.parameters.clone());
     let theta = [1.05, 0.45, 3.0e11];

@@ -31,7 +31,10 @@ fn every_piece_of_the_valid_range_is_certified() {
                 worst = worst.max(c.bound());
             }
             assert!(certs.last().unwrap().unwrap().t_hi >= MAX_E_TILDE * MAX_E_TILDE);
-            println!("{elements:>3} {support:?}: {} interpolants, degrees {degrees:?}, worst bound {worst:.2e}", certs.len());
+            println!(
+                "{elements:>3} {support:?}: {} interpolants, degrees {degrees:?}, worst bound {worst:.2e}",
+                certs.len()
+            );
         }
     }
 }

@@ -378,15 +378,16 @@ impl RunningCovariance {
     fn push(&mut self, x: &[f64]) {
         self.n += 1;
         let n = self.n as f64;
-        for i in 0..self.d {
-            self.delta[i] = x[i] - self.mean[i];
-            self.mean[i] += self.delta[i] / n;
+        for ((delta, mean), xi) in self.delta.iter_mut().zip(self.mean.iter_mut()).zip(x) {
+            *delta = xi - *mean;
+            *mean += *delta / n;
         }
-        for i in 0..self.d {
-            let delta2 = x[i] - self.mean[i];
-            for j in 0..self.d {
+        let d = self.d;
+        for (i, (xi, mean)) in x.iter().zip(&self.mean).enumerate() {
+            let delta2 = xi - mean;
+            for (j, delta) in self.delta.iter().enumerate() {
                 // scatter += δ δ₂ᵀ, entry (j, i) += δ_j δ₂_i
-                self.scatter[j * self.d + i] += self.delta[j] * delta2;
+                self.scatter[j * d + i] += delta * delta2;
             }
         }
     }

@@ -80,7 +80,6 @@ impl Default for Roots {
 }
 
 impl Roots {
-
     fn push(&mut self, s: Complex64) {
         self.buf[self.len] = s;
         self.len += 1;
@@ -474,7 +473,7 @@ mod tests {
                     for om in [1e-3, 0.2, 1.0, 3.0, 1e4] {
                         for d in [0.01, 0.45, 5.0] {
                             let ivs: Vec<(f64, f64)> =
-                                (0..n).map(|i| (d / (1 + i) as f64, om * 7f64.powi(i as i32))).collect();
+                                (0..n).map(|i| (d / (1 + i) as f64, om * 7f64.powi(i))).collect();
                             let reference = aberth(c, bh, &ivs).unwrap();
                             let mut fast = Roots::default();
                             if !newton_family(c, bh, &ivs, &mut fast) {

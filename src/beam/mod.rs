@@ -26,9 +26,9 @@ pub use error::BeamError;
 pub use frf::{frf, frf_each, max_frequency_rad_s, MAX_OMEGA_TILDE};
 pub use modal::{modal, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode, SolverPath};
 pub use model::buckling_load_n;
-pub use spectrum::{
-    certificates as spectrum_certificates, direct_eigenvalues, interpolated_eigenvalues, Certificate as SpectrumCertificate,
-    CERTIFIED_TOL,
-};
 pub use spec::{BeamSpec, InternalVariable, PointMass, ShearDeformation, Support};
+pub use spectrum::{
+    certificates as spectrum_certificates, direct_eigenvalues, interpolated_eigenvalues,
+    Certificate as SpectrumCertificate, CERTIFIED_TOL,
+};
 pub use time_response::impulse_response;

@@ -43,8 +43,8 @@ use crate::beam::dual::Dual;
 use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
 use crate::beam::family::{family_roots, family_roots_into, Roots, REAL_TOL};
 use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
-use crate::beam::spectrum::SpectrumTable;
 use crate::beam::spec::BeamSpec;
+use crate::beam::spectrum::SpectrumTable;
 use crate::beam::{state_space, BeamError};
 use crate::error::InputError;
 
@@ -436,8 +436,13 @@ fn assemble<F: std::ops::Deref<Target = [Complex64]>>(families: &[F], n_modes: u
             }
         }
     }
-    let mut real: Vec<f64> =
-        families.iter().take(n_modes).flat_map(|f| f.iter()).filter(|s| s.im == 0.0).map(|s| s.re * omega_ref).collect();
+    let mut real: Vec<f64> = families
+        .iter()
+        .take(n_modes)
+        .flat_map(|f| f.iter())
+        .filter(|s| s.im == 0.0)
+        .map(|s| s.re * omega_ref)
+        .collect();
     real.sort_by(|a, b| a.abs().total_cmp(&b.abs()));
     ModalResult { modes, real_poles_rad_s: real, overdamped }
 }

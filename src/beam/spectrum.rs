@@ -205,11 +205,7 @@ impl Nodes<'_> {
 
 /// Builds and certifies the interpolants of modes `modes` on piece `piece`
 /// (see the module doc); `None` for a (mode, piece) that cannot be certified.
-pub fn build_piece(
-    mesh: &UnitMesh,
-    piece: usize,
-    modes: std::ops::RangeInclusive<usize>,
-) -> Vec<Option<Chebyshev>> {
+pub fn build_piece(mesh: &UnitMesh, piece: usize, modes: std::ops::RangeInclusive<usize>) -> Vec<Option<Chebyshev>> {
     let (lo, hi) = piece_range(piece);
     let count = *modes.end();
     let mut nodes = Nodes { mesh, lo, hi, count, values: vec![None; FINEST + 1], failed: false };
