@@ -1,8 +1,11 @@
 //! Per-step overhead of DRAM (2 stages, the paper's §4.2 structure) on a
 //! trivial 3-D Gaussian target, so the number is the sampler's own cost
 //! (proposal, acceptance, recursive covariance update, Cholesky refresh).
-//! ns/step = 1e9 / throughput. Budget: 4 chains × 20 000 draws with a
-//! ~5 µs model must fit in 5 s on 2 cores, so this must stay ≪ 1 µs/step.
+//! ns/step = 1e9 / throughput. Issue 15: the per-draw budget of a whole
+//! `nanobeam calibrate` is ~1–2 µs, so this must stay a few hundred ns.
+//! `beam_posterior` is one log-posterior evaluation of the comparison's
+//! calibration (`benches/pymcmcstat/measured.yaml`: N = 1, modes 1–3, θ moving
+//! by proposal-sized steps) and `beam_chain` a whole DRAM chain on it (per draw).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use nanobeam::bayes::chains::chain_rng;
@@ -51,5 +54,32 @@ fn bench_dram(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_dram);
+fn bench_beam(c: &mut Criterion) {
+    use nanobeam::calibration::{BeamPosterior, MeasuredData};
+    let text =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/benches/pymcmcstat/measured.yaml")).unwrap();
+    let data = MeasuredData::from_yaml(&text).unwrap();
+    let post = BeamPosterior::new(&data, data.parameters.clone());
+    let theta = [1.05, 0.45, 3.0e11];
+    let mut k = 0u64;
+    c.bench_function("beam_posterior", |b| {
+        b.iter(|| {
+            k += 1;
+            let u = (k % 17) as f64 / 17.0 - 0.5;
+            post.log_posterior(&[theta[0] + 0.01 * u, theta[1] - 0.01 * u, theta[2] * (1.0 + 0.02 * u)])
+        })
+    });
+    let steps = 20_000;
+    let mut group = c.benchmark_group("beam_chain");
+    group.throughput(Throughput::Elements(steps as u64 - 1));
+    group.sample_size(10);
+    let settings = DramSettings { draws_per_chain: steps, ..DramSettings::default() };
+    let c0: Vec<f64> = data.parameters.params.iter().map(|p| p.proposal_sd).collect();
+    group.bench_function("paper_settings", |b| {
+        b.iter(|| run_chain(&post, &settings, &c0, &theta, &mut chain_rng(1, 0), None))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_dram, bench_beam);
 criterion_main!(benches);

@@ -61,6 +61,26 @@ pub fn rhat(chains: &[Vec<f64>]) -> f64 {
     bulk.max(tail)
 }
 
+/// (rank R̂, bulk ESS, tail ESS) together, bit-identical to [`rhat`],
+/// [`ess_bulk`], [`ess_tail`] called one by one: with an even number of draws
+/// per chain, splitting keeps every draw, so the rank normalisation of the
+/// split chains is the split of the rank normalisation (ranks depend on the
+/// pooled values only) and is computed once for both (`calibrate` summarises
+/// every parameter: one sort of all draws fewer each).
+pub fn convergence(chains: &[Vec<f64>]) -> (f64, f64, f64) {
+    let n = match valid_draws_per_chain(chains) {
+        Some(n) if n >= 4 && n % 2 == 0 => n,
+        _ => return (rhat(chains), ess_bulk(chains), ess_tail(chains)),
+    };
+    debug_assert!(n % 2 == 0);
+    let ranked_split = split_chains(&rank_normalize(chains));
+    let bulk = classic_rhat(&ranked_split);
+    let med = median(&pooled(chains));
+    let folded: Vec<Vec<f64>> = chains.iter().map(|c| c.iter().map(|x| (x - med).abs()).collect()).collect();
+    let tail = classic_rhat(&rank_normalize(&split_chains(&folded)));
+    (bulk.max(tail), ess(&ranked_split), ess_tail(chains))
+}
+
 /// Bulk effective sample size: ESS of the rank-normalised split chains.
 pub fn ess_bulk(chains: &[Vec<f64>]) -> f64 {
     let Some(n) = valid_draws_per_chain(chains) else {
@@ -82,11 +102,10 @@ pub fn ess_tail(chains: &[Vec<f64>]) -> f64 {
         return f64::NAN;
     }
     let mut all = pooled(chains);
-    all.sort_by(f64::total_cmp);
     [0.05, 0.95]
         .iter()
         .map(|&p| {
-            let q = quantile_sorted(&all, p);
+            let q = quantile_select(&mut all, p);
             let ind: Vec<Vec<f64>> =
                 chains.iter().map(|c| c.iter().map(|&x| if x <= q { 1.0 } else { 0.0 }).collect()).collect();
             ess(&split_chains(&ind))
@@ -324,38 +343,50 @@ pub fn quantile_sorted(sorted: &[f64], p: f64) -> f64 {
 pub fn rank_normalize(chains: &[Vec<f64>]) -> Vec<Vec<f64>> {
     let flat = pooled(chains);
     let s = flat.len();
-    let mut idx: Vec<usize> = (0..s).collect();
-    idx.sort_by(|&a, &b| flat[a].total_cmp(&flat[b]));
-    let mut rank = vec![0.0; s];
+    // (value, position) pairs sorted in place: one cache-friendly unstable sort
+    // (ties get their average rank below, so their order among themselves is
+    // irrelevant); Φ⁻¹ once per tie group (a chain repeats its state at every
+    // rejection, so there are several times fewer groups than draws).
+    let mut order: Vec<(f64, usize)> = flat.iter().copied().zip(0..s).collect();
+    order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    let normal = Normal::new(0.0, 1.0).expect("standard normal");
+    let denom = s as f64 + 0.25;
+    let mut z = vec![0.0; s];
     let mut i = 0;
     while i < s {
         let mut j = i;
-        while j + 1 < s && flat[idx[j + 1]] == flat[idx[i]] {
+        while j + 1 < s && order[j + 1].0 == order[i].0 {
             j += 1;
         }
         // Positions i..=j (0-based) share the average 1-based rank.
         let r = (i + j) as f64 / 2.0 + 1.0;
-        for &k in &idx[i..=j] {
-            rank[k] = r;
+        let zr = normal.inverse_cdf((r - 0.375) / denom);
+        for &(_, k) in &order[i..=j] {
+            z[k] = zr;
         }
         i = j + 1;
     }
-    let normal = Normal::new(0.0, 1.0).expect("standard normal");
-    let denom = s as f64 + 0.25;
     let mut out = Vec::with_capacity(chains.len());
     let mut k = 0;
     for c in chains {
-        out.push(
-            c.iter()
-                .map(|_| {
-                    let z = normal.inverse_cdf((rank[k] - 0.375) / denom);
-                    k += 1;
-                    z
-                })
-                .collect(),
-        );
+        out.push(z[k..k + c.len()].to_vec());
+        k += c.len();
     }
     out
+}
+
+/// [`quantile_sorted`] of `x` without sorting it (two selections, same value:
+/// the type-7 quantile needs only the order statistics ⌊h⌋ and ⌊h⌋ + 1); `x` is reordered.
+pub fn quantile_select(x: &mut [f64], p: f64) -> f64 {
+    let n = x.len();
+    if n == 0 {
+        return f64::NAN;
+    }
+    let h = (n - 1) as f64 * p.clamp(0.0, 1.0);
+    let lo = h.floor() as usize;
+    let (_, &mut at_lo, right) = x.select_nth_unstable_by(lo, f64::total_cmp);
+    let at_hi = right.iter().copied().min_by(f64::total_cmp).unwrap_or(at_lo);
+    at_lo + (h - lo as f64) * (at_hi - at_lo)
 }
 
 /// Splits every chain into its first ⌊N/2⌋ and last ⌊N/2⌋ draws.
@@ -392,9 +423,7 @@ fn pooled(chains: &[Vec<f64>]) -> Vec<f64> {
 }
 
 fn median(x: &[f64]) -> f64 {
-    let mut s = x.to_vec();
-    s.sort_by(f64::total_cmp);
-    quantile_sorted(&s, 0.5)
+    quantile_select(&mut x.to_vec(), 0.5)
 }
 
 pub(crate) fn mean(x: &[f64]) -> f64 {
@@ -409,6 +438,34 @@ pub(crate) fn variance_ddof1(x: &[f64]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The shared computation gives the bits of the three separate ones (even
+    /// and odd chain lengths, ties from repeated states included).
+    #[test]
+    fn convergence_equals_the_separate_diagnostics() {
+        for n in [4usize, 9, 50, 51] {
+            let chains: Vec<Vec<f64>> = (0..4)
+                .map(|c| (0..n).map(|i| (((i / 3) * 7919 + c * 104_729) % 97) as f64 * 0.01 + c as f64 * 0.1).collect())
+                .collect();
+            let (r, b, t) = convergence(&chains);
+            assert_eq!(r.to_bits(), rhat(&chains).to_bits(), "n = {n}");
+            assert_eq!(b.to_bits(), ess_bulk(&chains).to_bits(), "n = {n}");
+            assert_eq!(t.to_bits(), ess_tail(&chains).to_bits(), "n = {n}");
+        }
+    }
+
+    /// Selection gives the bits of the sorted type-7 quantile, ties and ends included.
+    #[test]
+    fn quantile_select_equals_quantile_sorted() {
+        for n in [1usize, 2, 3, 10, 101] {
+            let x: Vec<f64> = (0..n).map(|i| ((i * 7919) % 13) as f64 * 0.37 - 1.0).collect();
+            let mut sorted = x.clone();
+            sorted.sort_by(f64::total_cmp);
+            for p in [0.0, 0.025, 0.05, 0.5, 0.95, 0.975, 1.0] {
+                assert_eq!(quantile_select(&mut x.clone(), p).to_bits(), quantile_sorted(&sorted, p).to_bits());
+            }
+        }
+    }
 
     #[test]
     fn fft_autocovariance_matches_direct_sum() {

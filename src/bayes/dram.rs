@@ -17,7 +17,9 @@
 //!   a NaN/∞ model output has log π = −∞: it is rejected at that stage and
 //!   counted in `rejected_invalid`.
 
-use nalgebra::{DMatrix, DVector};
+use std::cell::RefCell;
+
+use nalgebra::DMatrix;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
@@ -205,30 +207,97 @@ impl ChainOutput {
     }
 }
 
-/// Gaussian random-walk proposal N(x0, γ·LLᵀ) for the current Cholesky factor L.
+/// Gaussian random-walk proposal N(x0, γ·LLᵀ) for the current Cholesky factor
+/// L (lower triangular, row-major d×d), with a scratch vector so that neither a
+/// proposal nor a density costs an allocation (they run several times per step).
 struct Proposal {
-    chol_l: DMatrix<f64>,
+    d: usize,
+    l: Vec<f64>,
+    scratch: RefCell<Vec<f64>>,
 }
 
+/// Most DR stages + 1 (the validation allows 8 shrink factors): the longest path.
+const MAX_PATH: usize = 10;
+
 impl Proposal {
-    fn from_covariance(c: &DMatrix<f64>) -> Option<Self> {
-        c.clone().cholesky().map(|ch| Proposal { chol_l: ch.l() })
+    fn from_lower(chol_l: &DMatrix<f64>) -> Self {
+        let d = chol_l.nrows();
+        let l = (0..d * d).map(|k| if k % d <= k / d { chol_l[(k / d, k % d)] } else { 0.0 }).collect();
+        Proposal { d, l, scratch: RefCell::new(vec![0.0; d]) }
     }
 
     /// C0 = diag(sd²): its Cholesky factor is diag(sd) exactly, so no
     /// factorisation (which would fail when sd² underflows to 0) is needed.
     fn diagonal(sd: &[f64]) -> Self {
-        Proposal { chol_l: DMatrix::from_diagonal(&DVector::from_column_slice(sd)) }
+        let d = sd.len();
+        let mut l = vec![0.0; d * d];
+        sd.iter().enumerate().for_each(|(i, s)| l[i * d + i] = *s);
+        Proposal { d, l, scratch: RefCell::new(vec![0.0; d]) }
     }
 
-    /// Quadratic form (x − x0)ᵀ (LLᵀ)⁻¹ (x − x0).
+    /// Cholesky of a row-major covariance, or `None` if it is not positive definite.
+    fn from_covariance(c: &[f64], d: usize) -> Option<Self> {
+        let mut l = c.to_vec();
+        cholesky_in_place(&mut l, d).then(|| Proposal { d, l, scratch: RefCell::new(vec![0.0; d]) })
+    }
+
+    /// out = x0 + scale·L z.
+    fn step(&self, x0: &[f64], z: &[f64], scale: f64, out: &mut Vec<f64>) {
+        out.clear();
+        out.extend((0..self.d).map(|i| {
+            let row = &self.l[i * self.d..i * self.d + i + 1];
+            x0[i] + scale * row.iter().zip(z).map(|(a, b)| a * b).sum::<f64>()
+        }));
+    }
+
+    /// Quadratic form (x − x0)ᵀ (LLᵀ)⁻¹ (x − x0) by forward substitution
+    /// (∞ when L is singular, as nalgebra's triangular solve reports it).
     fn mahalanobis2(&self, x0: &[f64], x: &[f64]) -> f64 {
-        let diff = DVector::from_iterator(x.len(), x.iter().zip(x0).map(|(a, b)| a - b));
-        match self.chol_l.solve_lower_triangular(&diff) {
-            Some(z) => z.norm_squared(),
-            None => f64::INFINITY,
+        let d = self.d;
+        let mut y = self.scratch.borrow_mut();
+        let mut sum = 0.0;
+        for i in 0..d {
+            let row = &self.l[i * d..i * d + i];
+            let acc = (x[i] - x0[i]) - row.iter().zip(y.iter()).map(|(a, b)| a * b).sum::<f64>();
+            let diag = self.l[i * d + i];
+            if diag == 0.0 {
+                return f64::INFINITY;
+            }
+            y[i] = acc / diag;
+            sum += y[i] * y[i];
+        }
+        sum
+    }
+}
+
+/// In-place Cholesky factor (lower, row-major) of a symmetric d×d matrix read
+/// from its lower triangle; `false` when a pivot is not positive (or NaN).
+/// Hand-written because it runs at every adapted step: nalgebra's `Cholesky`
+/// consumes (so allocates) its matrix, and for the d ≤ ~20 of a calibration
+/// the allocation costs more than the O(d³/6) arithmetic.
+fn cholesky_in_place(a: &mut [f64], d: usize) -> bool {
+    for j in 0..d {
+        let mut diag = a[j * d + j];
+        for k in 0..j {
+            diag -= a[j * d + k] * a[j * d + k];
+        }
+        if !(diag > 0.0) {
+            return false;
+        }
+        let ljj = diag.sqrt();
+        a[j * d + j] = ljj;
+        for i in j + 1..d {
+            let mut v = a[i * d + j];
+            for k in 0..j {
+                v -= a[i * d + k] * a[j * d + k];
+            }
+            a[i * d + j] = v / ljj;
+        }
+        for k in j + 1..d {
+            a[j * d + k] = 0.0;
         }
     }
+    true
 }
 
 /// log q_j(from → to) up to the stage constant −½ log det(γj C), which
@@ -238,7 +307,7 @@ fn log_q(prop: &Proposal, gamma: f64, from: &[f64], to: &[f64]) -> f64 {
 }
 
 /// Acceptance probability α_i of eq. (29) for the path y0 → y1 → … → yi
-/// (`path[k]` indexes into `points`/`log_pi`), with stage scales `gammas`
+/// (`path[k]` indexes into `points`/`log_pi`, at most 10 long), with stage scales `gammas`
 /// (γ1 = 1 first). Recursive: the reverse-path factors are α's of shorter
 /// reversed paths. Exposed for the detailed-balance test.
 pub fn dr_acceptance(
@@ -248,7 +317,7 @@ pub fn dr_acceptance(
     gammas: &[f64],
     chol_l: &DMatrix<f64>,
 ) -> f64 {
-    let prop = Proposal { chol_l: chol_l.clone() };
+    let prop = Proposal::from_lower(chol_l);
     alpha(points, log_pi, path, gammas, &prop)
 }
 
@@ -261,8 +330,10 @@ fn alpha(points: &[Vec<f64>], log_pi: &[f64], path: &[usize], gammas: &[f64], pr
     if log_pi[y0] == f64::NEG_INFINITY {
         return 1.0;
     }
-    // Reverse path: yi → y_{i−1} → … → y0.
-    let reverse: Vec<usize> = path.iter().rev().copied().collect();
+    // Reverse path: yi → y_{i−1} → … → y0 (on the stack: no allocation per step).
+    let mut reverse = [0usize; MAX_PATH];
+    path.iter().rev().zip(reverse.iter_mut()).for_each(|(p, r)| *r = *p);
+    let reverse = &reverse[..path.len()];
     let mut log_num = log_pi[yi];
     let mut log_den = log_pi[y0];
     for j in 1..=i {
@@ -289,30 +360,48 @@ fn alpha(points: &[Vec<f64>], log_pi: &[f64], path: &[usize], gammas: &[f64], pr
     }
 }
 
-/// Running mean and scatter matrix (Welford), the recursive form of eq. (33).
+/// Running mean and scatter matrix (Welford), the recursive form of eq. (33),
+/// in flat row-major buffers (no allocation per state).
 struct RunningCovariance {
     n: usize,
-    mean: DVector<f64>,
-    scatter: DMatrix<f64>,
+    d: usize,
+    mean: Vec<f64>,
+    delta: Vec<f64>,
+    scatter: Vec<f64>,
 }
 
 impl RunningCovariance {
     fn new(d: usize) -> Self {
-        Self { n: 0, mean: DVector::zeros(d), scatter: DMatrix::zeros(d, d) }
+        Self { n: 0, d, mean: vec![0.0; d], delta: vec![0.0; d], scatter: vec![0.0; d * d] }
     }
 
     fn push(&mut self, x: &[f64]) {
         self.n += 1;
-        let x = DVector::from_column_slice(x);
-        let delta = &x - &self.mean;
-        self.mean += &delta / self.n as f64;
-        let delta2 = &x - &self.mean;
-        self.scatter += &delta * delta2.transpose();
+        let n = self.n as f64;
+        for ((delta, mean), xi) in self.delta.iter_mut().zip(self.mean.iter_mut()).zip(x) {
+            *delta = xi - *mean;
+            *mean += *delta / n;
+        }
+        let d = self.d;
+        for (i, (xi, mean)) in x.iter().zip(&self.mean).enumerate() {
+            let delta2 = xi - mean;
+            for (j, delta) in self.delta.iter().enumerate() {
+                // scatter += δ δ₂ᵀ, entry (j, i) += δ_j δ₂_i
+                self.scatter[j * d + i] += delta * delta2;
+            }
+        }
     }
 
-    /// Sample covariance, eq. (31) (divisor n − 1).
-    fn covariance(&self) -> Option<DMatrix<f64>> {
-        (self.n >= 2).then(|| &self.scatter / (self.n as f64 - 1.0))
+    /// sd·(sample covariance, eq. 31, divisor n − 1) + regulariser, row-major.
+    fn proposal_covariance(&self, sd: f64, regulariser: &[f64], out: &mut [f64]) -> bool {
+        if self.n < 2 {
+            return false;
+        }
+        let div = self.n as f64 - 1.0;
+        for ((o, s), r) in out.iter_mut().zip(&self.scatter).zip(regulariser) {
+            *o = s / div * sd + r;
+        }
+        true
     }
 }
 
@@ -329,13 +418,15 @@ pub fn run_chain(
     let d = start.len();
     let stages = settings.stages();
     let gammas: Vec<f64> = std::iter::once(1.0).chain(settings.dr_shrink_factors.iter().copied()).collect();
+    let scales: Vec<f64> = gammas.iter().map(|g| g.sqrt()).collect();
     let sd = settings.adaptive_scale.unwrap_or(2.4 * 2.4 / d as f64);
-    let c0 = DMatrix::from_diagonal(&DVector::from_iterator(d, c0_sd.iter().map(|s| s * s)));
-    let regulariser = &c0 * (sd * settings.covariance_regularization);
-    // Cholesky of diag(sd²) where it exists (bit-identical to earlier runs);
-    // diag(sd) itself when sd² underflows and the factorisation fails.
-    let mut proposal = Proposal::from_covariance(&c0).unwrap_or_else(|| Proposal::diagonal(c0_sd));
-    let mut current_cov = c0.clone();
+    let c0: Vec<f64> = (0..d * d).map(|k| if k % d == k / d { c0_sd[k / d] * c0_sd[k / d] } else { 0.0 }).collect();
+    let regulariser: Vec<f64> = c0.iter().map(|c| c * (sd * settings.covariance_regularization)).collect();
+    // Cholesky of diag(sd²) where it exists; diag(sd) itself when sd² underflows
+    // and the factorisation fails.
+    let mut proposal = Proposal::from_covariance(&c0, d).unwrap_or_else(|| Proposal::diagonal(c0_sd));
+    let mut current_cov = c0;
+    let (mut trial, mut trial_l) = (vec![0.0; d * d], vec![0.0; d * d]);
 
     let mut out = ChainOutput {
         draws: Vec::with_capacity(settings.draws_per_chain),
@@ -349,35 +440,30 @@ pub fn run_chain(
     let mut theta = start.to_vec();
     let mut lp = post.log_posterior(&theta);
     let mut running = RunningCovariance::new(d);
-    let mut points: Vec<Vec<f64>> = Vec::with_capacity(stages + 1);
+    // points[0] = θn, points[k] = the stage-k candidate (buffers reused every step)
+    let mut points: Vec<Vec<f64>> = vec![Vec::with_capacity(d); stages + 1];
     let mut log_pi: Vec<f64> = Vec::with_capacity(stages + 1);
-    let mut path: Vec<usize> = Vec::with_capacity(stages + 1);
+    let path: Vec<usize> = (0..=stages).collect();
+    let mut z = vec![0.0; d];
 
     for n in 0..settings.draws_per_chain {
         if n > 0 {
             // One DRAM step from θ_{n−1}.
-            points.clear();
+            points[0].clone_from(&theta);
             log_pi.clear();
-            path.clear();
-            points.push(theta.clone());
             log_pi.push(lp);
-            path.push(0);
             for stage in 0..stages {
-                let scale = gammas[stage].sqrt();
-                let z = DVector::from_iterator(d, (0..d).map(|_| rng.sample::<f64, _>(StandardNormal)));
-                let step = &proposal.chol_l * z * scale;
-                let cand: Vec<f64> = theta.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
-                let lc = post.log_posterior(&cand);
+                z.iter_mut().for_each(|v| *v = rng.sample::<f64, _>(StandardNormal));
+                proposal.step(&theta, &z, scales[stage], &mut points[stage + 1]);
+                let lc = post.log_posterior(&points[stage + 1]);
                 out.proposed[stage] += 1;
                 if !lc.is_finite() {
                     out.rejected_invalid += 1;
                 }
-                points.push(cand);
                 log_pi.push(if lc.is_nan() { f64::NEG_INFINITY } else { lc });
-                path.push(points.len() - 1);
-                let a = alpha(&points, &log_pi, &path, &gammas, &proposal);
+                let a = alpha(&points[..stage + 2], &log_pi, &path[..stage + 2], &gammas, &proposal);
                 if a > 0.0 && rng.gen::<f64>() < a {
-                    theta = points[stage + 1].clone();
+                    theta.clone_from(&points[stage + 1]);
                     lp = log_pi[stage + 1];
                     out.accepted[stage] += 1;
                     break;
@@ -391,16 +477,17 @@ pub fn run_chain(
         if n >= settings.covariance_skip {
             running.push(&theta);
         }
-        if n + 1 > settings.nonadaptive_draws && n + 1 >= settings.adaptation_start {
-            if let Some(cov) = running.covariance() {
-                let c = cov * sd + &regulariser;
-                match Proposal::from_covariance(&c) {
-                    Some(p) => {
-                        proposal = p;
-                        current_cov = c;
-                    }
-                    None => out.covariance_failures += 1,
-                }
+        if n + 1 > settings.nonadaptive_draws
+            && n + 1 >= settings.adaptation_start
+            && running.proposal_covariance(sd, &regulariser, &mut trial)
+        {
+            trial_l.copy_from_slice(&trial);
+            if cholesky_in_place(&mut trial_l, d) {
+                std::mem::swap(&mut proposal.l, &mut trial_l);
+                std::mem::swap(&mut current_cov, &mut trial);
+            } else {
+                // not positive definite: the previous proposal is kept
+                out.covariance_failures += 1;
             }
         }
         if let Some(cb) = on_step {
@@ -409,6 +496,7 @@ pub fn run_chain(
             }
         }
     }
-    out.final_covariance = current_cov.transpose().as_slice().to_vec();
+    // row-major C¹ (symmetric up to rounding: the Welford scatter is not)
+    out.final_covariance = current_cov;
     out
 }

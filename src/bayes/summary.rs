@@ -13,7 +13,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::diagnostics::{ess_bulk, ess_tail, quantile_sorted, rhat};
+use super::diagnostics::{convergence, quantile_select, quantile_sorted};
 
 /// Summary of one scalar parameter. Parameters are in their own units (the
 /// name carries the unit); `cov` is dimensionless.
@@ -94,19 +94,20 @@ pub fn summarize(names: &[String], chains: &[Vec<Vec<f64>>]) -> Summary {
     }
     let parameters = (0..d)
         .map(|i| {
-            let mut sorted = pooled[i].clone();
-            sorted.sort_by(f64::total_cmp);
+            let mut draws = pooled[i].clone();
+            let ci95 = [quantile_select(&mut draws, 0.025), quantile_select(&mut draws, 0.975)];
             let sd = cov[i][i].sqrt();
+            let (rhat, ess_bulk, ess_tail) = convergence(&per_param[i]);
             ParameterSummary {
                 name: names[i].clone(),
                 mean: means[i],
                 sd,
                 cv: sd / means[i].abs(),
-                ci95: [quantile_sorted(&sorted, 0.025), quantile_sorted(&sorted, 0.975)],
+                ci95,
                 map: None,
-                rhat: rhat(&per_param[i]),
-                ess_bulk: ess_bulk(&per_param[i]),
-                ess_tail: ess_tail(&per_param[i]),
+                rhat,
+                ess_bulk,
+                ess_tail,
             }
         })
         .collect();

@@ -18,6 +18,7 @@ mod frf;
 mod modal;
 pub(crate) mod model;
 pub mod spec;
+mod spectrum;
 mod state_space;
 mod time_response;
 
@@ -26,4 +27,8 @@ pub use frf::{frf, frf_each, max_frequency_rad_s, MAX_OMEGA_TILDE};
 pub use modal::{modal, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode, SolverPath};
 pub use model::buckling_load_n;
 pub use spec::{BeamSpec, InternalVariable, PointMass, ShearDeformation, Support};
+pub use spectrum::{
+    certificates as spectrum_certificates, direct_eigenvalues, interpolated_eigenvalues,
+    Certificate as SpectrumCertificate, CERTIFIED_TOL,
+};
 pub use time_response::impulse_response;

@@ -41,9 +41,10 @@ use serde::{Deserialize, Serialize};
 use crate::beam::band::{ldl_factor_for_inverse_iteration, ldl_solve, BandLu, ShiftedLdl, SymBand};
 use crate::beam::dual::Dual;
 use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
-use crate::beam::family::{family_roots, REAL_TOL};
-use crate::beam::model::{PencilParams, ScaledModel, UnitMesh};
+use crate::beam::family::{family_roots, family_roots_into, Roots, REAL_TOL};
+use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
 use crate::beam::spec::BeamSpec;
+use crate::beam::spectrum::SpectrumTable;
 use crate::beam::{state_space, BeamError};
 use crate::error::InputError;
 
@@ -107,11 +108,28 @@ impl ModalResult {
 /// Every result is a function of the call's input alone — the caches change
 /// how fast it comes, never its bits — so a solver shared by the chains of a
 /// thread keeps outputs independent of the thread count.
+///
+/// The Euler–Bernoulli decoupled model without a point mass (any N, viscous
+/// C, any section and material) takes the fastest route of all: the pencil
+/// depends on ẽ alone, and λ̃_r(ẽ²) comes from a certified Chebyshev
+/// interpolant (`spectrum.rs`: relative error ≤ 1e-12 against the direct
+/// solve, measured when it is built; a function of (mesh, mode, e0a piece)
+/// only), then one root solve per family. Where no certified interpolant
+/// exists the eigenpairs are solved directly as above. The coupled extensions
+/// (spring, point mass with C > 0, axial force, Timoshenko with C > 0) keep
+/// the RQI path: their poles need nonlinear RQI on T(s) whatever the pencil
+/// start costs (see `general_path`), and the pencil depends on 2–3 parameters.
 #[derive(Debug, Default, Clone)]
 pub struct ModalSolver {
     mesh: Option<UnitMesh>,
     eigen: EigenCache,
     last_path: Option<SolverPath>,
+    spectrum: SpectrumTable,
+    /// Never use the interpolant (reference solver for tests and benches).
+    direct_only: bool,
+    last_interpolated: bool,
+    lambdas: Vec<f64>,
+    roots: Vec<Roots>,
 }
 
 /// Which method produced the last [`ModalSolver::modal`] result.
@@ -265,6 +283,17 @@ impl ModalSolver {
         Self::default()
     }
 
+    /// A solver that never uses the eigenvalue interpolant: every eigenpair
+    /// from the direct banded solve (the reference the interpolant is certified against).
+    pub fn direct_only() -> Self {
+        Self { direct_only: true, ..Self::default() }
+    }
+
+    /// True when the last result's eigenvalues came from the certified interpolant.
+    pub fn last_used_interpolant(&self) -> bool {
+        self.last_interpolated
+    }
+
     /// The path used by the last successful or attempted call.
     pub fn last_path(&self) -> Option<SolverPath> {
         self.last_path
@@ -278,8 +307,17 @@ impl ModalSolver {
         if stale {
             self.mesh = Some(UnitMesh::for_beam(beam));
             self.eigen = EigenCache::default();
+            self.spectrum = SpectrumTable::default();
         }
-        let Self { mesh, eigen, last_path } = self;
+        self.last_interpolated = false;
+        if !self.direct_only {
+            if let Some(result) = self.interpolated(beam, n_modes) {
+                self.last_path = Some(SolverPath::Decoupled);
+                self.last_interpolated = true;
+                return Ok(result);
+            }
+        }
+        let Self { mesh, eigen, last_path, .. } = self;
         let model = ScaledModel::new(beam, mesh.as_ref().expect("mesh just set"));
         check_mode_count(n_modes, model.n())?;
         let (path, result) = if model.decouples() {
@@ -295,6 +333,41 @@ impl ModalSolver {
             }
             other => other,
         }
+    }
+}
+
+impl ModalSolver {
+    /// The interpolated decoupled path, or `None` when it does not apply (a
+    /// coupling extension, a point mass, shear deformation, e0a beyond the
+    /// interpolated range, an uncertified piece, a root solve that fails): the
+    /// caller then takes the direct path. Which one is taken is a function of
+    /// the input alone. The beam was validated by the caller.
+    fn interpolated(&mut self, beam: &BeamSpec, n_modes: usize) -> Option<ModalResult> {
+        let mesh = self.mesh.as_ref()?;
+        let sc = Scaling::new(beam);
+        // the same tests as ScaledModel::decouples with no point mass and no rotary inertia
+        let spring = sc.spring > 0.0 && !mesh.spring_dofs.is_empty();
+        if mesh.shear.is_some() || beam.point_mass.is_some() || spring || sc.axial != 0.0 {
+            return None;
+        }
+        if n_modes == 0 || n_modes > mesh.n() {
+            return None;
+        }
+        self.lambdas.resize(n_modes, 0.0);
+        if !self.spectrum.lambdas(mesh, sc.e_tilde * sc.e_tilde, &mut self.lambdas) {
+            return None;
+        }
+        let mut ivs = [(0.0, 0.0); crate::beam::spec::MAX_INTERNAL_VARIABLES];
+        let mut nv = 0;
+        for iv in beam.internal_variables.iter().filter(|iv| iv.delta > 0.0) {
+            ivs[nv] = (iv.delta, iv.omega_rad_s / sc.omega_ref);
+            nv += 1;
+        }
+        self.roots.resize(n_modes, Roots::default());
+        for (&lambda, roots) in self.lambdas.iter().zip(self.roots.iter_mut()) {
+            family_roots_into(0.0, lambda, sc.c, &ivs[..nv], roots).ok()?;
+        }
+        Some(assemble(&self.roots, n_modes, sc.omega_ref))
     }
 }
 
@@ -344,15 +417,17 @@ fn check_mode_count(n_modes: usize, n: usize) -> Result<(), BeamError> {
 /// Physical modes 1..=n_modes from the roots of families 1..=n_modes (in
 /// eigenpair order): each family's oscillatory pair (largest |s| if there
 /// are several) or, without one, an overdamped mode with its real roots.
-fn assemble(families: &[Vec<Complex64>], n_modes: usize, omega_ref: f64) -> ModalResult {
+fn assemble<F: std::ops::Deref<Target = [Complex64]>>(families: &[F], n_modes: usize, omega_ref: f64) -> ModalResult {
     let mut modes = Vec::with_capacity(n_modes);
     let mut overdamped = Vec::new();
     for (j, fam) in families.iter().take(n_modes).enumerate() {
         let pair = fam.iter().copied().filter(|s| s.im > 0.0).max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()));
         match pair {
             Some(s) => {
-                let s = s * omega_ref;
-                modes.push(Mode { mode: j + 1, omega_rad_s: s.norm(), zeta: -s.re / s.norm(), pole: s });
+                // |s̃| in scaled units (O(1)..O(1e6): no overflow in the square,
+                // so no hypot), then to rad/s
+                let r = s.norm_sqr().sqrt();
+                modes.push(Mode { mode: j + 1, omega_rad_s: r * omega_ref, zeta: -s.re / r, pole: s * omega_ref });
             }
             None => {
                 let mut poles: Vec<f64> = fam.iter().filter(|s| s.im == 0.0).map(|s| s.re * omega_ref).collect();
@@ -361,8 +436,13 @@ fn assemble(families: &[Vec<Complex64>], n_modes: usize, omega_ref: f64) -> Moda
             }
         }
     }
-    let mut real: Vec<f64> =
-        families.iter().take(n_modes).flatten().filter(|s| s.im == 0.0).map(|s| s.re * omega_ref).collect();
+    let mut real: Vec<f64> = families
+        .iter()
+        .take(n_modes)
+        .flat_map(|f| f.iter())
+        .filter(|s| s.im == 0.0)
+        .map(|s| s.re * omega_ref)
+        .collect();
     real.sort_by(|a, b| a.abs().total_cmp(&b.abs()));
     ModalResult { modes, real_poles_rad_s: real, overdamped }
 }
@@ -411,7 +491,7 @@ fn general_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -> 
         for ((a, b, c), phi) in &approx {
             let starts = family_roots(*a, *b, *c, &model.ivs)?;
             let mut fam = Vec::with_capacity(starts.len());
-            for s0 in starts.into_iter().filter(|s| s.im >= 0.0) {
+            for s0 in starts.iter().copied().filter(|s| s.im >= 0.0) {
                 // Real poles cluster (one per family within [−Ωᵢ, −Ωᵢ/(1+Δᵢ)]) next
                 // next to the n-fold poles of det T at −Ωᵢ, where methods on det T crawl;
                 // nonlinear Rayleigh-quotient iteration from the family's vector

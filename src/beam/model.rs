@@ -547,20 +547,54 @@ pub struct ScaledModel<'a> {
     pub e_tilde: f64,
 }
 
-impl<'a> ScaledModel<'a> {
-    pub fn new(beam: &BeamSpec, mesh: &'a UnitMesh) -> Self {
+/// The scalars of the nondimensional scaling (module doc), without any matrix:
+/// what [`ScaledModel::new`] and the interpolated fast path of `modal.rs` share.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scaling {
+    /// L in m.
+    pub l: f64,
+    pub ei: f64,
+    pub rho_a: f64,
+    /// ω_ref = √(EI/ρA)/L².
+    pub omega_ref: f64,
+    /// ẽ = e0a/L.
+    pub e_tilde: f64,
+    /// c̃ = C/(ρA ω_ref).
+    pub c: f64,
+    /// k̃_r = k_r L/EI.
+    pub spring: f64,
+    /// ñ = NL²/EI.
+    pub axial: f64,
+}
+
+impl Scaling {
+    pub fn new(beam: &BeamSpec) -> Self {
         let l = beam.length_nm * 1e-9;
         let ei = beam.youngs_modulus_pa * beam.inertia_m4();
         let rho_a = beam.density_kg_m3 * beam.area_m2();
         let omega_ref = (ei / rho_a).sqrt() / (l * l);
-        let e_tilde = beam.nonlocal_e0a_nm / beam.length_nm;
+        Scaling {
+            l,
+            ei,
+            rho_a,
+            omega_ref,
+            e_tilde: beam.nonlocal_e0a_nm / beam.length_nm,
+            c: beam.viscous_damping_n_s_m2 / (rho_a * omega_ref),
+            spring: beam.support_rotational_stiffness_n_m_rad * l / ei,
+            axial: beam.axial_force_n * l * l / ei,
+        }
+    }
+}
+
+impl<'a> ScaledModel<'a> {
+    pub fn new(beam: &BeamSpec, mesh: &'a UnitMesh) -> Self {
+        let Scaling { l, ei, rho_a, omega_ref, e_tilde, c, spring, axial } = Scaling::new(beam);
         let m_all = mesh.m0.plus_scaled(e_tilde * e_tilde, &mesh.m1);
         let m_beam = match &mesh.shear {
             Some(sh) => sh.mt0.plus_scaled(e_tilde * e_tilde, &sh.mt1),
             None => m_all.clone(),
         };
         let mut m = m_all;
-        let axial = beam.axial_force_n * l * l / ei;
         let k_axial = (axial != 0.0).then(|| mesh.geometric(axial, e_tilde));
         let mut point_mass = None;
         if let Some(pm) = &beam.point_mass {
@@ -569,7 +603,6 @@ impl<'a> ScaledModel<'a> {
             add_point_mass(&mut m, mu, &nv);
             point_mass = Some((mu, nv));
         }
-        let spring = beam.support_rotational_stiffness_n_m_rad * l / ei;
         let ivs_all: Vec<(f64, f64)> =
             beam.internal_variables.iter().map(|iv| (iv.delta, iv.omega_rad_s / omega_ref)).collect();
         Self {
@@ -583,7 +616,7 @@ impl<'a> ScaledModel<'a> {
             has_rotary: mesh.shear.is_some(),
             spring,
             spring_dofs: mesh.spring_dofs.clone(),
-            c: beam.viscous_damping_n_s_m2 / (rho_a * omega_ref),
+            c,
             ivs: ivs_all.iter().copied().filter(|&(d, _)| d > 0.0).collect(),
             ivs_all,
             has_point_mass: beam.point_mass.is_some(),

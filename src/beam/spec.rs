@@ -232,8 +232,13 @@ impl BeamSpec {
             ));
         }
         for (i, iv) in self.internal_variables.iter().enumerate() {
-            non_negative(&format!("internal_variables[{i}].delta"), iv.delta)?;
-            positive(&format!("internal_variables[{i}].omega_rad_s"), iv.omega_rad_s)?;
+            // field names formatted only on failure (this runs once per forward evaluation)
+            if !(iv.delta.is_finite() && iv.delta >= 0.0) {
+                non_negative(&format!("internal_variables[{i}].delta"), iv.delta)?;
+            }
+            if !(iv.omega_rad_s.is_finite() && iv.omega_rad_s > 0.0) {
+                positive(&format!("internal_variables[{i}].omega_rad_s"), iv.omega_rad_s)?;
+            }
         }
         non_negative("support_rotational_stiffness_n_m_rad", self.support_rotational_stiffness_n_m_rad)?;
         if let Some(pm) = &self.point_mass {
@@ -293,7 +298,9 @@ impl BeamSpec {
         at_most("nonlocal_e0a_nm", self.nonlocal_e0a_nm, "e0a/L", MAX_E_TILDE, self.length_nm)?;
         let (lo, hi) = OMEGA_TILDE_RANGE;
         for (i, iv) in self.internal_variables.iter().enumerate() {
-            at_most(&format!("internal_variables[{i}].delta"), iv.delta, "delta", MAX_DELTA, 1.0)?;
+            if iv.delta > MAX_DELTA {
+                at_most(&format!("internal_variables[{i}].delta"), iv.delta, "delta", MAX_DELTA, 1.0)?;
+            }
             let w = iv.omega_rad_s / omega_ref;
             if !(lo..=hi).contains(&w) {
                 return Err(InputError::new(

@@ -40,13 +40,15 @@ pub fn chains_csv(result: &CalibrationResult) -> String {
         s.push_str(n);
     }
     s.push_str(",log_posterior\n");
+    // write! into the one buffer: no temporary String per number (same bytes as format!)
+    use std::fmt::Write as _;
     for (c, chain) in result.chains.iter().enumerate() {
         for i in result.burn_in..chain.draws.len() {
-            s.push_str(&format!("{c},{i}"));
+            let _ = write!(s, "{c},{i}");
             for x in &chain.draws[i] {
-                s.push_str(&format!(",{x:e}"));
+                let _ = write!(s, ",{x:e}");
             }
-            s.push_str(&format!(",{:e}\n", chain.log_posterior[i]));
+            let _ = writeln!(s, ",{:e}", chain.log_posterior[i]);
         }
     }
     s

@@ -9,7 +9,7 @@
 
 use rand::RngCore;
 
-use crate::bayes::likelihood::gaussian_log_likelihood;
+use crate::bayes::likelihood::DiagonalGaussian;
 use crate::bayes::Posterior;
 use crate::beam::{self, BeamSpec};
 use crate::calibration::{MeasuredData, ModeObservation, ParameterSet};
@@ -27,6 +27,8 @@ pub struct BeamPosterior {
     /// Highest mode number the forward model must return.
     n_modes: usize,
     beta_squared: Option<usize>,
+    /// The likelihood with its normalising constant computed once (it runs at every proposal).
+    likelihood: DiagonalGaussian,
 }
 
 impl BeamPosterior {
@@ -37,8 +39,9 @@ impl BeamPosterior {
 
     pub fn from_parts(base: &BeamSpec, observations: &[ModeObservation], params: ParameterSet) -> Self {
         let observables = observables(observations);
-        let observed = observables.iter().map(|o| o.value).collect();
-        let sd = observables.iter().map(|o| o.sd).collect();
+        let observed: Vec<f64> = observables.iter().map(|o| o.value).collect();
+        let sd: Vec<f64> = observables.iter().map(|o| o.sd).collect();
+        let likelihood = DiagonalGaussian::new(&observed, &sd);
         let beta_squared = params.beta_squared_index();
         Self {
             base: base.clone(),
@@ -49,6 +52,7 @@ impl BeamPosterior {
             sd,
             params,
             beta_squared,
+            likelihood,
         }
     }
 
@@ -177,7 +181,7 @@ impl Posterior for BeamPosterior {
 
     fn log_likelihood(&self, theta: &[f64]) -> f64 {
         match self.predict(theta) {
-            Some(pred) => gaussian_log_likelihood(&self.observed, &pred, &self.sd, self.beta_at(theta)),
+            Some(pred) => self.likelihood.log_likelihood(&pred, self.beta_at(theta)),
             None => f64::NEG_INFINITY,
         }
     }

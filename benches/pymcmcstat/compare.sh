@@ -1,0 +1,26 @@
+#!/bin/sh
+# One-thread comparison of `nanobeam calibrate` with pymcmcstat on the same data
+# (see README.md). Usage: benches/pymcmcstat/compare.sh [PYTHON] [RUNS]
+# PYTHON: a python with numpy<2, scipy<1.12, pymcmcstat, pyyaml (default: python3).
+set -e
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../.." && pwd)
+py=${1:-python3}
+runs=${2:-3}
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+(cd "$root" && cargo build --quiet)
+bin="$root/target/debug/nanobeam"
+draws=80000   # 4 chains x 20 000 draws (measured.yaml)
+export RAYON_NUM_THREADS=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
+echo "load before: $(uptime)"
+for i in $(seq "$runs"); do
+  rm -rf "$out/nb"
+  t=$( { /usr/bin/time -f "%e" taskset -c 0 "$bin" calibrate "$here/measured.yaml" --out "$out/nb" --json > /dev/null; } 2>&1 )
+  echo "nanobeam   run $i: $t s wall = $(echo "$t * 1000000 / $draws" | bc -l | cut -c1-6) us/draw"
+done
+for i in $(seq "$runs"); do
+  t=$( { /usr/bin/time -f "%e" taskset -c 0 "$py" "$here/calibrate.py" "$here/measured.yaml" "$out/py" > /dev/null; } 2>&1 )
+  echo "pymcmcstat run $i: $t s wall = $(echo "$t * 1000000 / $draws" | bc -l | cut -c1-6) us/draw"
+done
+echo "load after: $(uptime)"
