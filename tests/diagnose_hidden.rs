@@ -1,61 +1,110 @@
-//! Hidden-effect tests: synthetic data from a truth with one effect (or none),
-//! diagnosed without the truth. Run with `-- --nocapture` for the confusion matrix.
+//! Open-world hidden-effect suite (issue 13): synthetic data from a truth with
+//! no effect, one of the six catalogue causes, two at once, or an effect no
+//! class models, diagnosed without the truth at quick settings. Run with
+//! `-- --nocapture` for the per-case lines and the confusion matrix.
+//!
+//! 41 cases: 5 clean, 4 per single cause (24), 8 pairs, 4 foreign
+//! (`synthetic::Foreign`: a clamped end, a uniform coating). Every effect
+//! alone moves some observable ≥ `synthetic::MIN_SHIFT_SIGMA` σ against the
+//! best base fit (the generator grows it until it does).
+//!
+//! Targets (the issue's): single causes ≥ 95 % right (23 of 24), both causes
+//! of a pair named in ≥ 80 % of pairs (7 of 8), foreign effects
+//! `unexplained` in 100 %, no false alarm on clean data. These are counts on
+//! fixed seeds, not rates estimated with an error: the test fails on any
+//! seed that falls below them.
 
 use std::collections::BTreeMap;
 use std::time::Instant;
 
-use nanobeam::diagnose::{diagnose, synthetic, DiagnoseSettings, ModelClass};
+use rayon::prelude::*;
 
-fn label(c: Option<ModelClass>) -> &'static str {
-    c.map_or("none", |c| c.name())
+use nanobeam::diagnose::synthetic::{generate_hidden, Foreign, Hidden};
+use nanobeam::diagnose::{diagnose, DiagnoseSettings, Diagnosis, ModelClass};
+
+use ModelClass::*;
+
+const PAIRS: [[ModelClass; 2]; 8] = [
+    [ExtraRelaxation, SupportRotationalStiffness],
+    [ViscousDamping, AttachedMass],
+    [AxialForce, AttachedMass],
+    [ExtraRelaxation, AxialForce],
+    [ViscousDamping, AxialForce],
+    [SupportRotationalStiffness, AttachedMass],
+    [ShearDeformation, ViscousDamping],
+    [ExtraRelaxation, AttachedMass],
+];
+
+fn cases() -> Vec<(u64, Hidden)> {
+    let mut cases: Vec<(u64, Hidden)> = (0..5u64).map(|i| (200 + i, Hidden::clean())).collect();
+    cases.extend((0..24u64).map(|i| (100 + i, Hidden::causes(&[ModelClass::CAUSES[(i % 6) as usize]]))));
+    cases.extend(PAIRS.iter().enumerate().map(|(i, p)| (300 + i as u64, Hidden::causes(p))));
+    cases.extend((0..4u64).map(|i| (400 + i, Hidden::foreign(Foreign::ALL[(i % 2) as usize]))));
+    cases
+}
+
+/// The column of the confusion matrix: the verdict, with the causes when several.
+fn verdict(d: &Diagnosis) -> String {
+    if d.cause == "multiple" {
+        d.causes.join("+")
+    } else {
+        d.cause.clone()
+    }
 }
 
 #[test]
-fn hidden_effects_are_named_and_clean_data_raise_no_alarm() {
+fn open_world_hidden_effects() {
     let settings = DiagnoseSettings::quick();
     let t0 = Instant::now();
-    // 20 effect seeds (5 per cause, the effect's shape and size drawn by seed) + 5 clean seeds
-    let mut cases: Vec<(u64, Option<ModelClass>)> =
-        (0..20u64).map(|i| (100 + i, Some(ModelClass::CAUSES[(i % 4) as usize]))).collect();
-    cases.extend((0..5u64).map(|i| (200 + i, None)));
-    let mut confusion: BTreeMap<(&str, String), usize> = BTreeMap::new();
-    let (mut correct, mut total, mut false_alarms) = (0, 0, 0);
-    for (seed, effect) in cases {
-        let case = synthetic::generate(seed, effect);
-        let data = case.data();
-        let d = diagnose(&data, &settings).expect("valid synthetic data");
-        let truth = label(case.truth);
-        *confusion.entry((truth, d.cause.clone())).or_default() += 1;
+    let results: Vec<(u64, Hidden, f64, Diagnosis, f64)> = cases()
+        .into_par_iter()
+        .map(|(seed, hidden)| {
+            let t = Instant::now();
+            let case = generate_hidden(seed, &hidden);
+            let d = diagnose(&case.data(), &settings).expect("valid synthetic data");
+            (seed, hidden, case.base_fit_max_z, d, t.elapsed().as_secs_f64())
+        })
+        .collect();
+    let mut confusion: BTreeMap<(String, String), usize> = BTreeMap::new();
+    let (mut singles, mut singles_right, mut pairs, mut pairs_right) = (0, 0, 0, 0);
+    let (mut foreign, mut foreign_unexplained, mut false_alarms) = (0, 0, 0);
+    for (seed, hidden, z, d, secs) in &results {
+        let truth = hidden.label();
+        let got = verdict(d);
+        *confusion.entry((truth.clone(), got.clone())).or_default() += 1;
         println!(
-            "seed {seed:3} truth {truth:29} cause {:29} misfit {:5} base-fit max z {:5.1} lnB {:7.2}",
-            d.cause, d.misfit_detected, case.base_fit_max_z, d.gain.log_bayes_factor
+            "seed {seed:3} truth {truth:45} verdict {got:45} base-fit max z {z:6.1} lnB {:7.2} partial {:?} alternatives {:?} {secs:.1} s",
+            d.gain.log_bayes_factor,
+            d.best_partial_explanation,
+            d.alternatives.iter().map(|a| &a.extension).collect::<Vec<_>>()
         );
-        if effect.is_some() {
-            total += 1;
-            correct += usize::from(d.cause == truth);
-        } else {
-            false_alarms += usize::from(d.cause != "none");
+        match (hidden.foreign, hidden.causes.len()) {
+            (Some(_), _) => {
+                foreign += 1;
+                foreign_unexplained += usize::from(d.cause == "unexplained");
+            }
+            (None, 0) => false_alarms += usize::from(d.cause != "none"),
+            (None, 1) => {
+                singles += 1;
+                singles_right += usize::from(d.cause == truth);
+            }
+            (None, _) => {
+                pairs += 1;
+                pairs_right += usize::from(d.explained && hidden.causes.iter().all(|c| d.causes.contains(&c.name().to_string())));
+            }
         }
     }
-    let causes: Vec<&str> = ModelClass::CAUSES.iter().map(|c| c.name()).chain(["none", "unexplained"]).collect();
-    println!("\nconfusion matrix (rows: truth, columns: diagnosed cause)");
-    print!("{:30}", "");
-    for c in &causes {
-        print!("{:>14.14}", c);
-    }
-    println!();
-    for t in causes.iter().take(5) {
-        print!("{t:30}");
-        for c in &causes {
-            print!("{:>14}", confusion.get(&(*t, c.to_string())).copied().unwrap_or(0));
-        }
-        println!();
+    println!("\nconfusion (truth → verdict: count)");
+    for ((t, v), n) in &confusion {
+        println!("  {t:45} → {v:45} {n}");
     }
     println!(
-        "correct {correct}/{total}, false alarms on clean data {false_alarms}/5, {:.1} s",
+        "singles {singles_right}/{singles}, pairs both named {pairs_right}/{pairs}, foreign unexplained \
+         {foreign_unexplained}/{foreign}, false alarms {false_alarms}/5; {:.0} s",
         t0.elapsed().as_secs_f64()
     );
-    // ≥ 95 % of the effect cases named correctly, no false alarm.
-    assert!(correct * 100 >= 95 * total, "only {correct}/{total} causes right");
+    assert!(singles_right * 100 >= 95 * singles, "singles {singles_right}/{singles}");
+    assert!(pairs_right * 100 >= 80 * pairs, "pairs {pairs_right}/{pairs}");
+    assert_eq!(foreign_unexplained, foreign, "foreign effects must be unexplained");
     assert_eq!(false_alarms, 0);
 }

@@ -1,15 +1,17 @@
-//! Seeded synthetic measured data with a known hidden effect, for testing the
+//! Seeded synthetic measured data with known hidden effects, for testing the
 //! diagnosis without telling it the truth.
 //!
 //! Base truth: a simply-supported SWCNT-like beam (L = 8 nm, d = 1 nm,
 //! E = 1 TPa, ρ = 2300 kg/m³, 20 elements) with e0a ~ U[0.8, 1.2] nm,
 //! Δ ~ U[0.3, 0.6], Ω ~ log-U[1e11, 1e12] rad/s; 4–6 modes; noise of 0.3 % on
 //! ω and 3 % on ζ relative to the noise-free values (§4.2, eq. 37–38).
-//! An effect (one of the four causes) is added at a magnitude that the base
-//! model cannot absorb: the best base-model fit to the noise-free truth must
-//! leave some observable ≥ [`MIN_SHIFT_SIGMA`] σ away. The generator checks
-//! this by fitting the base model (multi-start Nelder–Mead) and grows the
-//! magnitude ×1.5 (redrawing the effect's shape when a cap is reached) until true.
+//! Hidden: any set of the six catalogue causes, or a [`Foreign`] effect that
+//! no class models. Each effect is sized, alone on the truth, so that the
+//! base model cannot absorb it: the best base-model fit to the noise-free
+//! data must leave some observable ≥ [`MIN_SHIFT_SIGMA`] σ away. The
+//! generator checks this by fitting the base model (multi-start
+//! Nelder–Mead) and grows the magnitude ×1.5 (redrawing the effect's shape
+//! when a cap is reached) until true; the case then carries all its effects.
 
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
