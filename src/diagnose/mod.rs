@@ -72,7 +72,9 @@ pub struct DiagnoseSettings {
     /// A model within this many nats of the selected one is an alternative (default 3:
     /// the data do not prefer either "strongly").
     pub alternative_margin: f64,
-    /// Most causes the search adds (default 3).
+    /// Most causes the search adds (default 2: with 8–12 observables and the
+    /// base's 3 parameters, a third cause leaves ≤ 3 degrees of freedom, where
+    /// any flexible enough combination fits and "explained" stops meaning much).
     pub max_causes: usize,
     /// Nelder–Mead iterations for the MAP (default 400).
     pub map_iters: u64,
@@ -87,7 +89,7 @@ impl Default for DiagnoseSettings {
             family_alpha: 0.01,
             log_bayes_factor_threshold: 3.0,
             alternative_margin: 3.0,
-            max_causes: 3,
+            max_causes: 2,
             map_iters: 400,
         }
     }
@@ -351,11 +353,18 @@ struct Search {
     visited: Vec<Model>,
 }
 
-/// Greedy forward selection by evidence (module doc, step 2).
+/// Greedy forward selection by evidence (module doc, step 2), continued while
+/// the best addition gains ln B ≥ the threshold (a model that already passes
+/// the misfit test can still hide a second cause). When no single cause gains
+/// the threshold but the base misfits, every pair is tried: two effects can
+/// each be invisible alone to a one-cause model and obvious together.
 fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Search, DiagnoseError> {
     let threshold = problem.settings.log_bayes_factor_threshold;
     let mut path = vec![Model::BASE];
     let mut visited = vec![Model::BASE];
+    let z = |runs: &[ModelRun], m: &Model| {
+        runs.iter().find(|r| &r.model == m).map_or(f64::NEG_INFINITY, |r| r.tmcmc.log_evidence)
+    };
     while path.len() <= problem.settings.max_causes {
         let current = path.last().expect("path starts with the base").clone();
         let next: Vec<Model> = ModelClass::CAUSES
@@ -369,16 +378,34 @@ fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Search, Diagnos
         }
         visited.extend(next.iter().cloned());
         runs.extend(problem.run(next.clone())?);
-        let z = |m: &Model| runs.iter().find(|r| &r.model == m).map_or(f64::NEG_INFINITY, |r| r.tmcmc.log_evidence);
-        let best = next.iter().max_by(|a, b| z(a).total_cmp(&z(b))).expect("non-empty").clone();
-        if z(&best) - z(&current) < threshold {
+        let best = next.iter().max_by(|a, b| z(runs, a).total_cmp(&z(runs, b))).expect("non-empty").clone();
+        if z(runs, &best) - z(runs, &current) < threshold {
             break;
         }
-        // a model that passes the misfit test needs no further cause: stop there
-        let fits = !misfits(problem, runs.iter().find(|r| r.model == best).expect("ran"));
         path.push(best);
-        if fits {
-            break;
+    }
+    let base_misfits = misfits(problem, runs.iter().find(|r| r.model == Model::BASE).expect("base ran"));
+    if path.len() == 1 && problem.settings.max_causes >= 2 && base_misfits {
+        let pairs: Vec<Model> = ModelClass::CAUSES
+            .iter()
+            .enumerate()
+            .flat_map(|(i, &a)| ModelClass::CAUSES[i + 1..].iter().map(move |&b| Model::with(&[a, b])))
+            .collect();
+        visited.extend(pairs.iter().cloned());
+        runs.extend(problem.run(pairs.clone())?);
+        let best = pairs.iter().max_by(|a, b| z(runs, a).total_cmp(&z(runs, b))).expect("15 pairs").clone();
+        // each cause of the pair must earn its place against the model without it
+        let without = best.causes().iter().map(|c| Model::with(&[*c])).map(|m| z(runs, &m)).fold(f64::NEG_INFINITY, f64::max);
+        if z(runs, &best) - without.max(z(runs, &Model::BASE)) >= threshold {
+            // the path records the order of evidence gain: the better single first
+            let first = best
+                .causes()
+                .iter()
+                .map(|c| Model::with(&[*c]))
+                .max_by(|a, b| z(runs, a).total_cmp(&z(runs, b)))
+                .expect("two causes");
+            path.push(first);
+            path.push(best);
         }
     }
     Ok(Search { path, visited })
