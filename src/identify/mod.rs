@@ -37,8 +37,19 @@ pub use data::Measurement;
 use refine::{FitKind, FitResult, Model, PER_MODE, PER_REAL};
 pub use stabilisation::Diagram;
 
-/// Highest number of real (relaxation/background) poles tried in the refinement.
-pub const MAX_REAL_POLES: usize = 2;
+/// Highest number of real (relaxation/background) poles tried in the
+/// refinement (candidates 0 … MAX_REAL_POLES, chosen by BIC). The relaxation
+/// poles of a meshed viscoelastic beam (one per mesh mode and internal
+/// variable) lie in a narrow interval of the negative real axis; a sum of
+/// poles on an interval is approximated by a few poles with an error that falls
+/// geometrically with their number. Measured on the paper's beam (20 elements,
+/// noise-free 4 000-point sweep over modes 1–5), ζ's worst relative error:
+/// 2 real poles + 1 out-of-band mode 3·10⁻⁵, 3 + 2: 3·10⁻⁷.
+pub const MAX_REAL_POLES: usize = 3;
+/// Oscillatory poles kept above the band of a frequency record (not
+/// reported): the nearest out-of-band modes, whose tails the residual
+/// polynomial (a Taylor series converging only below them) represents poorly.
+pub const OUT_OF_BAND_MODES: usize = 2;
 /// Samples a resonance needs within its half-power band ω_d ± σ (the peak,
 /// its width and its height: three points determine a Lorentzian).
 pub const MIN_POINTS_PER_RESONANCE: usize = 3;
@@ -254,14 +265,14 @@ fn check_points_per_resonance(sc: &Scaled, modes: &[Complex64]) -> Result<(), In
 /// BIC = m·ln(RSS/m) + p·ln m wins.
 fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResult), IdentifyError> {
     let poly = if sc.kind == FitKind::Time { vec![0] } else { vec![0, 1, 2] };
-    // frequency records: one extra oscillatory pole above the band stands for
-    // the nearest out-of-band mode, whose tail the residual polynomial
-    // (a Taylor series converging only below that mode) represents poorly.
+    // frequency records: OUT_OF_BAND_MODES oscillatory poles above the band
     let n_identified = initial.len();
     let mut initial = initial.to_vec();
     if sc.kind != FitKind::Time && initial.iter().all(|p| p.norm() <= sc.band.1) {
-        let w = 1.2 * sc.band.1;
-        initial.push(Complex64::new(-0.01 * w, w));
+        for j in 0..OUT_OF_BAND_MODES {
+            let w = (1.2 + 0.4 * j as f64) * sc.band.1;
+            initial.push(Complex64::new(-0.01 * w, w));
+        }
     }
     let initial = &initial[..];
     let candidates: Vec<Option<(f64, Model, FitResult)>> = (0..=MAX_REAL_POLES)
@@ -278,7 +289,11 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
             if model.n_params() + 1 >= model.n_residuals() {
                 return None;
             }
-            let fit = refine::fit(&model, initial_theta(&model, sc, initial)?)?;
+            let theta0 = initial_theta(&model, sc, initial)?;
+            let fit = match model.kind {
+                FitKind::Complex | FitKind::Time => refine::fit_projected(&model, &theta0)?,
+                FitKind::Magnitude | FitKind::LogPsd => refine::fit(&model, theta0)?,
+            };
             if !stable_modes(&fit, n_identified) {
                 return None;
             }
