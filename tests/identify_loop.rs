@@ -81,56 +81,81 @@ fn within(m: &IdentifiedMode, omega: f64, zeta: f64, k: f64) -> [bool; 2] {
     [(m.omega_rad_s - omega).abs() <= k * m.omega_sd_rad_s, (m.zeta - zeta).abs() <= k * m.zeta_sd]
 }
 
-#[test]
-fn intervals_cover_the_truth_at_their_level() {
-    // 200 noise seeds on the paper's beam: 3 modes, 600-point sweep, complex
-    // noise of 0.2 % of max|H| per component.
-    let beam = paper_beam();
-    let truth = modal(&beam, 4).unwrap();
-    let w = sweep(&truth, 3, 600);
-    let h = frf(&beam, 3.6, 6.8, &w).unwrap();
-    let sd = 2e-3 * h.iter().map(|z| z.norm()).fold(0.0, f64::max);
-    let n: u64 = std::env::var("IDENTIFY_SEEDS").ok().and_then(|v| v.parse().ok()).unwrap_or(200);
-    let n_us = n as usize;
+/// Noise seeds of a coverage test (`IDENTIFY_SEEDS` overrides; ≥ 200 is the bar).
+fn seeds() -> u64 {
+    std::env::var("IDENTIFY_SEEDS").ok().and_then(|v| v.parse().ok()).unwrap_or(200)
+}
+
+/// Runs `run(seed)` for every seed and checks that the 95 % intervals of the
+/// three modes' ω and ζ cover the truth at 95 %. Binomial Monte Carlo error
+/// of a coverage rate over n = 200 seeds: sd = sqrt(0.95·0.05/200) = 0.0154;
+/// each observable must lie within 3 sd (0.046) of 0.95, the pooled rate
+/// (1200 intervals, modes fitted jointly but nearly uncorrelated) within
+/// 3·sqrt(0.95·0.05/1200) = 0.019.
+fn assert_coverage(what: &str, truth: &ModalResult, run: impl Fn(u64) -> Vec<IdentifiedMode>) {
+    let n = seeds();
     let mut hits = [0usize; 6];
     let mut z_sum = [0.0f64; 6];
     let mut z_sq = [0.0f64; 6];
     let t0 = std::time::Instant::now();
     for seed in 0..n {
-        let data = Measurement::Complex { omega_rad_s: w.clone(), h_m_per_n: noisy(&h, sd, seed) };
-        let id = identify(&data, &IdentifySettings { modes: Some(3), max_order: 24 }).unwrap();
-        for (r, (m, t)) in id.modes.iter().zip(&truth.modes).enumerate() {
+        let modes = run(seed);
+        assert_eq!(modes.len(), 3, "{what}, seed {seed}: three modes");
+        for (r, (m, t)) in modes.iter().zip(&truth.modes).enumerate() {
             let [a, b] = within(m, t.omega_rad_s, t.zeta, 1.959964);
             hits[2 * r] += usize::from(a);
             hits[2 * r + 1] += usize::from(b);
-            for (j, z) in [(m.omega_rad_s - t.omega_rad_s) / m.omega_sd_rad_s, (m.zeta - t.zeta) / m.zeta_sd]
-                .into_iter()
-                .enumerate()
-            {
-                z_sum[2 * r + j] += z;
-                z_sq[2 * r + j] += z * z;
+            let z = [(m.omega_rad_s - t.omega_rad_s) / m.omega_sd_rad_s, (m.zeta - t.zeta) / m.zeta_sd];
+            for j in 0..2 {
+                z_sum[2 * r + j] += z[j];
+                z_sq[2 * r + j] += z[j] * z[j];
             }
         }
     }
-    // Binomial Monte Carlo error of a coverage rate over n = 200 seeds:
-    // sd = sqrt(0.95·0.05/200) = 0.0154; each observable must lie within
-    // 3 sd (0.046) of 0.95, the pooled rate (1200 intervals, modes fitted
-    // jointly but nearly uncorrelated) within 3·sqrt(0.95·0.05/1200) = 0.019.
     let mc_sd = (0.95f64 * 0.05 / n as f64).sqrt();
     let names = ["omega_1", "zeta_1", "omega_2", "zeta_2", "omega_3", "zeta_3"];
-    for (name, &k) in names.iter().zip(&hits) {
+    let mut bad = Vec::new();
+    for (i, (name, &k)) in names.iter().zip(&hits).enumerate() {
         let rate = k as f64 / n as f64;
-        let i = names.iter().position(|x| x == name).unwrap();
         let mean = z_sum[i] / n as f64;
-        println!(
-            "{name}: coverage {rate:.3} ({k}/{n}), mean z {mean:.3}, sd z {:.3}",
-            (z_sq[i] / n as f64 - mean * mean).sqrt()
-        );
-        assert!((rate - 0.95).abs() <= 3.0 * mc_sd, "{name}: 95 % interval covers {rate:.3}");
+        let sd = (z_sq[i] / n as f64 - mean * mean).sqrt();
+        println!("{what} {name}: coverage {rate:.3} ({k}/{n}), mean z {mean:.3}, sd z {sd:.3}");
+        if (rate - 0.95).abs() > 3.0 * mc_sd {
+            bad.push(format!("{name} covers {rate:.3}"));
+        }
     }
-    let pooled = hits.iter().sum::<usize>() as f64 / (6 * n_us) as f64;
-    println!("pooled coverage {pooled:.4} ({:.1} s)", t0.elapsed().as_secs_f64());
-    assert!((pooled - 0.95).abs() <= 3.0 * (0.95f64 * 0.05 / (6 * n_us) as f64).sqrt());
+    let pooled = hits.iter().sum::<usize>() as f64 / (6 * n) as f64;
+    println!("{what}: pooled coverage {pooled:.4} ({:.1} s)", t0.elapsed().as_secs_f64());
+    assert!(bad.is_empty(), "{what}: {bad:?}");
+    assert!((pooled - 0.95).abs() <= 3.0 * (0.95f64 * 0.05 / (6 * n) as f64).sqrt(), "{what}: pooled {pooled}");
+}
+
+#[test]
+fn intervals_cover_the_truth_at_their_level() {
+    // 3 modes, 600-point sweep, complex noise of 0.2 % of max|H| per component.
+    let beam = paper_beam();
+    let truth = modal(&beam, 4).unwrap();
+    let w = sweep(&truth, 3, 600);
+    let h = frf(&beam, 3.6, 6.8, &w).unwrap();
+    let sd = 2e-3 * h.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    assert_coverage("sweep", &truth, |seed| {
+        let data = Measurement::Complex { omega_rad_s: w.clone(), h_m_per_n: noisy(&h, sd, seed) };
+        identify(&data, &IdentifySettings { modes: Some(3), max_order: 24 }).unwrap().modes
+    });
+}
+
+#[test]
+fn ring_down_intervals_cover_the_truth_at_their_level() {
+    // 600-sample lab ring-downs (see `lab_ring_down`), noise 0.1 % of the peak.
+    let (t, y0, truth) = paper_ring_down(600, 0);
+    let sd = 1e-3 * y0.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let clean = paper_ring_down_clean(600);
+    assert_coverage("ring-down", &truth, |seed| {
+        let mut rng = stream(12, Purpose::MeasurementNoise, [1203, seed]);
+        let y = clean.iter().map(|v| v + sd * Distribution::<f64>::sample(&StandardNormal, &mut rng)).collect();
+        let data = Measurement::Time { time_s: t.clone(), displacement_m: y };
+        identify(&data, &IdentifySettings { modes: Some(3), max_order: 24 }).unwrap().modes
+    });
 }
 
 #[test]
@@ -200,15 +225,22 @@ fn lab_ring_down(beam: &BeamSpec, nyquist: f64, cutoff: f64, n: usize) -> (Vec<f
     (t, y)
 }
 
+fn paper_ring_down_clean(n: usize) -> Vec<f64> {
+    let beam = paper_beam();
+    let truth = modal(&beam, 4).unwrap();
+    let nyquist = 1.25 * truth.modes[2].omega_rad_s;
+    let cutoff = 0.5 * (truth.modes[2].omega_rad_s + truth.modes[3].omega_rad_s);
+    lab_ring_down(&beam, nyquist, cutoff, n).1
+}
+
 /// The paper's beam rung down with Nyquist 1.25·ω₃ (modes 1–3 in the band,
 /// mode 4 at 1.44·ω₃ in the filter's stop band), n samples, noise sd 0.1 %
 /// of the peak.
 fn paper_ring_down(n: usize, replicate: u64) -> (Vec<f64>, Vec<f64>, ModalResult) {
     let beam = paper_beam();
     let truth = modal(&beam, 4).unwrap();
-    let nyquist = 1.25 * truth.modes[2].omega_rad_s;
-    let cutoff = 0.5 * (truth.modes[2].omega_rad_s + truth.modes[3].omega_rad_s);
-    let (t, y) = lab_ring_down(&beam, nyquist, cutoff, n);
+    let y = paper_ring_down_clean(n);
+    let t = (0..n).map(|k| k as f64 * std::f64::consts::PI / (1.25 * truth.modes[2].omega_rad_s)).collect();
     let sd = 1e-3 * y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let mut rng = stream(12, Purpose::MeasurementNoise, [1202, replicate]);
     let y = y.iter().map(|v| v + sd * Distribution::<f64>::sample(&StandardNormal, &mut rng)).collect();

@@ -189,7 +189,7 @@ impl Model {
         }
         let (r0, jac) = self.eval(&zeroed, true);
         let a = jac.select_columns(&linear);
-        let sol = a.svd(true, true).solve(&(-r0), 1e-13).ok()?;
+        let sol = a.try_svd(true, true, f64::EPSILON, MAX_SWEEPS)?.solve(&(-r0), 1e-13).ok()?;
         for (k, &j) in linear.iter().enumerate() {
             zeroed[j] = sol[k];
         }
@@ -324,6 +324,11 @@ pub fn fit_projected(model: &Model, theta0: &[f64]) -> Option<FitResult> {
     finish(model, theta, report.number_of_evaluations)
 }
 
+/// Iteration cap of the small dense decompositions (QR-sweeps of an SVD or
+/// symmetric eigensolver converge in a few per singular value; 10 000 is
+/// only reached when the iteration cycles).
+const MAX_SWEEPS: usize = 10_000;
+
 /// The reduced problem of [`fit_projected`].
 struct Projected<'a> {
     model: &'a Model,
@@ -356,7 +361,9 @@ impl Projected<'_> {
         // numerically dependent). Cheaper than an SVD of the tall Φ.
         let qr = phi.qr();
         let (q, rmat) = (qr.q(), qr.r());
-        let svd = rmat.svd(true, true);
+        // bounded iterations: nalgebra's unbounded SVD can cycle on a
+        // degenerate R (a runaway background pole); `None` ends this candidate
+        let svd = rmat.try_svd(true, true, f64::EPSILON, MAX_SWEEPS)?;
         let (ur, vt) = (svd.u.as_ref()?, svd.v_t.as_ref()?);
         let smax = svd.singular_values.iter().copied().fold(0.0, f64::max);
         if !(smax > 0.0 && smax.is_finite()) {
@@ -415,7 +422,7 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Projected<'_> {
 fn pseudo_inverse_sym(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     let d: Vec<f64> = (0..a.nrows()).map(|i| a[(i, i)].max(f64::MIN_POSITIVE).sqrt()).collect();
     let scaled = DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] / (d[i] * d[j]));
-    let eig = scaled.symmetric_eigen();
+    let eig = scaled.try_symmetric_eigen(f64::EPSILON, MAX_SWEEPS)?;
     let max = eig.eigenvalues.iter().copied().fold(0.0, f64::max);
     if !(max > 0.0 && max.is_finite()) {
         return None;
