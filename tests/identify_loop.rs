@@ -92,14 +92,20 @@ fn seeds() -> u64 {
 /// each observable must lie within 3 sd (0.046) of 0.95, the pooled rate
 /// (1200 intervals, modes fitted jointly but nearly uncorrelated) within
 /// 3·sqrt(0.95·0.05/1200) = 0.019.
-fn assert_coverage(what: &str, truth: &ModalResult, run: impl Fn(u64) -> Vec<IdentifiedMode>) {
+fn assert_coverage(what: &str, truth: &ModalResult, run: impl Fn(u64) -> Option<Vec<IdentifiedMode>>) {
     let n = seeds();
+    let mut failed = 0;
     let mut hits = [0usize; 6];
     let mut z_sum = [0.0f64; 6];
     let mut z_sq = [0.0f64; 6];
     let t0 = std::time::Instant::now();
     for seed in 0..n {
-        let modes = run(seed);
+        // a record whose three modes are not identified gives no interval:
+        // counted as six misses
+        let Some(modes) = run(seed) else {
+            failed += 1;
+            continue;
+        };
         assert_eq!(modes.len(), 3, "{what}, seed {seed}: three modes");
         for (r, (m, t)) in modes.iter().zip(&truth.modes).enumerate() {
             let [a, b] = within(m, t.omega_rad_s, t.zeta, 1.959964);
@@ -125,7 +131,10 @@ fn assert_coverage(what: &str, truth: &ModalResult, run: impl Fn(u64) -> Vec<Ide
         }
     }
     let pooled = hits.iter().sum::<usize>() as f64 / (6 * n) as f64;
-    println!("{what}: pooled coverage {pooled:.4} ({:.1} s)", t0.elapsed().as_secs_f64());
+    println!(
+        "{what}: pooled coverage {pooled:.4}, {failed} records without three modes ({:.1} s)",
+        t0.elapsed().as_secs_f64()
+    );
     assert!(bad.is_empty(), "{what}: {bad:?}");
     assert!((pooled - 0.95).abs() <= 3.0 * (0.95f64 * 0.05 / (6 * n) as f64).sqrt(), "{what}: pooled {pooled}");
 }
@@ -140,7 +149,7 @@ fn intervals_cover_the_truth_at_their_level() {
     let sd = 2e-3 * h.iter().map(|z| z.norm()).fold(0.0, f64::max);
     assert_coverage("sweep", &truth, |seed| {
         let data = Measurement::Complex { omega_rad_s: w.clone(), h_m_per_n: noisy(&h, sd, seed) };
-        identify(&data, &IdentifySettings { modes: Some(3), max_order: 24 }).unwrap().modes
+        identify(&data, &IdentifySettings { modes: Some(3), max_order: 24 }).ok().map(|id| id.modes)
     });
 }
 
@@ -154,25 +163,47 @@ fn ring_down_intervals_cover_the_truth_at_their_level() {
         let mut rng = stream(12, Purpose::MeasurementNoise, [1203, seed]);
         let y = clean.iter().map(|v| v + sd * Distribution::<f64>::sample(&StandardNormal, &mut rng)).collect();
         let data = Measurement::Time { time_s: t.clone(), displacement_m: y };
-        identify(&data, &IdentifySettings { modes: Some(3), max_order: 24 }).unwrap().modes
+        identify(&data, &IdentifySettings { modes: Some(3), max_order: 24 }).ok().map(|id| id.modes)
     });
 }
 
+/// Thermal-noise PSD: |H|²·S_F (white force), a Welch average of ν = 20
+/// periodograms: each bin is |H|²·S_F·χ²₄₀/40 = |H|²·S_F·Gamma(20, 1/20).
+fn noisy_psd(h: &[Complex64], seed: u64) -> Vec<f64> {
+    let mut rng = stream(12, Purpose::MeasurementNoise, [1201, seed]);
+    let gamma = Gamma::new(20.0, 1.0 / 20.0).unwrap();
+    h.iter().map(|z| z.norm_sqr() * 1e-20 * gamma.sample(&mut rng)).collect()
+}
+
 #[test]
-#[ignore = "known failure: mode 1's zeta comes out 4 sd high (0.0798 ± 0.0021 vs 0.0715); the log-PSD fit of the relaxation background is not yet unbiased"]
 fn noisy_psd_recovers_the_modes_within_their_sd() {
-    // Thermal-noise PSD: |H|²·S_F (white force), averaged over 20 periodograms:
-    // each bin is |H|²·S_F·χ²₄₀/40 (Gamma(20, 1/20)).
     let beam = paper_beam();
     let truth = modal(&beam, 4).unwrap();
     let w = sweep(&truth, 3, 1500);
     let h = frf(&beam, 3.6, 6.8, &w).unwrap();
-    let mut rng = stream(12, Purpose::MeasurementNoise, [1201, 0]);
-    let gamma = Gamma::new(20.0, 1.0 / 20.0).unwrap();
-    let psd: Vec<f64> = h.iter().map(|z| z.norm_sqr() * 1e-20 * gamma.sample(&mut rng)).collect();
-    let id =
-        identify(&Measurement::Psd { omega_rad_s: w, psd_m2_s_per_rad: psd }, &IdentifySettings::default()).unwrap();
+    let data = Measurement::Psd { omega_rad_s: w, psd_m2_s_per_rad: noisy_psd(&h, 0) };
+    let id = identify(&data, &IdentifySettings::default()).unwrap();
+    // the estimated number of averages: 1/ν̂ = noise_sd², ν = 20; its sd
+    // over m ≈ 1500 bins is ≈ ν·sqrt(2/m)·(1 + 3/ν)^½ ≈ 0.8, so 20 ± 4
+    let nu = 1.0 / (id.noise_sd * id.noise_sd);
+    println!("psd: estimated averages {nu:.2}");
+    assert!((nu - 20.0).abs() < 4.0, "averages {nu}");
     check_three_modes(&id.modes, &truth, "psd");
+}
+
+#[test]
+#[ignore = "known failure (200 seeds, 28 s): 39 of 200 noisy PSDs yield fewer than 3 stable modes in the diagram; of the 161 fitted, mean z of omega/zeta within ±0.31 (unbiased), but mode 1 under-covers (omega_1 142/161, zeta_1 138/161, sd z 1.09/1.16); modes 2-3 0.92-0.99"]
+fn psd_intervals_cover_the_truth_at_their_level() {
+    // 1500-bin Welch PSDs (ν = 20) over modes 1–3 (with 600 bins of this
+    // noise the stabilisation diagram holds only 1–2 of the three modes).
+    let beam = paper_beam();
+    let truth = modal(&beam, 4).unwrap();
+    let w = sweep(&truth, 3, 1500);
+    let h = frf(&beam, 3.6, 6.8, &w).unwrap();
+    assert_coverage("psd", &truth, |seed| {
+        let data = Measurement::Psd { omega_rad_s: w.clone(), psd_m2_s_per_rad: noisy_psd(&h, 100 + seed) };
+        identify(&data, &IdentifySettings { modes: Some(3), ..IdentifySettings::default() }).ok().map(|id| id.modes)
+    });
 }
 
 #[test]

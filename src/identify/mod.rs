@@ -113,7 +113,8 @@ pub struct Identification {
     /// Real poles of the refinement, as decay rates γ (pole −γ), rad/s.
     pub real_poles_rad_s: Vec<f64>,
     /// Residual-based noise sd, in the units of the fitted quantity
-    /// (m/N per component, m/N, ln PSD, or m).
+    /// (m/N per component, m/N, or m; PSD: the relative sd 1/√ν̂ of a bin,
+    /// ν̂ the estimated number of averages).
     pub noise_sd: f64,
     pub residual_count: usize,
     pub parameter_count: usize,
@@ -155,7 +156,7 @@ fn scale(m: &Measurement) -> Scaled {
             (FitKind::Magnitude, omega_rad_s.clone(), h_abs_m_per_n.iter().map(|&v| c(v)).collect(), 0.0, (0.0, 0.0))
         }
         Measurement::Psd { omega_rad_s, psd_m2_s_per_rad } => {
-            (FitKind::LogPsd, omega_rad_s.clone(), psd_m2_s_per_rad.iter().map(|&v| c(v)).collect(), 0.0, (0.0, 0.0))
+            (FitKind::Psd, omega_rad_s.clone(), psd_m2_s_per_rad.iter().map(|&v| c(v)).collect(), 0.0, (0.0, 0.0))
         }
         Measurement::Time { time_s, displacement_m } => {
             let n = time_s.len();
@@ -292,7 +293,7 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
             let theta0 = initial_theta(&model, sc, initial)?;
             let fit = match model.kind {
                 FitKind::Complex | FitKind::Time => refine::fit_projected(&model, &theta0)?,
-                FitKind::Magnitude | FitKind::LogPsd => refine::fit(&model, theta0)?,
+                FitKind::Magnitude | FitKind::Psd => refine::fit(&model, theta0)?,
             };
             if !stable_modes(&fit, n_identified) {
                 return None;
@@ -335,7 +336,7 @@ fn initial_theta(model: &Model, sc: &Scaled, initial: &[Complex64]) -> Option<Ve
     }
     match model.kind {
         FitKind::Complex | FitKind::Time => model.solve_linear(&theta),
-        FitKind::Magnitude | FitKind::LogPsd => phase_retrieval(model, peak_residues(model, theta, initial)),
+        FitKind::Magnitude | FitKind::Psd => phase_retrieval(model, peak_residues(model, theta, initial)),
     }
 }
 
@@ -346,7 +347,7 @@ fn initial_theta(model: &Model, sc: &Scaled, initial: &[Complex64]) -> Option<Ve
 /// zero residual terms.
 fn phase_retrieval(model: &Model, mut theta: Vec<f64>) -> Option<Vec<f64>> {
     const ITERATIONS: usize = 8;
-    let magnitude = |y: Complex64| if model.kind == FitKind::LogPsd { y.re.sqrt() } else { y.re };
+    let magnitude = |y: Complex64| if model.kind == FitKind::Psd { y.re.sqrt() } else { y.re };
     for _ in 0..ITERATIONS {
         let h = model.curve(&theta, &model.x);
         let y: Vec<Complex64> =
@@ -368,7 +369,7 @@ fn peak_residues(model: &Model, mut theta: Vec<f64>, initial: &[Complex64]) -> V
             .enumerate()
             .min_by(|a, b| (a.1 - p.im).abs().total_cmp(&(b.1 - p.im).abs()))
             .map_or(0, |v| v.0);
-        let height = if model.kind == FitKind::LogPsd { model.y[i].re.sqrt() } else { model.y[i].re };
+        let height = if model.kind == FitKind::Psd { model.y[i].re.sqrt() } else { model.y[i].re };
         theta[PER_MODE * r + 3] = -height * (-p.re);
     }
     for r in 0..initial.len() {
@@ -428,7 +429,7 @@ fn assemble(
     let keep = report.unwrap_or(by_peak.len()).min(by_peak.len());
     by_peak.sort_by(|&a, &b| all[b].amplitude_snr.total_cmp(&all[a].amplitude_snr));
     let reported: Vec<usize> = by_peak[..keep].to_vec();
-    let y_unit = if sc.kind == FitKind::LogPsd { sc.y_ref.sqrt() } else { sc.y_ref };
+    let y_unit = if sc.kind == FitKind::Psd { sc.y_ref.sqrt() } else { sc.y_ref };
     for mode in &mut all {
         mode.peak *= y_unit;
     }
@@ -449,7 +450,7 @@ fn assemble(
         _ => sc.x.iter().map(|x| x * sc.x_ref).collect(),
     };
     let noise_unit = match sc.kind {
-        FitKind::LogPsd => 1.0,
+        FitKind::Psd => 1.0,
         _ => sc.y_ref,
     };
     Identification {
@@ -483,7 +484,7 @@ fn kind_name(k: FitKind) -> &'static str {
     match k {
         FitKind::Complex => "complex receptance",
         FitKind::Magnitude => "receptance magnitude",
-        FitKind::LogPsd => "displacement PSD",
+        FitKind::Psd => "displacement PSD",
         FitKind::Time => "free decay",
     }
 }
@@ -502,14 +503,14 @@ fn unscale_curves(
         .map(|h| match sc.kind {
             FitKind::Complex => h * sc.y_ref,
             FitKind::Magnitude => Complex64::new(h.norm() * sc.y_ref, 0.0),
-            FitKind::LogPsd => Complex64::new(h.norm_sqr() * sc.y_ref, 0.0),
+            FitKind::Psd => Complex64::new(h.norm_sqr() * sc.y_ref, 0.0),
             FitKind::Time => Complex64::new(h.re * sc.y_ref, 0.0),
         })
         .collect();
     let measured = sc.y.iter().map(|v| v * sc.y_ref).collect();
     let residuals = match sc.kind {
         FitKind::Complex => (0..n).map(|i| r[i].hypot(r[n + i]) * sc.y_ref).collect(),
-        FitKind::LogPsd => r.iter().copied().collect(),
+        FitKind::Psd => r.iter().copied().collect(),
         _ => r.iter().map(|v| v * sc.y_ref).collect(),
     };
     (fitted, measured, residuals)

@@ -12,9 +12,16 @@
 //!
 //! Parameters per mode (σ_r, ω_d,r, Re A_r, Im A_r); per real pole (γ_k, B_k);
 //! then c_m. The residuals by record kind: complex → (Re, Im) of H − y;
-//! magnitude → |H| − y; PSD → ln|H|² − ln y (the PSD scale is absorbed by the
-//! residues; averaged periodograms have near-constant variance in log);
-//! time → y_model − y.
+//! magnitude → |H| − y; time → y_model − y; PSD → the Gamma deviance residual
+//! of u = y/S, S = |H|² (the PSD scale is absorbed by the residues):
+//! r = sgn(u − 1)·√(2(u − 1 − ln u)). A ν-average periodogram bin is
+//! S·Gamma(ν, 1/ν) (χ²₂ᵥ/2ν), whose negative log-likelihood is
+//! ν·Σ(u − 1 − ln u) + const — the Whittle likelihood — so least squares on r
+//! is its maximum, whatever ν (P. Whittle, "Curve and periodogram
+//! smoothing", JRSS B 19, 1957; McCullagh & Nelder, *Generalized Linear
+//! Models*, 2nd ed., §8.3, deviance of the Gamma family). Least squares on
+//! ln y instead weights every bin alike in log and is not the likelihood of
+//! this noise; the deviance form needs no correction of the log's mean.
 //!
 //! # Uncertainties
 //! At the optimum θ̂ with m residuals and p parameters, the noise variance is
@@ -22,7 +29,10 @@
 //! Cov(θ̂) ≈ σ̂²(JᵀJ)⁺ (Gauss–Newton linearisation; the pseudo-inverse drops
 //! directions the data do not determine, e.g. a background pole with a zero
 //! residue, which do not involve the modes). ω = |p| and ζ = σ/|p| get their
-//! variances by the delta method from the (σ, ω_d) block.
+//! variances by the delta method from the (σ, ω_d) block. PSD: the number of
+//! averages ν is estimated, 1/ν̂ = Σ(u − 1)²/(m − p), and
+//! Cov(θ̂) ≈ (1/ν̂)(GᵀG)⁺ with G = ∂ln S/∂θ (the inverse Fisher information of
+//! the Gamma likelihood).
 
 use levenberg_marquardt::{LeastSquaresProblem, LevenbergMarquardt};
 use nalgebra::storage::Owned;
@@ -34,7 +44,7 @@ use num_complex::Complex64;
 pub enum FitKind {
     Complex,
     Magnitude,
-    LogPsd,
+    Psd,
     Time,
 }
 
@@ -157,12 +167,16 @@ impl Model {
                         }
                     }
                 }
-                FitKind::LogPsd => {
-                    let a2 = h.norm_sqr().max(f64::MIN_POSITIVE);
-                    r[i] = a2.ln() - y.re.ln();
+                FitKind::Psd => {
+                    // Whittle/Gamma deviance residual of u = y/S (see the module doc)
+                    let s = h.norm_sqr().max(f64::MIN_POSITIVE);
+                    let x = y.re / s - 1.0;
+                    let (dev, ratio) = deviance(x);
+                    r[i] = dev;
                     if with_jacobian {
+                        // dr/dθ = dr/du·du/dθ = −(x/r)·∂ln S/∂θ
                         for (j, g) in grad.iter().enumerate() {
-                            jac[(i, j)] = 2.0 * (h.conj() * g).re / a2;
+                            jac[(i, j)] = -ratio * 2.0 * (h.conj() * g).re / s;
                         }
                     }
                 }
@@ -214,6 +228,21 @@ impl Model {
         v.extend((0..self.poly.len()).map(|j| o + PER_REAL * self.n_real + j));
         v
     }
+}
+
+/// The Gamma deviance residual of u = 1 + x, sgn(x)·√(2(x − ln(1 + x))),
+/// and x/r (→ 1 as x → 0), for the PSD's Whittle likelihood. For
+/// |x| < 10⁻³ the series x − ln(1+x) = Σ_{k≥2} (−1)ᵏ xᵏ/k (six terms,
+/// truncation x⁸/8 < 10⁻²⁴, relative 10⁻¹⁸) avoids the cancellation.
+fn deviance(x: f64) -> (f64, f64) {
+    let half = if x.abs() < 1e-3 {
+        x * x * (0.5 - x * (1.0 / 3.0 - x * (0.25 - x * (0.2 - x * (1.0 / 6.0 - x / 7.0)))))
+    } else {
+        x - x.ln_1p()
+    };
+    let r = x.signum() * (2.0 * half.max(0.0)).sqrt();
+    let ratio = if r == 0.0 { 1.0 } else { x / r };
+    (r, ratio)
 }
 
 /// The LM problem: the model and the current parameters.
@@ -287,8 +316,24 @@ fn finish(model: &Model, theta: Vec<f64>, evaluations: usize) -> Option<FitResul
     }
     let rss = r.norm_squared();
     let dof = model.n_residuals().saturating_sub(model.n_params()).max(1);
-    let noise_var = rss / dof as f64;
-    let jtj = jac.transpose() * &jac;
+    let (noise_var, jtj) = if model.kind == FitKind::Psd {
+        // Whittle: 1/ν̂ = Σ(u − 1)²/(m − p) (Pearson; unbiased for the
+        // relative variance 1/ν of a ν-average periodogram) and the Fisher
+        // information ν·GᵀG, G = ∂ln S/∂θ = −J·r/x row by row.
+        let mut g = jac.clone();
+        let mut pearson = 0.0;
+        let fitted = model.curve(&theta, &model.x);
+        for i in 0..r.len() {
+            let s = fitted[i].norm_sqr().max(f64::MIN_POSITIVE);
+            let x = model.y[i].re / s - 1.0;
+            pearson += x * x;
+            let ratio = deviance(x).1;
+            g.row_mut(i).scale_mut(-1.0 / ratio);
+        }
+        (pearson / dof as f64, g.transpose() * &g)
+    } else {
+        (rss / dof as f64, jac.transpose() * &jac)
+    };
     let cov = pseudo_inverse_sym(&jtj)? * noise_var;
     Some(FitResult { theta, rss, noise_var, cov, evaluations })
 }
