@@ -325,9 +325,9 @@ fn finish(model: &Model, theta: Vec<f64>, evaluations: usize) -> Option<FitResul
         let mut g = jac.clone();
         let mut pearson = 0.0;
         let fitted = model.curve(&theta, &model.x);
-        for i in 0..r.len() {
-            let s = fitted[i].norm_sqr().max(f64::MIN_POSITIVE);
-            let x = model.y[i].re / s - 1.0;
+        for (i, (h, y)) in fitted.iter().zip(&model.y).enumerate() {
+            let s = h.norm_sqr().max(f64::MIN_POSITIVE);
+            let x = y.re / s - 1.0;
             pearson += x * x;
             let ratio = deviance(x).1;
             g.row_mut(i).scale_mut(-1.0 / ratio);
