@@ -42,6 +42,14 @@ fn rel(a: f64, b: f64) -> f64 {
 fn noise_free_sweep_gives_the_model_modes() {
     let beam = paper_beam();
     let truth = modal(&beam, 6).unwrap();
+    let all = modal(&beam, 40).unwrap();
+    println!(
+        "{} mesh modes up to {:e} rad/s, relaxation poles {:e} … {:e} rad/s",
+        all.modes.len(),
+        all.modes.last().unwrap().omega_rad_s,
+        all.real_poles_rad_s.first().unwrap(),
+        all.real_poles_rad_s.last().unwrap()
+    );
     let w = sweep(&truth, 5, 4000);
     let h = frf(&beam, 3.6, 6.8, &w).unwrap();
     let id = identify(&Measurement::Complex { omega_rad_s: w, h_m_per_n: h }, &IdentifySettings::default()).unwrap();
@@ -49,14 +57,12 @@ fn noise_free_sweep_gives_the_model_modes() {
     for (m, t) in id.modes.iter().zip(&truth.modes) {
         let (ew, ez) = (rel(m.omega_rad_s, t.omega_rad_s), rel(m.zeta, t.zeta));
         println!("mode {}: omega rel err {ew:.2e}, zeta rel err {ez:.2e}", t.mode);
-        // ω: 1e-6 (the target), met. ζ: the target is 1e-6 but the
-        // refinement's background model (≤ 2 real poles for the ~20 relaxation
-        // poles of the mesh, one pseudo-mode plus a quadratic for the modes
-        // above the band) leaves a truncation error that reaches 2.3e-5 on the
-        // highest mode's ζ (the most background-sensitive number). 1e-4 guards
-        // that level with a 4x margin; it is NOT the 1e-6 and is reported as such.
+        // 1e-6 relative for both (the target). What remains is the
+        // truncation of the background model (≤ 3 real poles for the 40
+        // relaxation poles of the mesh, 2 poles plus a quadratic for the modes
+        // above the band): measured ≤ 1.4e-7 on ζ₅, ≤ 2e-9 on ω.
         assert!(ew < 1e-6, "mode {} omega off by {ew:e}", t.mode);
-        assert!(ez < 1e-4, "mode {} zeta off by {ez:e}", t.mode);
+        assert!(ez < 1e-6, "mode {} zeta off by {ez:e}", t.mode);
     }
 }
 
@@ -75,73 +81,129 @@ fn within(m: &IdentifiedMode, omega: f64, zeta: f64, k: f64) -> [bool; 2] {
     [(m.omega_rad_s - omega).abs() <= k * m.omega_sd_rad_s, (m.zeta - zeta).abs() <= k * m.zeta_sd]
 }
 
-#[test]
-fn intervals_cover_the_truth_at_their_level() {
-    // 200 noise seeds on the paper's beam: 3 modes, 600-point sweep, complex
-    // noise of 0.2 % of max|H| per component.
-    let beam = paper_beam();
-    let truth = modal(&beam, 4).unwrap();
-    let w = sweep(&truth, 3, 600);
-    let h = frf(&beam, 3.6, 6.8, &w).unwrap();
-    let sd = 2e-3 * h.iter().map(|z| z.norm()).fold(0.0, f64::max);
-    let n: u64 = std::env::var("IDENTIFY_SEEDS").ok().and_then(|v| v.parse().ok()).unwrap_or(200);
-    let n_us = n as usize;
+/// Noise seeds of a coverage test (`IDENTIFY_SEEDS` overrides; ≥ 200 is the bar).
+fn seeds() -> u64 {
+    std::env::var("IDENTIFY_SEEDS").ok().and_then(|v| v.parse().ok()).unwrap_or(200)
+}
+
+/// Runs `run(seed)` for every seed and checks that the 95 % intervals of the
+/// three modes' ω and ζ cover the truth at 95 %. Binomial Monte Carlo error
+/// of a coverage rate over n = 200 seeds: sd = sqrt(0.95·0.05/200) = 0.0154;
+/// each observable must lie within 3 sd (0.046) of 0.95, the pooled rate
+/// (1200 intervals, modes fitted jointly but nearly uncorrelated) within
+/// 3·sqrt(0.95·0.05/1200) = 0.019.
+fn assert_coverage(what: &str, truth: &ModalResult, run: impl Fn(u64) -> Option<Vec<IdentifiedMode>>) {
+    let n = seeds();
+    let mut failed = 0;
     let mut hits = [0usize; 6];
     let mut z_sum = [0.0f64; 6];
     let mut z_sq = [0.0f64; 6];
     let t0 = std::time::Instant::now();
     for seed in 0..n {
-        let data = Measurement::Complex { omega_rad_s: w.clone(), h_m_per_n: noisy(&h, sd, seed) };
-        let id = identify(&data, &IdentifySettings { modes: Some(3), max_order: 24 }).unwrap();
-        for (r, (m, t)) in id.modes.iter().zip(&truth.modes).enumerate() {
+        // a record whose three modes are not identified gives no interval:
+        // counted as six misses
+        let Some(modes) = run(seed) else {
+            failed += 1;
+            continue;
+        };
+        assert_eq!(modes.len(), 3, "{what}, seed {seed}: three modes");
+        for (r, (m, t)) in modes.iter().zip(&truth.modes).enumerate() {
             let [a, b] = within(m, t.omega_rad_s, t.zeta, 1.959964);
             hits[2 * r] += usize::from(a);
             hits[2 * r + 1] += usize::from(b);
-            for (j, z) in [(m.omega_rad_s - t.omega_rad_s) / m.omega_sd_rad_s, (m.zeta - t.zeta) / m.zeta_sd]
-                .into_iter()
-                .enumerate()
-            {
-                z_sum[2 * r + j] += z;
-                z_sq[2 * r + j] += z * z;
+            let z = [(m.omega_rad_s - t.omega_rad_s) / m.omega_sd_rad_s, (m.zeta - t.zeta) / m.zeta_sd];
+            for j in 0..2 {
+                z_sum[2 * r + j] += z[j];
+                z_sq[2 * r + j] += z[j] * z[j];
             }
         }
     }
-    // Binomial Monte Carlo error of a coverage rate over n = 200 seeds:
-    // sd = sqrt(0.95·0.05/200) = 0.0154; each observable must lie within
-    // 3 sd (0.046) of 0.95, the pooled rate (1200 intervals, modes fitted
-    // jointly but nearly uncorrelated) within 3·sqrt(0.95·0.05/1200) = 0.019.
     let mc_sd = (0.95f64 * 0.05 / n as f64).sqrt();
     let names = ["omega_1", "zeta_1", "omega_2", "zeta_2", "omega_3", "zeta_3"];
-    for (name, &k) in names.iter().zip(&hits) {
+    let mut bad = Vec::new();
+    for (i, (name, &k)) in names.iter().zip(&hits).enumerate() {
         let rate = k as f64 / n as f64;
-        let i = names.iter().position(|x| x == name).unwrap();
         let mean = z_sum[i] / n as f64;
-        println!(
-            "{name}: coverage {rate:.3} ({k}/{n}), mean z {mean:.3}, sd z {:.3}",
-            (z_sq[i] / n as f64 - mean * mean).sqrt()
-        );
-        assert!((rate - 0.95).abs() <= 3.0 * mc_sd, "{name}: 95 % interval covers {rate:.3}");
+        let sd = (z_sq[i] / n as f64 - mean * mean).sqrt();
+        println!("{what} {name}: coverage {rate:.3} ({k}/{n}), mean z {mean:.3}, sd z {sd:.3}");
+        if (rate - 0.95).abs() > 3.0 * mc_sd {
+            bad.push(format!("{name} covers {rate:.3}"));
+        }
     }
-    let pooled = hits.iter().sum::<usize>() as f64 / (6 * n_us) as f64;
-    println!("pooled coverage {pooled:.4} ({:.1} s)", t0.elapsed().as_secs_f64());
-    assert!((pooled - 0.95).abs() <= 3.0 * (0.95f64 * 0.05 / (6 * n_us) as f64).sqrt());
+    let pooled = hits.iter().sum::<usize>() as f64 / (6 * n) as f64;
+    println!(
+        "{what}: pooled coverage {pooled:.4}, {failed} records without three modes ({:.1} s)",
+        t0.elapsed().as_secs_f64()
+    );
+    assert!(bad.is_empty(), "{what}: {bad:?}");
+    assert!((pooled - 0.95).abs() <= 3.0 * (0.95f64 * 0.05 / (6 * n) as f64).sqrt(), "{what}: pooled {pooled}");
 }
 
 #[test]
-#[ignore = "known failure: mode 1's zeta comes out 4 sd high (0.0798 ± 0.0021 vs 0.0715); the log-PSD fit of the relaxation background is not yet unbiased"]
+fn intervals_cover_the_truth_at_their_level() {
+    // 3 modes, 600-point sweep, complex noise of 0.2 % of max|H| per component.
+    let beam = paper_beam();
+    let truth = modal(&beam, 4).unwrap();
+    let w = sweep(&truth, 3, 600);
+    let h = frf(&beam, 3.6, 6.8, &w).unwrap();
+    let sd = 2e-3 * h.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    assert_coverage("sweep", &truth, |seed| {
+        let data = Measurement::Complex { omega_rad_s: w.clone(), h_m_per_n: noisy(&h, sd, seed) };
+        identify(&data, &IdentifySettings { modes: Some(3), max_order: 24 }).ok().map(|id| id.modes)
+    });
+}
+
+#[test]
+fn ring_down_intervals_cover_the_truth_at_their_level() {
+    // 600-sample lab ring-downs (see `lab_ring_down`), noise 0.1 % of the peak.
+    let (t, y0, truth) = paper_ring_down(600, 0);
+    let sd = 1e-3 * y0.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let clean = paper_ring_down_clean(600);
+    assert_coverage("ring-down", &truth, |seed| {
+        let mut rng = stream(12, Purpose::MeasurementNoise, [1203, seed]);
+        let y = clean.iter().map(|v| v + sd * Distribution::<f64>::sample(&StandardNormal, &mut rng)).collect();
+        let data = Measurement::Time { time_s: t.clone(), displacement_m: y };
+        identify(&data, &IdentifySettings { modes: Some(3), max_order: 24 }).ok().map(|id| id.modes)
+    });
+}
+
+/// Thermal-noise PSD: |H|²·S_F (white force), a Welch average of ν = 20
+/// periodograms: each bin is |H|²·S_F·χ²₄₀/40 = |H|²·S_F·Gamma(20, 1/20).
+fn noisy_psd(h: &[Complex64], seed: u64) -> Vec<f64> {
+    let mut rng = stream(12, Purpose::MeasurementNoise, [1201, seed]);
+    let gamma = Gamma::new(20.0, 1.0 / 20.0).unwrap();
+    h.iter().map(|z| z.norm_sqr() * 1e-20 * gamma.sample(&mut rng)).collect()
+}
+
+#[test]
 fn noisy_psd_recovers_the_modes_within_their_sd() {
-    // Thermal-noise PSD: |H|²·S_F (white force), averaged over 20 periodograms:
-    // each bin is |H|²·S_F·χ²₄₀/40 (Gamma(20, 1/20)).
     let beam = paper_beam();
     let truth = modal(&beam, 4).unwrap();
     let w = sweep(&truth, 3, 1500);
     let h = frf(&beam, 3.6, 6.8, &w).unwrap();
-    let mut rng = stream(12, Purpose::MeasurementNoise, [1201, 0]);
-    let gamma = Gamma::new(20.0, 1.0 / 20.0).unwrap();
-    let psd: Vec<f64> = h.iter().map(|z| z.norm_sqr() * 1e-20 * gamma.sample(&mut rng)).collect();
-    let id =
-        identify(&Measurement::Psd { omega_rad_s: w, psd_m2_s_per_rad: psd }, &IdentifySettings::default()).unwrap();
+    let data = Measurement::Psd { omega_rad_s: w, psd_m2_s_per_rad: noisy_psd(&h, 0) };
+    let id = identify(&data, &IdentifySettings::default()).unwrap();
+    // the estimated number of averages: 1/ν̂ = noise_sd², ν = 20; its sd
+    // over m ≈ 1500 bins is ≈ ν·sqrt(2/m)·(1 + 3/ν)^½ ≈ 0.8, so 20 ± 4
+    let nu = 1.0 / (id.noise_sd * id.noise_sd);
+    println!("psd: estimated averages {nu:.2}");
+    assert!((nu - 20.0).abs() < 4.0, "averages {nu}");
     check_three_modes(&id.modes, &truth, "psd");
+}
+
+#[test]
+#[ignore = "known failure (200 seeds; 28 s at LM budget 3·(p+1), 323 s under load at 20·(p+1)): 39 of 200 noisy PSDs yield fewer than 3 stable modes in the diagram; at budget 20 a few fits go astray (mean z of omega_1 30, sd z 170); pooled coverage 0.72 (0.75 at budget 3, where the fitted 161 had mean z within ±0.31 but mode 1 under-covered: 142/161, 138/161)"]
+fn psd_intervals_cover_the_truth_at_their_level() {
+    // 1500-bin Welch PSDs (ν = 20) over modes 1–3 (with 600 bins of this
+    // noise the stabilisation diagram holds only 1–2 of the three modes).
+    let beam = paper_beam();
+    let truth = modal(&beam, 4).unwrap();
+    let w = sweep(&truth, 3, 1500);
+    let h = frf(&beam, 3.6, 6.8, &w).unwrap();
+    assert_coverage("psd", &truth, |seed| {
+        let data = Measurement::Psd { omega_rad_s: w.clone(), psd_m2_s_per_rad: noisy_psd(&h, 100 + seed) };
+        identify(&data, &IdentifySettings { modes: Some(3), ..IdentifySettings::default() }).ok().map(|id| id.modes)
+    });
 }
 
 #[test]
@@ -160,25 +222,69 @@ fn noisy_magnitude_sweep_recovers_the_modes_within_their_sd() {
     check_three_modes(&id.modes, &truth, "magnitude");
 }
 
-#[test]
-#[ignore = "known failure: aliased out-of-band modes of the mesh bias mode 1 (zeta 0.0725 ± 0.0002 vs 0.0715) and displace mode 2; ring-down background model incomplete"]
-fn noisy_ring_down_recovers_the_modes_within_their_sd() {
-    // Impulse response from the model's state space, sampled with the Nyquist
-    // frequency 1.25·ω₃; additive noise of 0.1 % of the peak.
+/// A ring-down as a lab records it: the model's impulse response
+/// (`beam::impulse_response`, exact state-space stepping) at q = 16 times the
+/// target rate, an anti-alias low-pass (Blackman-windowed sinc FIR, cut-off
+/// `cutoff` rad/s, length 32q + 1: transition half-width ≈ 5.5π/(L·Δt_fine)
+/// ≈ 0.17·Nyquist, stop band ≤ −74 dB), decimation by q, and the first L
+/// fine samples dropped (the FIR's start-up, where the output is not yet a
+/// sum of exponentials). After that transient the record is exactly
+/// Σ G(p)·R·e^{p t} over the beam's poles p: the filter rescales residues, it
+/// leaves the poles (ω, ζ) alone, and modes above Nyquist are attenuated
+/// below the noise instead of folding onto the band.
+fn lab_ring_down(beam: &BeamSpec, nyquist: f64, cutoff: f64, n: usize) -> (Vec<f64>, Vec<f64>) {
+    const Q: usize = 16;
+    let len = 32 * Q + 1;
+    let dt = std::f64::consts::PI / nyquist;
+    let dtf = dt / Q as f64;
+    let fine = impulse_response(beam, 3.6, 6.8, dtf, n * Q + len).unwrap();
+    let c = (len - 1) as f64 / 2.0;
+    let taps: Vec<f64> = (0..len)
+        .map(|j| {
+            let x = j as f64 - c;
+            let sinc = if x == 0.0 {
+                cutoff * dtf / std::f64::consts::PI
+            } else {
+                (cutoff * dtf * x).sin() / (std::f64::consts::PI * x)
+            };
+            let a = 2.0 * std::f64::consts::PI * j as f64 / (len - 1) as f64;
+            sinc * (0.42 - 0.5 * a.cos() + 0.08 * (2.0 * a).cos())
+        })
+        .collect();
+    let y = (0..n).map(|k| (0..len).map(|j| taps[j] * fine[k * Q + len - 1 - j]).sum()).collect();
+    let t = (0..n).map(|k| k as f64 * dt).collect();
+    (t, y)
+}
+
+fn paper_ring_down_clean(n: usize) -> Vec<f64> {
     let beam = paper_beam();
     let truth = modal(&beam, 4).unwrap();
-    let dt = std::f64::consts::PI / (1.25 * truth.modes[2].omega_rad_s);
-    let n = 1500;
-    let y = impulse_response(&beam, 3.6, 6.8, dt, n).unwrap();
+    let nyquist = 1.25 * truth.modes[2].omega_rad_s;
+    let cutoff = 0.5 * (truth.modes[2].omega_rad_s + truth.modes[3].omega_rad_s);
+    lab_ring_down(&beam, nyquist, cutoff, n).1
+}
+
+/// The paper's beam rung down with Nyquist 1.25·ω₃ (modes 1–3 in the band,
+/// mode 4 at 1.44·ω₃ in the filter's stop band), n samples, noise sd 0.1 %
+/// of the peak.
+fn paper_ring_down(n: usize, replicate: u64) -> (Vec<f64>, Vec<f64>, ModalResult) {
+    let beam = paper_beam();
+    let truth = modal(&beam, 4).unwrap();
+    let y = paper_ring_down_clean(n);
+    let t = (0..n).map(|k| k as f64 * std::f64::consts::PI / (1.25 * truth.modes[2].omega_rad_s)).collect();
     let sd = 1e-3 * y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let mut rng = stream(12, Purpose::MeasurementNoise, [1202, 0]);
-    let y: Vec<f64> = y.iter().map(|v| v + sd * Distribution::<f64>::sample(&StandardNormal, &mut rng)).collect();
-    let t: Vec<f64> = (0..n).map(|k| k as f64 * dt).collect();
-    let id = identify(
-        &Measurement::Time { time_s: t, displacement_m: y },
-        &IdentifySettings { modes: Some(3), ..IdentifySettings::default() },
-    )
-    .unwrap();
+    let mut rng = stream(12, Purpose::MeasurementNoise, [1202, replicate]);
+    let y = y.iter().map(|v| v + sd * Distribution::<f64>::sample(&StandardNormal, &mut rng)).collect();
+    (t, y, truth)
+}
+
+#[test]
+fn noisy_ring_down_recovers_the_modes_within_their_sd() {
+    let (t, y, truth) = paper_ring_down(1500, 0);
+    let id = identify(&Measurement::Time { time_s: t, displacement_m: y }, &IdentifySettings::default()).unwrap();
+    for m in &id.background_modes {
+        println!("ring-down background: omega {:e}, zeta {:.5}, snr {:.1}", m.omega_rad_s, m.zeta, m.amplitude_snr);
+    }
     check_three_modes(&id.modes, &truth, "ring-down");
 }
 

@@ -178,7 +178,7 @@ fn figures(id: &Identification) -> crate::report::error::Result<Vec<(String, Str
         ));
     }
     let r_label = match id.kind {
-        "displacement PSD" => "residual ln PSD (-)",
+        "displacement PSD" => "Whittle deviance residual (-)",
         "free decay" => "residual (m)",
         "complex receptance" => "|residual| (m/N)",
         _ => "residual (m/N)",

@@ -8,6 +8,13 @@
 //! | `omega_rad_s,psd_m2_s_per_rad` | displacement power spectral density |
 //! | `time_s,displacement_m` | free decay / impulse response, uniform sampling |
 //!
+//! Accepted layout (what lab software writes): comma-separated, the header
+//! line first with exactly those names; LF or CRLF line endings; spaces or
+//! tabs around any field or name; a UTF-8 byte-order mark before the header;
+//! empty lines (e.g. a trailing newline) are skipped; numbers in any form
+//! Rust's `f64` parser reads (`1e-9`, `1.0E-09`, `0.001`). Not accepted:
+//! other separators, comment lines, quoted units or extra columns.
+//!
 //! Rules (each broken rule is one [`InputError`] naming the column, the data
 //! row — 1-based, the header not counted — the value and what is allowed):
 //! every value finite; frequencies ≥ 0 and strictly increasing; magnitudes
@@ -77,6 +84,7 @@ impl Measurement {
 
     /// Parses and validates a CSV record (header line first).
     pub fn from_csv(text: &str) -> Result<Self, InputError> {
+        let text = text.strip_prefix('\u{feff}').unwrap_or(text);
         let mut reader = csv::ReaderBuilder::new().has_headers(true).trim(csv::Trim::All).from_reader(text.as_bytes());
         let header: Vec<String> = reader
             .headers()
@@ -218,6 +226,18 @@ mod tests {
         assert!(matches!(Measurement::from_csv(&p), Ok(Measurement::Psd { .. })));
         let t = rows("time_s,displacement_m", 10, |i| format!("{:e},1e-12", i as f64 * 1e-13));
         assert!(matches!(Measurement::from_csv(&t), Ok(Measurement::Time { .. })));
+    }
+
+    #[test]
+    fn lab_layouts_read_like_the_plain_one() {
+        let plain = rows("omega_rad_s,h_abs_m_per_n", 10, |i| format!("{},{}e-12", i + 1, i + 2));
+        let lab = format!(
+            "\u{feff} omega_rad_s ,\th_abs_m_per_n\r\n{}\r\n\r\n",
+            (0..10).map(|i| format!(" {}.0 , {}.0E-12 ", i + 1, i + 2)).collect::<Vec<_>>().join("\r\n")
+        );
+        assert_eq!(Measurement::from_csv(&lab).unwrap(), Measurement::from_csv(&plain).unwrap());
+        let semicolon = rows("omega_rad_s;h_abs_m_per_n", 10, |i| format!("{};1", i + 1));
+        assert_eq!(Measurement::from_csv(&semicolon).unwrap_err().field, "column 1");
     }
 
     #[test]

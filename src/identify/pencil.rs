@@ -30,7 +30,8 @@ impl Pencil {
         let l = pencil.min(n / 2);
         let rows = n - l;
         let hankel = DMatrix::from_fn(rows, l + 1, |k, j| y[k + j]);
-        let svd = hankel.svd(false, true);
+        // bounded iterations (nalgebra's unbounded SVD can cycle)
+        let svd = hankel.try_svd(false, true, f64::EPSILON, 10_000)?;
         let vt = svd.v_t?;
         let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
         order.sort_by(|&a, &b| svd.singular_values[b].total_cmp(&svd.singular_values[a]));
