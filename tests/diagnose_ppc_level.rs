@@ -59,7 +59,12 @@ fn misfit_test_has_its_stated_level_and_power() {
     let clean: Vec<(f64, usize, f64)> = (0..REPLICATES).into_par_iter().map(|r| min_p(r, 0.0)).collect();
     let mut lev: Vec<f64> = clean.iter().map(|r| r.2).collect();
     lev.sort_by(f64::total_cmp);
-    println!("leverage of omega_1: median {:.2}, 5-95 % {:.2}-{:.2}", lev[lev.len() / 2], lev[lev.len() / 20], lev[lev.len() * 19 / 20]);
+    println!(
+        "leverage of omega_1: median {:.2}, 5-95 % {:.2}-{:.2}",
+        lev[lev.len() / 2],
+        lev[lev.len() / 20],
+        lev[lev.len() * 19 / 20]
+    );
     for alpha in [0.01, 0.05, 0.1, 0.2] {
         let rate = alarm_rate(&clean, alpha);
         let sd = (alpha * (1.0 - alpha) / REPLICATES as f64).sqrt();

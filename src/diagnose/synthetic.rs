@@ -294,14 +294,7 @@ fn base_fit_max_z(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -
     obs.observed().iter().zip(obs.sd()).zip(&fit).map(|((y, sd), f)| ((y - f) / sd).abs()).fold(0.0, f64::max)
 }
 
-fn finish(
-    seed: u64,
-    truth: BeamSpec,
-    y0: Vec<Mode>,
-    hidden: Hidden,
-    z: f64,
-    rng: &mut ChaCha8Rng,
-) -> SyntheticCase {
+fn finish(seed: u64, truth: BeamSpec, y0: Vec<Mode>, hidden: Hidden, z: f64, rng: &mut ChaCha8Rng) -> SyntheticCase {
     let mut modes = observations(&y0);
     for m in &mut modes {
         let e1: f64 = StandardNormal.sample(rng);
