@@ -19,6 +19,13 @@ use super::evidence::ModelRun;
 /// Highest mode number considered for a new measurement.
 pub const MAX_MODE: usize = 8;
 
+/// Smallest separation worth suggesting: an observable whose predictions
+/// differ by s combined sds moves the log evidence of the pair by ≈ s²/2 when
+/// measured, so below 1 sd (≤ 0.5 nats) no single measurement is expected to
+/// decide; then there is no suggestion (`null`), and the alternatives stand:
+/// the pair cannot be separated by ω or ζ of modes up to [`MAX_MODE`].
+pub const MIN_SEPARATION_SD: f64 = 1.0;
+
 /// The suggested next measurement.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct NextMeasurement {
@@ -78,6 +85,7 @@ pub fn next_measurement(data: &MeasuredData, a: &ModelRun, b: &ModelRun) -> Opti
         })
         .filter(|n| n.separation_sd.is_finite())
         .max_by(|x, y| x.separation_sd.total_cmp(&y.separation_sd))
+        .filter(|n| n.separation_sd >= MIN_SEPARATION_SD)
 }
 
 fn mean_var(x: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
