@@ -391,8 +391,11 @@ fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Search, Diagnos
             break;
         }
     }
-    let base_misfits = misfits(problem, runs.iter().find(|r| r.model == Model::BASE).expect("base ran"));
-    if path.len() == 1 && problem.settings.max_causes >= 2 && base_misfits {
+    // the base's misfit test only matters when no single cause was kept
+    if path.len() == 1
+        && problem.settings.max_causes >= 2
+        && misfits(problem, runs.iter().find(|r| r.model == Model::BASE).expect("base ran"))
+    {
         let pairs: Vec<Model> = ModelClass::CAUSES
             .iter()
             .enumerate()
