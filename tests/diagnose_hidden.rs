@@ -46,7 +46,8 @@ fn closed_cases() -> Vec<(u64, Hidden)> {
 fn open_cases() -> Vec<(u64, Hidden)> {
     let mut cases: Vec<(u64, Hidden)> =
         PAIRS.iter().enumerate().map(|(i, p)| (300 + i as u64, Hidden::causes(p))).collect();
-    cases.extend((0..4u64).map(|i| (400 + i, Hidden::foreign(Foreign::ALL[(i % 2) as usize]))));
+    let n = Foreign::ALL.len() as u64;
+    cases.extend((0..4).map(|i| (400 + i, Hidden::foreign(Foreign::ALL[(i % n) as usize]))));
     cases
 }
 

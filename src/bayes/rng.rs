@@ -34,7 +34,8 @@ pub enum Purpose {
     SyntheticEffect = 8,
     /// Hidden-effect generator: the truth and its noise `[0, 0]`.
     SyntheticCase = 9,
-    /// Hidden-effect generator: start points of the base fit that sizes an effect `[0, 0]`.
+    /// Hidden-effect generator: start points of the base fit that sizes an effect `[0, 0]`, of
+    /// the fit of catalogue model k (`synthetic::catalogue_models` order) to a foreign effect `[1 + k, 0]`.
     SyntheticBaseFit = 10,
     /// Measurement noise of synthetic reference data `[case, replicate]`.
     MeasurementNoise = 11,

@@ -23,9 +23,11 @@ use crate::beam::{BeamSpec, InternalVariable, PointMass, ShearDeformation, Suppo
 use crate::calibration::measured::MeasuredFile;
 use crate::calibration::{DramSettings, MeasuredData, ModeObservation, ParameterSet};
 
+use super::classes::model_parameters;
 use super::{model_posterior, Model, ModelClass, NominalScales};
 use crate::bayes::map::map_estimate;
 use crate::beam::{self, Mode};
+use num_complex::Complex64;
 
 /// Minimum misfit, in measurement sds, the hidden effect must leave in the best base fit.
 pub const MIN_SHIFT_SIGMA: f64 = 5.0;
@@ -34,25 +36,35 @@ pub const OMEGA_REL_SD: f64 = 0.003;
 pub const ZETA_REL_SD: f64 = 0.03;
 
 /// An effect no candidate class models (the open-world part of the tests).
+/// The generator grows it until no catalogue model of at most two causes
+/// fits the noise-free data: see [`generate_hidden`].
+///
+/// Two other candidates were tried and dropped because the catalogue fits
+/// them (the generator could not make either unfittable within its cap):
+/// a hysteretic loss factor (ζ raised alike on every mode: two relaxations
+/// and viscous damping reproduce a flat ζ over the 1.5 decades of 6 modes
+/// up to η = 0.2) and a uniform coating (every frequency × 1/√(1 + ε):
+/// e0a and an axial compression together make a near-uniform drop).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Foreign {
-    /// One end clamped, the other pinned, while the nominal beam is simply
-    /// supported: the support spring class acts on both ends alike, so an
-    /// asymmetric support is outside it (β_nL ≈ (n + ¼)π instead of nπ).
-    ClampedEnd,
-    /// A uniform adsorbate coating: mass per length ρA(1 + ε) with the
-    /// stiffness unchanged, so every frequency drops by the same factor
-    /// 1/√(1 + ε), which no class (all change modes unequally) reproduces.
-    Coating,
+    /// An avoided crossing of one beam mode with a lossy resonance outside
+    /// the beam (a clamp or substrate mode, ζ = [`CLAMP_MODE_ZETA`], detuned
+    /// by 2–8 %): that mode alone shifts and borrows damping, which no
+    /// smooth-in-n class reproduces.
+    ModeCoupling,
 }
 
+/// Damping ratio of the external resonance in [`Foreign::ModeCoupling`]
+/// (a support mode radiating into the substrate: an order of magnitude
+/// lossier than the beam's higher modes).
+pub const CLAMP_MODE_ZETA: f64 = 0.05;
+
 impl Foreign {
-    pub const ALL: [Foreign; 2] = [Foreign::ClampedEnd, Foreign::Coating];
+    pub const ALL: [Foreign; 1] = [Foreign::ModeCoupling];
 
     pub fn name(self) -> &'static str {
         match self {
-            Foreign::ClampedEnd => "clamped-end",
-            Foreign::Coating => "coating",
+            Foreign::ModeCoupling => "mode-coupling",
         }
     }
 }
@@ -136,8 +148,9 @@ fn magnitude_range(effect: Effect) -> (f64, f64) {
         Effect::Cause(ModelClass::AxialForce) => (0.02, 2.0),
         // 1/κ from κ = 1 down to the prior's 0.3
         Effect::Cause(ModelClass::ShearDeformation) => (1.0, 1.0 / 0.3),
-        Effect::Foreign(Foreign::ClampedEnd) => (1.0, 1.0),
-        Effect::Foreign(Foreign::Coating) => (0.005, 0.5),
+        // coupling g (fraction of the geometric mean of the two squared frequencies);
+        // beyond 0.1 the two resonances hybridize and "the beam mode" loses its meaning
+        Effect::Foreign(Foreign::ModeCoupling) => (0.005, 0.1),
     }
 }
 
@@ -148,73 +161,96 @@ enum Effect {
     Foreign(Foreign),
 }
 
-/// Draws the shape of an effect (position, relaxation time, sign; 0 when it has none).
-fn draw_shape(effect: Effect, clean: &[Mode], length_nm: f64, rng: &mut ChaCha8Rng) -> f64 {
+/// Draws the shape of an effect: [position, relaxation time or sign; second
+/// number], 0 where it has none.
+fn draw_shape(effect: Effect, clean: &[Mode], length_nm: f64, rng: &mut ChaCha8Rng) -> [f64; 2] {
     match effect {
         Effect::Cause(ModelClass::ExtraRelaxation) => {
-            log_uniform(rng, clean[0].omega_rad_s, clean[clean.len() - 1].omega_rad_s)
+            [log_uniform(rng, clean[0].omega_rad_s, clean[clean.len() - 1].omega_rad_s), 0.0]
         }
-        Effect::Cause(ModelClass::AttachedMass) => rng.gen_range(0.1..0.9) * length_nm,
+        Effect::Cause(ModelClass::AttachedMass) => [rng.gen_range(0.1..0.9) * length_nm, 0.0],
         // tension twice as likely as compression
-        Effect::Cause(ModelClass::AxialForce) => {
-            if rng.gen_range(0..3) < 2 {
-                1.0
-            } else {
-                -1.0
-            }
+        Effect::Cause(ModelClass::AxialForce) => [if rng.gen_range(0..3) < 2 { 1.0 } else { -1.0 }, 0.0],
+        // [the coupled mode (2..=n), the clamp mode's relative detuning ±(2–8 %)]
+        Effect::Foreign(Foreign::ModeCoupling) => {
+            let mode = rng.gen_range(2..=clean.len()) as f64;
+            let sign = if rng.gen_range(0..2) == 0 { 1.0 } else { -1.0 };
+            [mode, sign * rng.gen_range(0.02..0.08)]
         }
-        _ => 0.0,
+        _ => [0.0, 0.0],
     }
+}
+
+/// A truth: the beam, and the effects that act on its modes rather than on a beam parameter.
+#[derive(Debug, Clone)]
+struct Truth {
+    beam: BeamSpec,
+    modal: Vec<(Foreign, [f64; 2], f64)>,
 }
 
 /// Generates the case of `seed` hiding `hidden`. Every effect alone is grown
 /// until the best base fit misses some observable by ≥ [`MIN_SHIFT_SIGMA`];
-/// the case then carries all of them at once.
+/// a foreign effect further until the best fit of every catalogue model of
+/// one or two causes does too ([`catalogue_fits`]): the issue's "no
+/// class or pair of classes fits". The case then carries all its effects.
+///
+/// Panics when 50 truths in a row admit no such effect (a generator that
+/// cannot build the case it was asked for; never reached by the tests' seeds).
 pub fn generate_hidden(seed: u64, hidden: &Hidden) -> SyntheticCase {
     let mut rng = stream(seed, Purpose::SyntheticCase, [0, 0]);
     let n_modes = rng.gen_range(4..=6);
     let effects: Vec<Effect> =
         hidden.causes.iter().map(|&c| Effect::Cause(c)).chain(hidden.foreign.map(Effect::Foreign)).collect();
-    'truth: loop {
-        let mut truth = nominal_beam();
-        truth.nonlocal_e0a_nm = rng.gen_range(0.8..1.2);
-        truth.internal_variables =
+    for _ in 0..50 {
+        let mut beam = nominal_beam();
+        beam.nonlocal_e0a_nm = rng.gen_range(0.8..1.2);
+        beam.internal_variables =
             vec![InternalVariable { delta: rng.gen_range(0.3..0.6), omega_rad_s: log_uniform(&mut rng, 1e11, 1e12) }];
+        let truth = Truth { beam, modal: vec![] };
         let Ok(clean) = predict(&truth, n_modes) else { continue };
-        let scales = NominalScales::of(&truth, n_modes).expect("nominal beam computes");
+        let scales = NominalScales::of(&truth.beam, n_modes).expect("nominal beam computes");
         let mut combined = truth.clone();
+        let mut built = true;
         for &effect in &effects {
             let Some((shape, mag)) = visible_effect(seed, effect, &truth, &clean, &scales, &mut rng) else {
-                continue 'truth;
+                built = false;
+                break;
             };
             combined = with_effect(&combined, effect, shape, mag, &scales);
         }
+        if !built {
+            continue;
+        }
         let Ok(y0) = predict(&combined, n_modes) else { continue };
-        let z = base_fit_max_z(&y0, &truth, &scales, seed);
-        return finish(seed, combined, y0, hidden.clone(), z, &mut rng);
+        let z = base_fit_max_z(&y0, &truth.beam, &scales, seed);
+        return finish(seed, combined.beam, y0, hidden.clone(), z, &mut rng);
     }
+    panic!("synthetic::generate_hidden: no truth of seed {seed} admits {}", hidden.label());
 }
 
 /// (shape, magnitude) of `effect` on `truth` that the base model cannot
-/// absorb, growing the magnitude ×1.5 up to its cap and redrawing the shape
-/// (at most 6 times) when the cap is reached; `None` gives up on this truth.
+/// absorb (and, for a foreign effect, no catalogue model of ≤ 2 causes),
+/// growing the magnitude ×1.5 up to its cap and redrawing the shape (at most
+/// 6 times) when the cap is reached; `None` gives up on this truth.
 fn visible_effect(
     seed: u64,
     effect: Effect,
-    truth: &BeamSpec,
+    truth: &Truth,
     clean: &[Mode],
     scales: &NominalScales,
     rng: &mut ChaCha8Rng,
-) -> Option<(f64, f64)> {
+) -> Option<([f64; 2], f64)> {
     for _ in 0..6 {
         let (mut mag, cap) = magnitude_range(effect);
-        let shape = draw_shape(effect, clean, truth.length_nm, rng);
+        let shape = draw_shape(effect, clean, truth.beam.length_nm, rng);
         // compression is capped at half the buckling load (the class prior)
-        let cap = if shape < 0.0 { cap.min(0.5) } else { cap };
+        let cap = if shape[0] < 0.0 { cap.min(0.5) } else { cap };
         while mag <= cap * (1.0 + 1e-12) {
             let b = with_effect(truth, effect, shape, mag, scales);
             if let Ok(y0) = predict(&b, clean.len()) {
-                if base_fit_max_z(&y0, truth, scales, seed) >= MIN_SHIFT_SIGMA {
+                if base_fit_max_z(&y0, &truth.beam, scales, seed) >= MIN_SHIFT_SIGMA
+                    && (matches!(effect, Effect::Cause(_)) || !catalogue_fits(&y0, &truth.beam, scales, seed))
+                {
                     return Some((shape, mag));
                 }
             }
@@ -224,12 +260,13 @@ fn visible_effect(
     None
 }
 
-/// The beam with `effect` at `mag` (relative units of [`super::classes`]).
-fn with_effect(base: &BeamSpec, effect: Effect, shape: f64, mag: f64, s: &NominalScales) -> BeamSpec {
-    let mut b = base.clone();
+/// The truth with `effect` at `mag` (relative units of [`super::classes`]).
+fn with_effect(base: &Truth, effect: Effect, shape: [f64; 2], mag: f64, s: &NominalScales) -> Truth {
+    let mut t = base.clone();
+    let b = &mut t.beam;
     match effect {
         Effect::Cause(ModelClass::ExtraRelaxation) => {
-            b.internal_variables.push(InternalVariable { delta: mag, omega_rad_s: shape })
+            b.internal_variables.push(InternalVariable { delta: mag, omega_rad_s: shape[0] })
         }
         Effect::Cause(ModelClass::ViscousDamping) => {
             b.viscous_damping_n_s_m2 = 2.0 * s.rho_a_kg_m * s.omega_1_rad_s * mag
@@ -238,24 +275,66 @@ fn with_effect(base: &BeamSpec, effect: Effect, shape: f64, mag: f64, s: &Nomina
             b.support_rotational_stiffness_n_m_rad = mag * s.ei_n_m2 / s.length_m
         }
         Effect::Cause(ModelClass::AttachedMass) => {
-            b.point_mass = Some(PointMass { mass_kg: mag * s.rho_a_kg_m * s.length_m, x_nm: shape })
+            b.point_mass = Some(PointMass { mass_kg: mag * s.rho_a_kg_m * s.length_m, x_nm: shape[0] })
         }
-        Effect::Cause(ModelClass::AxialForce) => b.axial_force_n = shape * mag * s.buckling_load_n,
+        Effect::Cause(ModelClass::AxialForce) => b.axial_force_n = shape[0] * mag * s.buckling_load_n,
         Effect::Cause(ModelClass::ShearDeformation) => {
             b.shear_deformation = Some(ShearDeformation {
                 poisson_ratio: crate::calibration::parameters::DEFAULT_POISSON_RATIO,
                 shear_coefficient: 1.0 / mag,
             })
         }
-        Effect::Foreign(Foreign::ClampedEnd) => b.support = Support::ClampedPinned,
-        Effect::Foreign(Foreign::Coating) => b.density_kg_m3 *= 1.0 + mag,
+        Effect::Foreign(f @ Foreign::ModeCoupling) => t.modal.push((f, shape, mag)),
     }
-    b
+    t
 }
 
-/// The first `n_modes` modes of `beam`.
-fn predict(beam: &BeamSpec, n_modes: usize) -> Result<Vec<Mode>, beam::BeamError> {
-    beam::modal(beam, n_modes).map(|r| r.modes)
+/// The first `n_modes` modes of `truth`: the beam's, then its modal effects.
+fn predict(truth: &Truth, n_modes: usize) -> Result<Vec<Mode>, beam::BeamError> {
+    let mut modes = beam::modal(&truth.beam, n_modes)?.modes;
+    for &(effect, shape, mag) in &truth.modal {
+        match effect {
+            Foreign::ModeCoupling => {
+                let m = &mut modes[shape[0] as usize - 1];
+                set_pole(m, coupled_pole(m.pole, shape[1], mag));
+            }
+        }
+    }
+    Ok(modes)
+}
+
+fn set_pole(m: &mut Mode, s: Complex64) {
+    m.pole = s;
+    m.omega_rad_s = s.norm();
+    m.zeta = -s.re / s.norm();
+}
+
+/// The beam-mode pole of two oscillators, the beam mode (pole `s`) and a
+/// clamp resonance at ω_c = ω(1 + δ) with ζ = [`CLAMP_MODE_ZETA`], coupled by
+/// the stiffness g·ω·ω_c (mass-normalised): the eigenvalue of the 4×4 state
+/// matrix [[0, I], [−K, −C]] with Im > 0 nearest the uncoupled `s` (g → 0
+/// returns `s`). Frequencies are scaled by ω so the matrix is O(1).
+fn coupled_pole(s: Complex64, detuning: f64, g: f64) -> Complex64 {
+    let (w, z) = (s.norm(), -s.re / s.norm());
+    let wc = 1.0 + detuning;
+    let k = [[1.0, g * wc], [g * wc, wc * wc]];
+    let c = [2.0 * z, 2.0 * CLAMP_MODE_ZETA * wc];
+    #[rustfmt::skip]
+    let a = nalgebra::Matrix4::new(
+        0.0, 0.0, 1.0, 0.0,
+        0.0, 0.0, 0.0, 1.0,
+        -k[0][0], -k[0][1], -c[0], 0.0,
+        -k[1][0], -k[1][1], 0.0, -c[1],
+    );
+    let s1 = s / w;
+    let best = a
+        .complex_eigenvalues()
+        .iter()
+        .copied()
+        .filter(|q| q.im > 0.0)
+        .min_by(|p, q| (p - s1).norm().total_cmp(&(q - s1).norm()))
+        .expect("a lightly damped 2-DOF system has two poles with Im > 0");
+    w * best
 }
 
 fn observations(y: &[Mode]) -> Vec<ModeObservation> {
@@ -289,9 +368,87 @@ fn base_fit_max_z(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -
         .map(|(_, u)| map_estimate(&post, u, &sd, 600))
         .max_by(|a, b| a.log_posterior.total_cmp(&b.log_posterior))
         .expect("starts");
-    let Some(fit) = post.inner().predict(&post.to_inner(&best.theta)) else { return f64::INFINITY };
+    max_z(&post, &best.theta)
+}
+
+/// Largest standardized residual of `post`'s data at `theta` (sampling coordinates).
+fn max_z(post: &super::ClassPosterior, theta: &[f64]) -> f64 {
+    let Some(fit) = post.inner().predict(&post.to_inner(theta)) else { return f64::INFINITY };
     let obs = post.inner();
     obs.observed().iter().zip(obs.sd()).zip(&fit).map(|((y, sd), f)| ((y - f) / sd).abs()).fold(0.0, f64::max)
+}
+
+/// The catalogue models a foreign effect must defeat: every single cause and every pair.
+fn catalogue_models() -> Vec<Model> {
+    const C: [ModelClass; 6] = ModelClass::CAUSES;
+    let singles = C.iter().map(|&a| Model::with(&[a]));
+    let pairs = C.iter().enumerate().flat_map(|(i, &a)| C[i + 1..].iter().map(move |&b| Model::with(&[a, b])));
+    singles.chain(pairs).collect()
+}
+
+/// Does some model of [`catalogue_models`] fit noise-free `y0`, i.e. leave
+/// its largest standardized residual below [`MIN_SHIFT_SIGMA`] at its best
+/// fit? Models are tried cheapest first (decoupled damping classes, then
+/// the coupled ones; measured cost per evaluation at prior draws 3 µs to
+/// 1 ms) and the answer is the first that fits. Each fit screens 64 points
+/// (16 with the base coordinates at the truth's, the rest prior draws) and
+/// runs Nelder–Mead (600 iterations) from the best 3, simplex 5 % of each
+/// prior's width (0.05 in ln x for log-uniform priors). A local optimizer
+/// can miss a better fit, which would make a foreign case look unfittable
+/// when it is not; the diagnosis's own TMCMC then finds the fit, and the
+/// open-world test fails on that case rather than passing by it.
+fn catalogue_fits(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -> bool {
+    let iv = truth.internal_variables[0];
+    let base_truth = [truth.nonlocal_e0a_nm, iv.delta, iv.omega_rad_s];
+    let obs = observations(y0);
+    let mut models: Vec<(usize, Model)> = catalogue_models().into_iter().enumerate().collect();
+    let cost = |m: &Model| {
+        m.causes()
+            .iter()
+            .map(|c| match c {
+                ModelClass::ExtraRelaxation | ModelClass::ViscousDamping => 0,
+                ModelClass::ShearDeformation => 2,
+                _ => 1,
+            })
+            .sum::<usize>()
+    };
+    models.sort_by_key(|(k, m)| (cost(m), *k));
+    models.iter().any(|(k, model)| {
+        let params = model_parameters(model, &ParameterSet::paper_n1(), &nominal_beam(), s);
+        let post = model_posterior(model, &ParameterSet::paper_n1(), &nominal_beam(), &obs, s);
+        let sd: Vec<f64> = params
+            .set
+            .params
+            .iter()
+            .zip(&params.log_scale)
+            .map(|(p, &log)| {
+                let (lo, hi) = p.prior.support();
+                if log {
+                    0.05
+                } else {
+                    0.05 * (hi - lo)
+                }
+            })
+            .collect();
+        let mut rng = stream(seed, Purpose::SyntheticBaseFit, [1 + *k as u64, 0]);
+        let mut scored: Vec<(f64, Vec<f64>)> = (0..64)
+            .map(|i| {
+                let mut u = post.sample_prior(&mut rng);
+                if i < 16 {
+                    u[..3].copy_from_slice(&base_truth);
+                }
+                (post.log_posterior(&u), u)
+            })
+            .collect();
+        scored.sort_by(|a, b| b.0.total_cmp(&a.0));
+        let best = scored
+            .iter()
+            .take(3)
+            .map(|(_, u)| map_estimate(&post, u, &sd, 600))
+            .max_by(|a, b| a.log_posterior.total_cmp(&b.log_posterior))
+            .expect("starts");
+        max_z(&post, &best.theta) < MIN_SHIFT_SIGMA
+    })
 }
 
 fn finish(seed: u64, truth: BeamSpec, y0: Vec<Mode>, hidden: Hidden, z: f64, rng: &mut ChaCha8Rng) -> SyntheticCase {
