@@ -40,3 +40,46 @@ pub trait Posterior: Sync {
         }
     }
 }
+
+/// A posterior that counts its likelihood evaluations: each is one solve of
+/// the forward model, the unit the diagnosis reports its cost in. The count
+/// is a function of the sampler's seed alone (the samplers' draws are), so it
+/// is deterministic at any thread count.
+pub struct Counted<'a, P: ?Sized> {
+    inner: &'a P,
+    count: std::sync::atomic::AtomicU64,
+}
+
+impl<'a, P: Posterior + ?Sized> Counted<'a, P> {
+    pub fn new(inner: &'a P) -> Self {
+        Self { inner, count: std::sync::atomic::AtomicU64::new(0) }
+    }
+
+    /// Likelihood evaluations so far.
+    pub fn count(&self) -> u64 {
+        self.count.load(std::sync::atomic::Ordering::Relaxed)
+    }
+}
+
+impl<P: Posterior + ?Sized> Posterior for Counted<'_, P> {
+    fn names(&self) -> Vec<String> {
+        self.inner.names()
+    }
+
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+
+    fn log_prior(&self, theta: &[f64]) -> f64 {
+        self.inner.log_prior(theta)
+    }
+
+    fn log_likelihood(&self, theta: &[f64]) -> f64 {
+        self.count.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        self.inner.log_likelihood(theta)
+    }
+
+    fn sample_prior(&self, rng: &mut dyn RngCore) -> Vec<f64> {
+        self.inner.sample_prior(rng)
+    }
+}

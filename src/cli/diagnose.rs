@@ -32,7 +32,15 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
     let settings = DiagnoseSettings { samples: args.samples, ..DiagnoseSettings::default() };
     settings.validate()?;
     let data = read_measured(&args.measured)?;
+    let started = std::time::Instant::now();
     let run = diagnose_run(&data, &settings)?;
+    // the timing summary goes to stderr: wall time is not part of the (deterministic) result
+    eprintln!(
+        "diagnosis: {} models, {} forward evaluations, {:.1} s",
+        run.runs.len(),
+        run.diagnosis.forward_evaluations,
+        started.elapsed().as_secs_f64()
+    );
     if let Some(dir) = &args.out {
         report::write_report(dir, &run, &data, &settings)?;
     }

@@ -5,6 +5,7 @@
 
 use crate::bayes::laplace::laplace_log_evidence_with_step;
 use crate::bayes::map::map_estimate;
+use crate::bayes::posterior::Counted;
 use crate::bayes::tmcmc::{tmcmc, TmcmcConfig, TmcmcResult};
 use crate::bayes::{BayesError, Posterior};
 
@@ -21,6 +22,8 @@ pub struct ModelRun {
     pub map: Vec<f64>,
     /// `None` when the MAP sits on a prior boundary or the Hessian is not positive definite.
     pub log_evidence_laplace: Option<f64>,
+    /// Forward-model solves of TMCMC, the MAP and the Laplace Hessian together.
+    pub forward_evaluations: u64,
 }
 
 /// Runs TMCMC, the MAP and the Laplace evidence of `posterior` with the master seed `seed`.
@@ -43,7 +46,8 @@ pub fn run_model(
         seed,
         ..TmcmcConfig::default()
     };
-    let t = tmcmc(&posterior, &config)?;
+    let counted = Counted::new(&posterior);
+    let t = tmcmc(&counted, &config)?;
     let sd = sample_sd(&t.samples, d);
     let best = t
         .samples
@@ -55,12 +59,13 @@ pub fn run_model(
         .ok_or(BayesError::NoFiniteLikelihood { stage: t.stages.len() })?;
     // initial simplex: half a posterior sd per coordinate
     let half_sd: Vec<f64> = sd.iter().zip(&best).map(|(s, b)| (0.5 * s).max(1e-12 * b.abs().max(1e-300))).collect();
-    let map = map_estimate(&posterior, &best, &half_sd, s.map_iters).theta;
+    let map = map_estimate(&counted, &best, &half_sd, s.map_iters).theta;
     // FD step 0.05 sd: the O(h²) truncation error is ≈ 0.25 % of the curvature
     // of a near-Gaussian posterior, while the forward model's round-off
     // (~1e-12 relative) stays negligible against the h²-sized differences.
-    let log_evidence_laplace = laplace_log_evidence_with_step(&posterior, &map, &sd, 0.05).ok().map(|l| l.log_evidence);
-    Ok(ModelRun { model, posterior, tmcmc: t, map, log_evidence_laplace })
+    let log_evidence_laplace = laplace_log_evidence_with_step(&counted, &map, &sd, 0.05).ok().map(|l| l.log_evidence);
+    let forward_evaluations = counted.count();
+    Ok(ModelRun { model, posterior, tmcmc: t, map, log_evidence_laplace, forward_evaluations })
 }
 
 /// Per-coordinate sd of equally weighted samples (TMCMC's final population is resampled).

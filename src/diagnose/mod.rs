@@ -175,6 +175,8 @@ pub struct Candidate {
     /// Posterior model probability among the extended models evaluated (equal prior
     /// probabilities); for the baseline, its probability had it been compared with the base alone.
     pub probability: f64,
+    /// Forward-model solves spent on this model (TMCMC, MAP, Laplace).
+    pub forward_evaluations: u64,
     pub posterior: BTreeMap<String, Summary>,
 }
 
@@ -250,6 +252,8 @@ pub struct Diagnosis {
     pub base: Candidate,
     pub baseline: Candidate,
     pub thresholds: Thresholds,
+    /// Forward-model solves of the whole diagnosis: every model visited and the baseline.
+    pub forward_evaluations: u64,
 }
 
 /// A diagnosis with the per-model runs behind it.
@@ -550,6 +554,7 @@ impl Decision {
                 log_bayes_factor: s.log_bayes_factor_threshold,
                 alternative_margin: s.alternative_margin,
             },
+            forward_evaluations: runs.iter().map(|r| r.forward_evaluations).sum(),
         })
     }
 
@@ -609,6 +614,7 @@ fn candidate(r: &ModelRun, z_base: f64, probability: f64) -> Candidate {
         laplace_disagrees: r.log_evidence_laplace.is_some_and(|l| (l - z).abs() > LAPLACE_DISAGREEMENT_NATS),
         log_bayes_factor: z - z_base,
         probability,
+        forward_evaluations: r.forward_evaluations,
         posterior: summaries(r),
     }
 }

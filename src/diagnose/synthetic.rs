@@ -11,7 +11,9 @@
 //! data must leave some observable ≥ [`MIN_SHIFT_SIGMA`] σ away. The
 //! generator checks this by fitting the base model (multi-start
 //! Nelder–Mead) and grows the magnitude ×1.5 (redrawing the effect's shape
-//! when a cap is reached) until true; the case then carries all its effects.
+//! when a cap is reached) until true; a foreign effect grows further, until
+//! no catalogue model of one or two causes fits it either. The case then
+//! carries all its effects.
 
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
