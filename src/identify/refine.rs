@@ -130,41 +130,42 @@ impl Model {
 
     /// Residuals and Jacobian at θ.
     pub fn eval(&self, theta: &[f64], with_jacobian: bool) -> (DVector<f64>, DMatrix<f64>) {
+        let all: Vec<usize> = if with_jacobian { (0..self.n_params()).collect() } else { Vec::new() };
+        self.eval_columns(theta, &all)
+    }
+
+    /// Residuals and the Jacobian's columns `cols` (in that order) at θ.
+    fn eval_columns(&self, theta: &[f64], cols: &[usize]) -> (DVector<f64>, DMatrix<f64>) {
         let n = self.x.len();
         let p = self.n_params();
         let m = self.n_residuals();
         let mut r = DVector::zeros(m);
-        let mut jac = DMatrix::zeros(if with_jacobian { m } else { 0 }, p);
+        let mut jac = DMatrix::zeros(if cols.is_empty() { 0 } else { m }, cols.len());
         let mut grad = vec![Complex64::new(0.0, 0.0); p];
         for i in 0..n {
             let h = self.point(theta, i, &mut grad);
             let y = self.y[i];
+            let selected = cols.iter().map(|&j| grad[j]).enumerate();
             match self.kind {
                 FitKind::Complex => {
                     r[i] = h.re - y.re;
                     r[n + i] = h.im - y.im;
-                    if with_jacobian {
-                        for (j, g) in grad.iter().enumerate() {
-                            jac[(i, j)] = g.re;
-                            jac[(n + i, j)] = g.im;
-                        }
+                    for (k, g) in selected {
+                        jac[(i, k)] = g.re;
+                        jac[(n + i, k)] = g.im;
                     }
                 }
                 FitKind::Time => {
                     r[i] = h.re - y.re;
-                    if with_jacobian {
-                        for (j, g) in grad.iter().enumerate() {
-                            jac[(i, j)] = g.re;
-                        }
+                    for (k, g) in selected {
+                        jac[(i, k)] = g.re;
                     }
                 }
                 FitKind::Magnitude => {
                     let a = h.norm().max(f64::MIN_POSITIVE);
                     r[i] = a - y.re;
-                    if with_jacobian {
-                        for (j, g) in grad.iter().enumerate() {
-                            jac[(i, j)] = (h.conj() * g).re / a;
-                        }
+                    for (k, g) in selected {
+                        jac[(i, k)] = (h.conj() * g).re / a;
                     }
                 }
                 FitKind::Psd => {
@@ -173,11 +174,9 @@ impl Model {
                     let x = y.re / s - 1.0;
                     let (dev, ratio) = deviance(x);
                     r[i] = dev;
-                    if with_jacobian {
-                        // dr/dθ = dr/du·du/dθ = −(x/r)·∂ln S/∂θ
-                        for (j, g) in grad.iter().enumerate() {
-                            jac[(i, j)] = -ratio * 2.0 * (h.conj() * g).re / s;
-                        }
+                    // dr/dθ = dr/du·du/dθ = −(x/r)·∂ln S/∂θ
+                    for (k, g) in selected {
+                        jac[(i, k)] = -ratio * 2.0 * (h.conj() * g).re / s;
                     }
                 }
             }
@@ -361,13 +360,14 @@ pub const VARPRO_PATIENCE: usize = 8;
 pub fn fit_projected(model: &Model, theta0: &[f64]) -> Option<FitResult> {
     let nonlinear = model.nonlinear_indices();
     let alpha = DVector::from_iterator(nonlinear.len(), nonlinear.iter().map(|&j| theta0[j]));
-    let problem = Projected { model, nonlinear, template: theta0.to_vec(), alpha };
+    let linear = model.linear_indices();
+    let problem = Projected { model, nonlinear, linear, template: theta0.to_vec(), alpha, cache: Default::default() };
     let (problem, report) =
         LevenbergMarquardt::new().with_ftol(1e-14).with_xtol(1e-14).with_patience(VARPRO_PATIENCE).minimize(problem);
     if !report.termination.was_successful() && report.number_of_evaluations == 0 {
         return None;
     }
-    let (theta, _, _) = problem.project(false)?;
+    let theta = problem.theta()?;
     finish(model, theta, report.number_of_evaluations)
 }
 
@@ -376,64 +376,156 @@ pub fn fit_projected(model: &Model, theta0: &[f64]) -> Option<FitResult> {
 /// only reached when the iteration cycles).
 const MAX_SWEEPS: usize = 10_000;
 
-/// The reduced problem of [`fit_projected`].
+/// The reduced problem of [`fit_projected`], handed to the LM crate in
+/// compressed form (see [`Projected::compressed`]).
 struct Projected<'a> {
     model: &'a Model,
     nonlinear: Vec<usize>,
+    linear: Vec<usize>,
     /// θ with the current poles (residues overwritten at each projection).
     template: Vec<f64>,
     alpha: DVector<f64>,
+    /// The factorisation of the last [`Projected::residual_norm`], keyed by
+    /// its poles: the crate asks for the Jacobian at the point whose
+    /// residuals it has just accepted, so the QR of Φ is reused once.
+    /// (A function of α alone: reuse changes speed, never values.)
+    cache: std::cell::RefCell<Option<(DVector<f64>, Factored)>>,
+}
+
+/// Rank cut of Φ: singular values of R (Φ = QR) at or below this fraction
+/// of the largest mean numerically dependent columns (a runaway background
+/// pole), whose directions are left out of range Φ.
+const RANK_CUT: f64 = 1e-13;
+
+/// Φ = QR at the current poles (Householder: Q is kept as reflectors, never
+/// formed), R = U S Vᵀ, the data rotated, z = Qᵀy, and the residues.
+struct Factored {
+    qr: nalgebra::QR<f64, Dyn, Dyn>,
+    /// U's columns with S > [`RANK_CUT`]·S_max: range Φ is Q₁U_keep.
+    u_keep: DMatrix<f64>,
+    /// Qᵀy.
+    qty: DVector<f64>,
+    /// c = V_keep S_keep⁻¹ U_keepᵀ(Qᵀy)₁…ₙ (minimum-norm least squares).
+    c: DVector<f64>,
+}
+
+impl Factored {
+    /// Qᵀ P⊥ v given w = Qᵀv: P⊥ = I − Q₁U_keepU_keepᵀQ₁ᵀ leaves the rows
+    /// n… alone and removes range U_keep from the rows 0…n.
+    fn project_rotated(&self, w: &mut DMatrix<f64>) {
+        let n = self.u_keep.nrows();
+        let top = w.rows(0, n).into_owned();
+        let along = &self.u_keep * (self.u_keep.transpose() * &top);
+        w.rows_mut(0, n).copy_from(&(top - along));
+    }
 }
 
 impl Projected<'_> {
-    /// θ(α) = (α, c(α)), the residual and (optionally) Kaufman's Jacobian.
-    fn project(&self, with_jacobian: bool) -> Option<(Vec<f64>, DVector<f64>, DMatrix<f64>)> {
+    /// θ with the current poles and zero residues.
+    fn poles_only(&self) -> Vec<f64> {
         let mut theta = self.template.clone();
         for (k, &j) in self.nonlinear.iter().enumerate() {
             theta[j] = self.alpha[k];
         }
-        let linear = self.model.linear_indices();
-        for &j in &linear {
+        for &j in &self.linear {
             theta[j] = 0.0;
         }
-        let (r0, jac) = self.model.eval(&theta, true);
+        theta
+    }
+
+    /// θ with the current poles and the residues `c`.
+    fn with_residues(&self, c: &DVector<f64>) -> Vec<f64> {
+        let mut theta = self.poles_only();
+        for (k, &j) in self.linear.iter().enumerate() {
+            theta[j] = c[k];
+        }
+        theta
+    }
+
+    /// Householder QR of Φ (O(m n²)), then the small R = U S Vᵀ (cheaper
+    /// than an SVD of the tall Φ), z = Qᵀy by the reflectors and the residues.
+    fn factor(&self) -> Option<Factored> {
+        let theta = self.poles_only();
+        let (r0, phi) = self.model.eval_columns(&theta, &self.linear);
         // (nalgebra's SVD does not terminate on non-finite input)
-        if !r0.iter().chain(jac.iter()).all(|v| v.is_finite()) {
+        if !r0.iter().chain(phi.iter()).all(|v| v.is_finite()) {
             return None;
         }
-        let phi = jac.select_columns(&linear);
-        // Φ = QR (Householder, O(m n²)), then the small R = U S Vᵀ: the
-        // residues c = V S⁺ Uᵀ Qᵀ(−r₀) and the basis Q·U_keep of range Φ,
-        // with the rank cut S > 1e-13·S_max (below it the columns are
-        // numerically dependent). Cheaper than an SVD of the tall Φ.
         let qr = phi.qr();
-        let (q, rmat) = (qr.q(), qr.r());
         // bounded iterations: nalgebra's unbounded SVD can cycle on a
         // degenerate R (a runaway background pole); `None` ends this candidate
-        let svd = rmat.try_svd(true, true, f64::EPSILON, MAX_SWEEPS)?;
-        let (ur, vt) = (svd.u.as_ref()?, svd.v_t.as_ref()?);
-        let smax = svd.singular_values.iter().copied().fold(0.0, f64::max);
+        let svd = qr.r().try_svd(true, true, f64::EPSILON, MAX_SWEEPS)?;
+        let (u, vt) = (svd.u.as_ref()?, svd.v_t.as_ref()?);
+        let sv = &svd.singular_values;
+        let smax = sv.iter().copied().fold(0.0, f64::max);
         if !(smax > 0.0 && smax.is_finite()) {
             return None;
         }
-        let keep: Vec<usize> =
-            (0..svd.singular_values.len()).filter(|&i| svd.singular_values[i] > 1e-13 * smax).collect();
-        let basis = &q * ur.select_columns(&keep);
-        let coef = basis.transpose() * (-&r0);
-        let mut c = DVector::zeros(linear.len());
+        let keep: Vec<usize> = (0..sv.len()).filter(|&i| sv[i] > RANK_CUT * smax).collect();
+        let u_keep = u.select_columns(&keep);
+        // r₀ = model(θ with zero residues) − y = −y
+        let mut qty = -r0;
+        qr.q_tr_mul(&mut qty);
+        let coef = u_keep.transpose() * qty.rows(0, self.linear.len());
+        let mut c = DVector::zeros(self.linear.len());
         for (k, &i) in keep.iter().enumerate() {
-            c += vt.row(i).transpose() * (coef[k] / svd.singular_values[i]);
+            c += vt.row(i).transpose() * (coef[k] / sv[i]);
         }
-        for (k, &j) in linear.iter().enumerate() {
-            theta[j] = c[k];
+        Some(Factored { qr, u_keep, qty, c })
+    }
+
+    /// θ(α) = (α, c(α)).
+    fn theta(&self) -> Option<Vec<f64>> {
+        Some(self.with_residues(&self.factor()?.c))
+    }
+
+    /// Qᵀ P⊥ y = −Qᵀr, the residual in rotated coordinates.
+    fn rotated_residual(f: &Factored) -> DMatrix<f64> {
+        let mut w = DMatrix::from_column_slice(f.qty.nrows(), 1, f.qty.as_slice());
+        f.project_rotated(&mut w);
+        w
+    }
+
+    /// The residual and Kaufman's Jacobian compressed to q + 1 rows
+    /// (q poles): with U an orthonormal basis of span[r, J] (J = P⊥∂(Φc)/∂α
+    /// and r = −P⊥y), the LM subproblem min‖Jp − r‖² + λ‖Dp‖² equals
+    /// min‖UᵀJp − Uᵀr‖² + λ‖Dp‖², and the column norms (the LM's scaling D)
+    /// are the same. With the QR [QᵀP⊥y, QᵀP⊥J] = V R₂ (Q orthogonal, so
+    /// this is the QR of [P⊥y, P⊥J] rotated), Uᵀr = ‖r‖e₁ (row 0 sign-fixed)
+    /// and UᵀJ = R₂'s last q columns: the crate's pivoted QR then works on a
+    /// (q+1)×q matrix instead of m×q, and [`Self::residual_norm`] needs no
+    /// Jacobian. The trust-region steps are those of the uncompressed
+    /// problem up to round-off.
+    fn compressed(&self) -> Option<DMatrix<f64>> {
+        let q = self.nonlinear.len();
+        let cached = self.cache.borrow_mut().take().filter(|(a, _)| *a == self.alpha).map(|(_, f)| f);
+        let f = match cached {
+            Some(f) => f,
+            None => self.factor()?,
+        };
+        let (_, mut ja) = self.model.eval_columns(&self.with_residues(&f.c), &self.nonlinear);
+        if !ja.iter().all(|v| v.is_finite()) {
+            return None;
         }
-        let (r, jfull) = self.model.eval(&theta, with_jacobian);
-        if !with_jacobian {
-            return Some((theta, r, jfull));
-        }
-        let ja = jfull.select_columns(&self.nonlinear);
-        let proj = &ja - &basis * (basis.transpose() * &ja);
-        Some((theta, r, proj))
+        f.qr.q_tr_mul(&mut ja);
+        f.project_rotated(&mut ja);
+        let mut w = DMatrix::zeros(ja.nrows(), q + 1);
+        w.set_column(0, &Self::rotated_residual(&f).column(0));
+        w.columns_mut(1, q).copy_from(&ja);
+        let r2 = w.qr().r();
+        // Vᵀ(−r) = R₂[0,0]e₁: flip row 0 so that the residual is +‖r‖e₁
+        let sign = if r2[(0, 0)] > 0.0 { -1.0 } else { 1.0 };
+        let mut j = r2.columns(1, q).into_owned();
+        j.row_mut(0).scale_mut(sign);
+        Some(j)
+    }
+
+    /// ‖r(α)‖ = ‖QᵀP⊥y‖; keeps the factorisation for the Jacobian.
+    fn residual_norm(&self) -> Option<f64> {
+        let f = self.factor()?;
+        let norm = Self::rotated_residual(&f).norm();
+        *self.cache.borrow_mut() = Some((self.alpha.clone(), f));
+        Some(norm)
     }
 }
 
@@ -450,13 +542,16 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Projected<'_> {
         self.alpha.clone()
     }
 
+    /// ‖r‖e₁ (q + 1 rows; see [`Projected::compressed`]).
     fn residuals(&self) -> Option<DVector<f64>> {
-        let (_, r, _) = self.project(false)?;
-        r.iter().all(|v| v.is_finite()).then_some(r)
+        let norm = self.residual_norm()?;
+        let mut r = DVector::zeros(self.nonlinear.len() + 1);
+        r[0] = norm;
+        norm.is_finite().then_some(r)
     }
 
     fn jacobian(&self) -> Option<DMatrix<f64>> {
-        let (_, _, j) = self.project(true)?;
+        let j = self.compressed()?;
         j.iter().all(|v| v.is_finite()).then_some(j)
     }
 }
