@@ -102,6 +102,8 @@ fn tally(cases: Vec<(u64, Hidden)>) -> Tally {
             let t = Instant::now();
             let case = generate_hidden(seed, &hidden);
             let d = diagnose(&case.data(), &settings).expect("valid synthetic data");
+            // progress as cases finish (the table below is in seed order)
+            eprintln!("seed {seed} {} → {} ({:.0} s)", hidden.label(), verdict(&d), t.elapsed().as_secs_f64());
             (seed, hidden, case.base_fit_max_z, d, t.elapsed().as_secs_f64())
         })
         .collect();
