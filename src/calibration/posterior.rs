@@ -207,9 +207,19 @@ impl Posterior for BeamPosterior {
         if self.min_relaxation_log_ratio > 0.0 && !self.relaxations_distinct(&self.beam_at(theta)) {
             return f64::NEG_INFINITY;
         }
-        match self.predict(theta) {
-            Some(pred) => self.likelihood.log_likelihood(&pred, self.beta_at(theta)),
-            None => f64::NEG_INFINITY,
+        // the prediction on the stack for up to 32 modes (no allocation per proposal)
+        let mut stack = [0.0; 64];
+        let mut heap = Vec::new();
+        let n = 2 * self.modes.len();
+        let pred: &mut [f64] = if n <= stack.len() {
+            &mut stack[..n]
+        } else {
+            heap.resize(n, 0.0);
+            &mut heap
+        };
+        match beam::modal_observables(&self.beam_at(theta), &self.modes, self.n_modes, pred) {
+            Ok(true) => self.likelihood.log_likelihood(pred, self.beta_at(theta)),
+            _ => f64::NEG_INFINITY,
         }
     }
 
