@@ -141,8 +141,11 @@ impl NumberFormatter {
     /// round-trip, closest to x: the same digit string as core's
     /// Grisu/Dragon shortest mode, checked on random bit patterns in the tests
     /// below) and are rearranged here from ryu's positional/exponent layout.
+    /// Where two shortest candidates are equally close (an exact decimal tie,
+    /// see [`may_tie`]) ryu rounds to even and core rounds up, so those few
+    /// values go through core.
     pub fn push_lower_exp(&mut self, out: &mut String, x: f64) {
-        if !x.is_finite() || x == 0.0 {
+        if !x.is_finite() || x == 0.0 || may_tie(x) {
             use std::fmt::Write as _;
             let _ = write!(out, "{x:e}");
             return;
@@ -200,6 +203,31 @@ impl NumberFormatter {
     }
 }
 
+/// Whether the shortest digits of x can be an exact tie between two
+/// candidates. A tie at n ≤ 17 digits needs x's exact decimal expansion to end
+/// in a 5 at digit n + 1, so to have at most 18 significant digits. With
+/// x = m·2^e, m odd: for e ≥ 0 (an integer) below 2^53 the exact integer is the
+/// only candidate of its length (the rounding interval is ±½ ulp ≤ ½); for
+/// e < 0 the expansion m·5^(−e)·10^e has exactly as many significant digits as
+/// the odd integer m·5^(−e), at least log10(m) + (−e)·log10 5. Conservative
+/// (false positives only cost speed): anything with fewer than 20 is a candidate.
+/// Chain draws (52-bit mantissas, e ≤ −14) need ≥ 25 digits: never here.
+fn may_tie(x: f64) -> bool {
+    let bits = x.to_bits();
+    let biased = ((bits >> 52) & 0x7ff) as i64;
+    let fraction = bits & ((1u64 << 52) - 1);
+    let (mut m, mut e) = if biased == 0 { (fraction, -1074) } else { (fraction | (1u64 << 52), biased - 1075) };
+    let tz = m.trailing_zeros();
+    m >>= tz;
+    e += i64::from(tz);
+    if e >= 0 {
+        return x.abs() >= 9_007_199_254_740_992.0; // 2^53
+    }
+    let bit_length = 64 - m.leading_zeros();
+    let min_digits = f64::from(bit_length - 1) * std::f64::consts::LOG10_2 + (-e) as f64 * 5f64.log10();
+    min_digits < 20.0
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -228,7 +256,19 @@ mod tests {
             f64::NAN,
             f64::INFINITY,
             f64::NEG_INFINITY,
+            // exact ties: ryu rounds these to even, core up
+            f64::from_bits(0x4312_9879_088f_f039),
+            1.25,
+            9_007_199_254_740_993.0 * 2.0,
+            1e23,
         ];
+        // every double of the form k/2^j with few bits (short exact expansions)
+        for j in 0..60 {
+            for k in [1u64, 3, 5, 7, 1001, (1 << 52) + 1, (1 << 53) - 1] {
+                values.push(k as f64 / 2f64.powi(j));
+                values.push(k as f64 * 2f64.powi(j));
+            }
+        }
         for _ in 0..200_000 {
             // splitmix64
             state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
