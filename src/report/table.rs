@@ -155,10 +155,14 @@ impl NumberFormatter {
             Some((b'-', rest)) => (true, rest),
             _ => (false, s),
         };
+        // ryu writes "ddd.ddd", "0.000ddd", "d.ddde[-]dd" or "de[-]dd"
         let (mantissa, exponent) = match s.iter().position(|&c| c == b'e') {
-            // ryu writes the exponent as an optional '-' and decimal digits
             Some(i) => {
-                (&s[..i], std::str::from_utf8(&s[i + 1..]).ok().and_then(|e| e.parse::<i32>().ok()).unwrap_or(0))
+                let (sign, digits) = match &s[i + 1..] {
+                    [b'-', rest @ ..] => (-1, rest),
+                    rest => (1, rest),
+                };
+                (&s[..i], sign * digits.iter().fold(0i32, |acc, &d| 10 * acc + i32::from(d - b'0')))
             }
             None => (s, 0),
         };
@@ -184,16 +188,25 @@ impl NumberFormatter {
         while end > start + 1 && digits[end - 1] == b'0' {
             end -= 1;
         }
+        // sign, digit, '.', ≤ 16 digits: assembled in one buffer, pushed once
+        let mut text = [0u8; 20];
+        let mut len = 0;
         if negative {
-            out.push('-');
+            text[0] = b'-';
+            len = 1;
         }
-        out.push(digits[start] as char);
+        text[len] = digits[start];
+        len += 1;
         if end > start + 1 {
-            out.push('.');
-            // ASCII digits only
-            out.push_str(std::str::from_utf8(&digits[start + 1..end]).unwrap_or_default());
+            text[len] = b'.';
+            len += 1;
+            text[len..len + end - start - 1].copy_from_slice(&digits[start + 1..end]);
+            len += end - start - 1;
         }
-        out.push('e');
+        text[len] = b'e';
+        len += 1;
+        // ASCII only
+        out.push_str(std::str::from_utf8(&text[..len]).unwrap_or_default());
         out.push_str(self.int.format(point - 1 + exponent));
     }
 
@@ -213,6 +226,7 @@ impl NumberFormatter {
 /// (false positives only cost speed): anything with fewer than 20 is a candidate.
 /// Chain draws (52-bit mantissas, e ≤ −14) need ≥ 25 digits: never here.
 fn may_tie(x: f64) -> bool {
+    const LOG10_5: f64 = 0.698_970_004_336_018_8;
     let bits = x.to_bits();
     let biased = ((bits >> 52) & 0x7ff) as i64;
     let fraction = bits & ((1u64 << 52) - 1);
@@ -224,7 +238,7 @@ fn may_tie(x: f64) -> bool {
         return x.abs() >= 9_007_199_254_740_992.0; // 2^53
     }
     let bit_length = 64 - m.leading_zeros();
-    let min_digits = f64::from(bit_length - 1) * std::f64::consts::LOG10_2 + (-e) as f64 * 5f64.log10();
+    let min_digits = f64::from(bit_length - 1) * std::f64::consts::LOG10_2 + (-e) as f64 * LOG10_5;
     min_digits < 20.0
 }
 
