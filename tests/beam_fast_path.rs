@@ -127,3 +127,51 @@ fn extensions_take_the_direct_path() {
     s.modal(&b, 3).unwrap();
     assert!(!s.last_used_interpolant());
 }
+
+/// `ModalSolver::observables` (what the calibration posterior calls) gives
+/// the bits of `modal(..).mode(m)` on every path: interpolated, direct (a
+/// support spring), overdamped modes (`false`), modes beyond `n_modes`.
+#[test]
+fn observables_equal_the_modal_result() {
+    let mut rng = ChaCha8Rng::seed_from_u64(1516);
+    let mut solver = ModalSolver::new();
+    let (mut checked, mut refused) = (0, 0);
+    for i in 0..400 {
+        let support = Support::ALL[rng.gen_range(0..4)];
+        let n_iv = rng.gen_range(0..=2);
+        let ivs: Vec<(f64, f64)> =
+            (0..n_iv).map(|_| (rng.gen_range(0.0..0.8), 10f64.powf(rng.gen_range(10.5..13.0)))).collect();
+        // every 4th beam heavily damped (overdamped low modes), every 5th with a spring
+        let c = if i % 4 == 0 { rng.gen_range(1e-4..1e-2) } else { rng.gen_range(0.0..2e-5) };
+        let mut b = beam(support, rng.gen_range(0.0..2.5), c, &ivs);
+        if i % 5 == 0 {
+            b.support_rotational_stiffness_n_m_rad = 1e-18;
+        }
+        let n_modes = rng.gen_range(1..=4);
+        let modes: Vec<usize> = (1..=n_modes).filter(|_| rng.gen_bool(0.7)).collect();
+        let reference = ModalSolver::new().modal(&b, n_modes).unwrap();
+        let mut out = vec![0.0; 2 * modes.len()];
+        let ok = solver.observables(&b, &modes, n_modes, &mut out).unwrap();
+        let expected: Option<Vec<f64>> = modes
+            .iter()
+            .map(|&m| reference.mode(m).map(|x| x.omega_rad_s))
+            .chain(modes.iter().map(|&m| reference.mode(m).map(|x| x.zeta)))
+            .collect();
+        match expected {
+            Some(e) => {
+                assert!(ok, "{b:?} {modes:?}");
+                assert_eq!(
+                    out.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                    e.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                    "{b:?}"
+                );
+                checked += 1;
+            }
+            None => {
+                assert!(!ok, "{b:?} {modes:?}");
+                refused += 1;
+            }
+        }
+    }
+    assert!(checked > 100 && refused > 0, "checked {checked}, refused {refused}");
+}

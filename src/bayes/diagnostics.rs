@@ -62,23 +62,57 @@ pub fn rhat(chains: &[Vec<f64>]) -> f64 {
 }
 
 /// (rank R̂, bulk ESS, tail ESS) together, bit-identical to [`rhat`],
-/// [`ess_bulk`], [`ess_tail`] called one by one: with an even number of draws
-/// per chain, splitting keeps every draw, so the rank normalisation of the
-/// split chains is the split of the rank normalisation (ranks depend on the
-/// pooled values only) and is computed once for both (`calibrate` summarises
-/// every parameter: one sort of all draws fewer each).
+/// [`ess_bulk`], [`ess_tail`] called one by one, with one sort of the pooled
+/// draws instead of two sorts and four selections (issue 15: these were a
+/// fifth of a whole `calibrate`):
+/// * with an even number of draws per chain, splitting keeps every draw, so
+///   the rank normalisation of the split chains is the split of the rank
+///   normalisation (ranks depend on the pooled values only);
+/// * the median and the 5 %/95 % quantiles are the same order statistics of
+///   the sorted draws as of the selections;
+/// * the folded draws |x − med| come sorted from the sorted x without a second
+///   sort: x ↦ x − med is monotone in floating point (rounding is monotone),
+///   so along ascending x the folded values descend below the median and
+///   ascend from it; merging the two runs sorts them (ties are averaged by
+///   value, so their order among themselves is irrelevant).
 pub fn convergence(chains: &[Vec<f64>]) -> (f64, f64, f64) {
     let n = match valid_draws_per_chain(chains) {
         Some(n) if n >= 4 && n % 2 == 0 => n,
         _ => return (rhat(chains), ess_bulk(chains), ess_tail(chains)),
     };
     debug_assert!(n % 2 == 0);
-    let ranked_split = split_chains(&rank_normalize(chains));
+    let order = sorted_with_positions(chains);
+    let sorted = |k: usize| order[k].0;
+    let ranked_split = split_chains(&reshape(&normal_scores(&order), chains));
     let bulk = classic_rhat(&ranked_split);
-    let med = median(&pooled(chains));
-    let folded: Vec<Vec<f64>> = chains.iter().map(|c| c.iter().map(|x| (x - med).abs()).collect()).collect();
-    let tail = classic_rhat(&rank_normalize(&split_chains(&folded)));
-    (bulk.max(tail), ess(&ranked_split), ess_tail(chains))
+    let med = quantile_of_sorted(order.len(), sorted, 0.5);
+    // first position with x ≥ med (x < med before it, in ascending x)
+    let mid = order.partition_point(|&(x, _)| x < med);
+    let (below, above) = order.split_at(mid);
+    let mut folded = Vec::with_capacity(order.len());
+    let (mut i, mut j) = (below.len(), 0);
+    while i > 0 || j < above.len() {
+        let lo = (i > 0).then(|| ((below[i - 1].0 - med).abs(), below[i - 1].1));
+        let hi = (j < above.len()).then(|| ((above[j].0 - med).abs(), above[j].1));
+        match (lo, hi) {
+            (Some(l), Some(h)) if l.0 <= h.0 => {
+                folded.push(l);
+                i -= 1;
+            }
+            (Some(l), None) => {
+                folded.push(l);
+                i -= 1;
+            }
+            (_, Some(h)) => {
+                folded.push(h);
+                j += 1;
+            }
+            (None, None) => unreachable!("loop condition"),
+        }
+    }
+    let tail = classic_rhat(&split_chains(&reshape(&normal_scores(&folded), chains)));
+    let q = [0.05, 0.95].map(|p| quantile_of_sorted(order.len(), sorted, p));
+    (bulk.max(tail), ess(&ranked_split), tail_ess_at(chains, q))
 }
 
 /// Bulk effective sample size: ESS of the rank-normalised split chains.
@@ -102,10 +136,14 @@ pub fn ess_tail(chains: &[Vec<f64>]) -> f64 {
         return f64::NAN;
     }
     let mut all = pooled(chains);
-    [0.05, 0.95]
+    tail_ess_at(chains, [0.05, 0.95].map(|p| quantile_select(&mut all, p)))
+}
+
+/// min over the quantiles q of the ESS of the split indicator chains I(x ≤ q).
+fn tail_ess_at(chains: &[Vec<f64>], quantiles: [f64; 2]) -> f64 {
+    quantiles
         .iter()
-        .map(|&p| {
-            let q = quantile_select(&mut all, p);
+        .map(|&q| {
             let ind: Vec<Vec<f64>> =
                 chains.iter().map(|c| c.iter().map(|&x| if x <= q { 1.0 } else { 0.0 }).collect()).collect();
             ess(&split_chains(&ind))
@@ -341,14 +379,24 @@ pub fn quantile_sorted(sorted: &[f64], p: f64) -> f64 {
 /// Rank-normalises all draws jointly: z = Φ⁻¹((r − 3/8)/(S + 1/4)) with r the
 /// average (fractional) rank among all S pooled draws, returned in the same shape.
 pub fn rank_normalize(chains: &[Vec<f64>]) -> Vec<Vec<f64>> {
-    let flat = pooled(chains);
-    let s = flat.len();
-    // (value, position) pairs sorted in place: one cache-friendly unstable sort
-    // (ties get their average rank below, so their order among themselves is
-    // irrelevant); Φ⁻¹ once per tie group (a chain repeats its state at every
-    // rejection, so there are several times fewer groups than draws).
-    let mut order: Vec<(f64, usize)> = flat.iter().copied().zip(0..s).collect();
+    reshape(&normal_scores(&sorted_with_positions(chains)), chains)
+}
+
+/// (value, pooled position) of every draw, sorted by value: one cache-friendly
+/// unstable sort (ties get their average rank in [`normal_scores`], so their
+/// order among themselves is irrelevant).
+fn sorted_with_positions(chains: &[Vec<f64>]) -> Vec<(f64, usize)> {
+    let mut order: Vec<(f64, usize)> = chains.iter().flatten().copied().zip(0..).collect();
     order.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+    order
+}
+
+/// Blom scores z = Φ⁻¹((r − 3/8)/(S + 1/4)) by pooled position, from values
+/// sorted ascending with their positions; Φ⁻¹ once per tie group (a chain
+/// repeats its state at every rejection, so there are several times fewer
+/// groups than draws).
+fn normal_scores(order: &[(f64, usize)]) -> Vec<f64> {
+    let s = order.len();
     let normal = Normal::new(0.0, 1.0).expect("standard normal");
     let denom = s as f64 + 0.25;
     let mut z = vec![0.0; s];
@@ -366,6 +414,11 @@ pub fn rank_normalize(chains: &[Vec<f64>]) -> Vec<Vec<f64>> {
         }
         i = j + 1;
     }
+    z
+}
+
+/// Pooled values back in the shape of `chains`.
+fn reshape(z: &[f64], chains: &[Vec<f64>]) -> Vec<Vec<f64>> {
     let mut out = Vec::with_capacity(chains.len());
     let mut k = 0;
     for c in chains {
@@ -373,6 +426,18 @@ pub fn rank_normalize(chains: &[Vec<f64>]) -> Vec<Vec<f64>> {
         k += c.len();
     }
     out
+}
+
+/// The type-7 quantile of n sorted values `sorted(0..n)`: the same order
+/// statistics and formula as [`quantile_select`] and [`quantile_sorted`].
+fn quantile_of_sorted(n: usize, sorted: impl Fn(usize) -> f64, p: f64) -> f64 {
+    if n == 0 {
+        return f64::NAN;
+    }
+    let h = (n - 1) as f64 * p.clamp(0.0, 1.0);
+    let lo = h.floor() as usize;
+    let hi = (lo + 1).min(n - 1);
+    sorted(lo) + (h - lo as f64) * (sorted(hi) - sorted(lo))
 }
 
 /// [`quantile_sorted`] of `x` without sorting it (two selections, same value:
@@ -452,6 +517,30 @@ mod tests {
             assert_eq!(b.to_bits(), ess_bulk(&chains).to_bits(), "n = {n}");
             assert_eq!(t.to_bits(), ess_tail(&chains).to_bits(), "n = {n}");
         }
+        // MCMC-like: random walks that repeat their state on ~half the steps,
+        // values on both sides of the median at equal distances (folded ties)
+        let mut state = 12345u64;
+        let mut u = move || {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let chains: Vec<Vec<f64>> = (0..4)
+            .map(|_| {
+                let mut x = 0.0f64;
+                (0..2000)
+                    .map(|_| {
+                        if u() < 0.5 {
+                            x = ((x + (u() - 0.5)) * 64.0).round() / 64.0;
+                        }
+                        x
+                    })
+                    .collect()
+            })
+            .collect();
+        let (r, b, t) = convergence(&chains);
+        assert_eq!(r.to_bits(), rhat(&chains).to_bits());
+        assert_eq!(b.to_bits(), ess_bulk(&chains).to_bits());
+        assert_eq!(t.to_bits(), ess_tail(&chains).to_bits());
     }
 
     /// Selection gives the bits of the sorted type-7 quantile, ties and ends included.

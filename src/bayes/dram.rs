@@ -330,6 +330,21 @@ fn alpha(points: &[Vec<f64>], log_pi: &[f64], path: &[usize], gammas: &[f64], pr
     if log_pi[y0] == f64::NEG_INFINITY {
         return 1.0;
     }
+    if i == 1 {
+        // Stage 1 (any γ1): q1(y1 → y0) and q1(y0 → y1) are the same Gaussian
+        // density of ±(y1 − y0), bitwise (the forward substitution of a negated
+        // vector is the negated result, exactly), so they cancel in eq. (29) and
+        // α1 = min(1, π(y1)/π(y0)) (Metropolis). Issue 15: skipping them halves
+        // the quadratic forms of a two-stage step (log_q was 6 % of a calibrate).
+        let log_ratio = log_pi[yi] - log_pi[y0];
+        return if log_ratio.is_nan() {
+            0.0
+        } else if log_ratio >= 0.0 {
+            1.0
+        } else {
+            log_ratio.exp()
+        };
+    }
     // Reverse path: yi → y_{i−1} → … → y0 (on the stack: no allocation per step).
     let mut reverse = [0usize; MAX_PATH];
     path.iter().rev().zip(reverse.iter_mut()).for_each(|(p, r)| *r = *p);

@@ -68,7 +68,9 @@ pub fn describe(values: &[f64]) -> (f64, f64, [f64; 2]) {
 /// # Panics
 /// If the chains are empty, have different lengths, or a draw's length differs
 /// from `names.len()` (programming errors: samplers produce rectangular output).
-pub fn summarize(names: &[String], chains: &[Vec<Vec<f64>>]) -> Summary {
+pub fn summarize<C: AsRef<[Vec<f64>]>>(names: &[String], chains: &[C]) -> Summary {
+    // borrowed chains: `calibrate` passes slices of its chains (no copy of every draw)
+    let chains: Vec<&[Vec<f64>]> = chains.iter().map(AsRef::as_ref).collect();
     let d = names.len();
     assert!(!chains.is_empty() && !chains[0].is_empty(), "summarize: no draws");
     let n = chains[0].len();

@@ -24,7 +24,9 @@ mod time_response;
 
 pub use error::BeamError;
 pub use frf::{frf, frf_each, max_frequency_rad_s, MAX_OMEGA_TILDE};
-pub use modal::{modal, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode, SolverPath};
+pub use modal::{
+    modal, modal_observables, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode, SolverPath,
+};
 pub use model::buckling_load_n;
 pub use spec::{BeamSpec, InternalVariable, PointMass, ShearDeformation, Support};
 pub use spectrum::{

@@ -343,6 +343,14 @@ impl ModalSolver {
     /// caller then takes the direct path. Which one is taken is a function of
     /// the input alone. The beam was validated by the caller.
     fn interpolated(&mut self, beam: &BeamSpec, n_modes: usize) -> Option<ModalResult> {
+        let omega_ref = self.interpolated_roots(beam, n_modes)?;
+        Some(assemble(&self.roots, n_modes, omega_ref))
+    }
+
+    /// The families 1..=n_modes of the interpolated path into `self.roots`
+    /// (scaled units), returning ω_ref; `None` when the path does not apply
+    /// (see [`Self::interpolated`]).
+    fn interpolated_roots(&mut self, beam: &BeamSpec, n_modes: usize) -> Option<f64> {
         let mesh = self.mesh.as_ref()?;
         let sc = Scaling::new(beam);
         // the same tests as ScaledModel::decouples with no point mass and no rotary inertia
@@ -367,8 +375,65 @@ impl ModalSolver {
         for (&lambda, roots) in self.lambdas.iter().zip(self.roots.iter_mut()) {
             family_roots_into(0.0, lambda, sc.c, &ivs[..nv], roots).ok()?;
         }
-        Some(assemble(&self.roots, n_modes, sc.omega_ref))
+        Some(sc.omega_ref)
     }
+
+    /// ω (rad/s) and ζ of the physical modes `modes` (1-based, each ≤ n_modes)
+    /// into `out` = [ω…, ζ…] (length 2·modes.len()): the numbers of
+    /// `self.modal(beam, n_modes)?.mode(m)`, bit for bit, without building the
+    /// [`ModalResult`] on the interpolated path (issue 15: a calibration
+    /// evaluates this ~1.75 times per draw, and the result's vectors, the sort
+    /// of its real poles and the copy into a prediction vector were ~5 % of a
+    /// whole `calibrate`). `Ok(false)` when a requested mode is overdamped or
+    /// was not computed.
+    pub fn observables(
+        &mut self,
+        beam: &BeamSpec,
+        modes: &[usize],
+        n_modes: usize,
+        out: &mut [f64],
+    ) -> Result<bool, BeamError> {
+        debug_assert_eq!(out.len(), 2 * modes.len());
+        beam.validate()?;
+        let stale = !matches!(&self.mesh, Some(m) if m.matches(beam));
+        if stale {
+            self.mesh = Some(UnitMesh::for_beam(beam));
+            self.eigen = EigenCache::default();
+            self.spectrum = SpectrumTable::default();
+        }
+        self.last_interpolated = false;
+        let m = modes.len();
+        if !self.direct_only {
+            if let Some(omega_ref) = self.interpolated_roots(beam, n_modes) {
+                self.last_path = Some(SolverPath::Decoupled);
+                self.last_interpolated = true;
+                for (k, &mode) in modes.iter().enumerate() {
+                    let Some(fam) = mode.checked_sub(1).and_then(|j| self.roots.get(j)).filter(|_| mode <= n_modes)
+                    else {
+                        return Ok(false);
+                    };
+                    // the pair and the formulas of `assemble`
+                    let Some(s) = oscillatory_pair(fam) else { return Ok(false) };
+                    let r = s.norm_sqr().sqrt();
+                    out[k] = r * omega_ref;
+                    out[m + k] = -s.re / r;
+                }
+                return Ok(true);
+            }
+        }
+        let result = self.modal(beam, n_modes)?;
+        for (k, &mode) in modes.iter().enumerate() {
+            let Some(md) = result.mode(mode) else { return Ok(false) };
+            out[k] = md.omega_rad_s;
+            out[m + k] = md.zeta;
+        }
+        Ok(true)
+    }
+}
+
+/// The oscillatory member of a family: the Im > 0 root of largest |s|.
+fn oscillatory_pair(family: &[Complex64]) -> Option<Complex64> {
+    family.iter().copied().filter(|s| s.im > 0.0).max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()))
 }
 
 thread_local! {
@@ -386,6 +451,14 @@ pub fn modal(beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> 
     THREAD_SOLVER.with(|s| match s.try_borrow_mut() {
         Ok(mut solver) => solver.modal(beam, n_modes),
         Err(_) => ModalSolver::new().modal(beam, n_modes),
+    })
+}
+
+/// [`ModalSolver::observables`] through this thread's reusable solver (see [`modal`]).
+pub fn modal_observables(beam: &BeamSpec, modes: &[usize], n_modes: usize, out: &mut [f64]) -> Result<bool, BeamError> {
+    THREAD_SOLVER.with(|s| match s.try_borrow_mut() {
+        Ok(mut solver) => solver.observables(beam, modes, n_modes, out),
+        Err(_) => ModalSolver::new().observables(beam, modes, n_modes, out),
     })
 }
 
@@ -421,8 +494,7 @@ fn assemble<F: std::ops::Deref<Target = [Complex64]>>(families: &[F], n_modes: u
     let mut modes = Vec::with_capacity(n_modes);
     let mut overdamped = Vec::new();
     for (j, fam) in families.iter().take(n_modes).enumerate() {
-        let pair = fam.iter().copied().filter(|s| s.im > 0.0).max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()));
-        match pair {
+        match oscillatory_pair(fam) {
             Some(s) => {
                 // |s̃| in scaled units (O(1)..O(1e6): no overflow in the square,
                 // so no hypot), then to rad/s

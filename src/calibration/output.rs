@@ -12,7 +12,7 @@ use crate::bayes::Posterior;
 use crate::calibration::{BeamPosterior, CalibrationResult};
 use crate::report::inference_data::{Group, InferenceData, Variable};
 use crate::report::svg::{self, HistogramPlot, NamedValues, PairPlot, TracePlot};
-use crate::report::table::{fmt_interval, fmt_sig};
+use crate::report::table::{fmt_interval, fmt_sig, NumberFormatter};
 use crate::report::ReportError;
 
 /// Column headers of [`summary_cells`].
@@ -40,15 +40,24 @@ pub fn chains_csv(result: &CalibrationResult) -> String {
         s.push_str(n);
     }
     s.push_str(",log_posterior\n");
-    // write! into the one buffer: no temporary String per number (same bytes as format!)
-    use std::fmt::Write as _;
+    // The same bytes as `write!(s, "{c},{i}")` and `",{x:e}"`, through ryu/itoa
+    // (`NumberFormatter`): core::fmt made this file ~10 % of a whole calibrate.
+    let rows: usize = result.chains.iter().map(|c| c.draws.len().saturating_sub(result.burn_in)).sum();
+    // ~16 bytes per number: one allocation for the whole file
+    s.reserve(rows * (12 + 16 * (result.names.len() + 1)));
+    let mut f = NumberFormatter::default();
     for (c, chain) in result.chains.iter().enumerate() {
         for i in result.burn_in..chain.draws.len() {
-            let _ = write!(s, "{c},{i}");
-            for x in &chain.draws[i] {
-                let _ = write!(s, ",{x:e}");
+            f.push_int(&mut s, c);
+            s.push(',');
+            f.push_int(&mut s, i);
+            for &x in &chain.draws[i] {
+                s.push(',');
+                f.push_lower_exp(&mut s, x);
             }
-            let _ = writeln!(s, ",{:e}", chain.log_posterior[i]);
+            s.push(',');
+            f.push_lower_exp(&mut s, chain.log_posterior[i]);
+            s.push('\n');
         }
     }
     s

@@ -173,7 +173,8 @@ pub fn calibrate_posterior(
         pb.finish_and_clear();
     }
 
-    let kept: Vec<Vec<Vec<f64>>> = chains.iter().map(|c| c.draws[sampler.burn_in..].to_vec()).collect();
+    // borrowed post-burn-in draws (a copy of every state cost ~5 % of a calibrate)
+    let kept: Vec<&[Vec<f64>]> = chains.iter().map(|c| &c.draws[sampler.burn_in..]).collect();
     let summary = summarize(&names, &kept);
     let warnings = sampling_health(&chains, &kept, &summary)?;
 
@@ -210,7 +211,7 @@ pub fn calibrate_posterior(
 /// for frozen chains among moving ones, low acceptance, R̂ and ESS.
 fn sampling_health(
     chains: &[ChainOutput],
-    kept: &[Vec<Vec<f64>>],
+    kept: &[&[Vec<f64>]],
     summary: &Summary,
 ) -> Result<Vec<String>, SamplingError> {
     let accepted: u64 = chains.iter().flat_map(|c| &c.accepted).sum();
