@@ -299,9 +299,9 @@ impl ModalSolver {
         self.last_path
     }
 
-    /// The fastest exact path: decoupled families when the proof above
-    /// applies, otherwise RQI on T(s) (falling back to the state space).
-    pub fn modal(&mut self, beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
+    /// Validates `beam` and rebuilds the mesh (dropping the caches built on
+    /// the old one) unless it is bitwise the one `UnitMesh::for_beam` would build.
+    fn prepare(&mut self, beam: &BeamSpec) -> Result<(), BeamError> {
         beam.validate()?;
         let stale = !matches!(&self.mesh, Some(m) if m.matches(beam));
         if stale {
@@ -310,6 +310,13 @@ impl ModalSolver {
             self.spectrum = SpectrumTable::default();
         }
         self.last_interpolated = false;
+        Ok(())
+    }
+
+    /// The fastest exact path: decoupled families when the proof above
+    /// applies, otherwise RQI on T(s) (falling back to the state space).
+    pub fn modal(&mut self, beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
+        self.prepare(beam)?;
         if !self.direct_only {
             if let Some(result) = self.interpolated(beam, n_modes) {
                 self.last_path = Some(SolverPath::Decoupled);
@@ -394,14 +401,7 @@ impl ModalSolver {
         out: &mut [f64],
     ) -> Result<bool, BeamError> {
         debug_assert_eq!(out.len(), 2 * modes.len());
-        beam.validate()?;
-        let stale = !matches!(&self.mesh, Some(m) if m.matches(beam));
-        if stale {
-            self.mesh = Some(UnitMesh::for_beam(beam));
-            self.eigen = EigenCache::default();
-            self.spectrum = SpectrumTable::default();
-        }
-        self.last_interpolated = false;
+        self.prepare(beam)?;
         let m = modes.len();
         if !self.direct_only {
             if let Some(omega_ref) = self.interpolated_roots(beam, n_modes) {
