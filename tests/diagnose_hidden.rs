@@ -72,9 +72,11 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
 
 /// Both causes of a pair named in ≥ 80 % of pairs; foreign effects `unexplained` in 100 %.
 #[test]
-#[ignore = "known failure (issue 13 stays open): measured on these 12 cases (search with up to 3 causes, no pair \
-            fallback), pairs both named 2/8 and foreign effects unexplained 0/4: catalogue pairs fit the foreign \
-            effects within the misfit threshold, so the generator does not yet meet the issue's 'no class or pair fits'"]
+#[ignore = "not yet measured with the current search (continues after a fitting first cause) and foreign \
+            effect (mode-coupling, verified unfittable by every catalogue model of <= 2 causes): the run did not \
+            finish in 45 min on a shared 2-core machine, shear-pair models dominating. Last measured with the \
+            older search and foreign effects (clamped end, coating, which catalogue pairs fit): pairs both named \
+            2/8, foreign unexplained 0/4"]
 fn pairs_are_named_and_foreign_effects_are_unexplained() {
     let t = tally(open_cases());
     assert!(t.pairs_right * 100 >= 80 * t.pairs, "pairs {}/{}", t.pairs_right, t.pairs);
