@@ -10,9 +10,9 @@
 //! `fast_chain` (3 modes) and `fast_chain_6modes`, RQI from the cached grid
 //! pencil for `direct_chain`, the path before issue 15); `warm`
 //! perturbs only E (the pencil is bitwise unchanged, as in a calibration of
-//! E, ρ, C, Δ, Ω with e0a fixed). `axial_chain`, `shear_chain` (κ moves:
-//! new mesh every call) and `shear_fixed_chain` (κ fixed) do the same with the
-//! mechanisms of issue 13.
+//! E, ρ, C, Δ, Ω with e0a fixed). `axial_chain`, `shear_chain` (κ moves; g̃
+//! is a pencil parameter, so the mesh stays) and `shear_fixed_chain` (κ fixed)
+//! do the same with the mechanisms of issue 13.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use nanobeam::beam::{modal, modal_state_space, BeamSpec, InternalVariable, ModalSolver, Support};
@@ -114,8 +114,8 @@ fn bench(c: &mut Criterion) {
         // issue 13: axial force (coupled path: RQI on T(s)) and shear
         // deformation (Timoshenko mesh, 4 DOFs/node, decoupled when C = 0 or
         // no rotary inertia... here C > 0, so coupled too), each along a chain
-        // that moves the new parameter, E and e0a (the mesh is rebuilt whenever
-        // κ, ν, d or L move: the Timoshenko mesh depends on g̃ = κGAL²/EI)
+        // that moves the new parameter, E and e0a (the Timoshenko mesh is
+        // rebuilt only when d or L move: it depends on r̃² = I/(AL²))
         for (name, axial, shear) in [("axial", 2e-9, None), ("shear", 0.0, Some(0.9)), ("shear_fixed", 0.0, Some(0.9))]
         {
             let mut bx = b.clone();

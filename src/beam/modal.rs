@@ -155,9 +155,9 @@ const GRID_CACHE: usize = 1024;
 struct EigenCache {
     work: Vec<Dual<f64>>,
     ldl: ShiftedLdl,
-    exact: Option<([u64; 5], Vec<EigenPair>)>,
+    exact: Option<([u64; 6], Vec<EigenPair>)>,
     /// Grid pencil eigenvectors keyed by [`PencilParams::bits`] of the grid point.
-    grid: HashMap<[u64; 5], Vec<GridVector>>,
+    grid: HashMap<[u64; 6], Vec<GridVector>>,
     /// How the last [`EigenCache::lowest`] call got its answer (for tests).
     last_method: Option<EigenMethod>,
 }
@@ -172,13 +172,16 @@ enum EigenMethod {
 /// An eigenvector of a grid pencil with the parameter-free pieces of its
 /// products, so that its RQI start on any pencil of the mesh costs O(n):
 /// M̃x = M̃₀x + ẽ²M̃₁x + μ̃N(Nᵀx), xᵀM̃x = xᵀM̃₀x + ẽ²xᵀM̃₁x + μ̃(Nᵀx)²,
-/// xᵀ(K̃ + K̃_spring + K̃_N)x = xᵀK̃x + k̃_r Σ_spring xᵢ² + ñ(xᵀG̃₀x + ẽ²xᵀG̃₁x).
+/// xᵀ(K̃ + K̃_spring + K̃_N)x = xᵀK̃x + k̃_r Σ_spring xᵢ² + ñ(xᵀG̃₀x + ẽ²xᵀG̃₁x),
+/// with xᵀK̃x = xᵀK̃_bx + g̃·xᵀK̃_γx on a Timoshenko mesh.
 #[derive(Debug, Clone)]
 struct GridVector {
     vector: Vec<f64>,
     m0x: Vec<f64>,
     m1x: Vec<f64>,
+    /// xᵀK̃x without shear (Euler–Bernoulli: all of it) and xᵀ(Σ∫γγᵀ)x.
     k_form: f64,
+    shear_form: f64,
     m0_form: f64,
     m1_form: f64,
     spring_sq: f64,
@@ -193,12 +196,13 @@ impl GridVector {
         mesh.m1.mul_vec_into(&vector, &mut m1x);
         let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
         GridVector {
-            k_form: mesh.stiffness_form(&vector),
+            k_form: mesh.stiffness_form(&vector, 0.0),
+            shear_form: mesh.shear.as_ref().map_or(0.0, |sh| sh.ks.bilinear(&vector, &vector)),
             m0_form: dot(&vector, &m0x),
             m1_form: dot(&vector, &m1x),
             spring_sq: mesh.spring_dofs.iter().map(|&i| vector[i] * vector[i]).sum(),
             g_forms: {
-                let f = mesh.energy_forms_ext(&vector);
+                let f = mesh.energy_forms_ext(&vector, 0.0);
                 (f[5], f[6])
             },
             vector,
@@ -217,7 +221,7 @@ impl GridVector {
             m_form += mu * w * w;
         }
         let k_n = if params.axial != 0.0 { params.axial * (self.g_forms.0 + e2 * self.g_forms.1) } else { 0.0 };
-        let rho = (self.k_form + params.spring * self.spring_sq + k_n) / m_form;
+        let rho = (self.k_form + params.shear * self.shear_form + params.spring * self.spring_sq + k_n) / m_form;
         RqiStart { vector: self.vector.clone(), mx, rho }
     }
 }
@@ -316,6 +320,11 @@ impl ModalSolver {
     /// The fastest exact path: decoupled families when the proof above
     /// applies, otherwise RQI on T(s) (falling back to the state space).
     pub fn modal(&mut self, beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
+        self.solve(beam, n_modes, Poles::All)
+    }
+
+    /// [`Self::modal`], on the coupled path with or without the real poles.
+    fn solve(&mut self, beam: &BeamSpec, n_modes: usize, poles: Poles) -> Result<ModalResult, BeamError> {
         self.prepare(beam)?;
         if !self.direct_only {
             if let Some(result) = self.interpolated(beam, n_modes) {
@@ -330,7 +339,7 @@ impl ModalSolver {
         let (path, result) = if model.decouples() {
             (SolverPath::Decoupled, decoupled_path(&model, n_modes, eigen))
         } else {
-            (SolverPath::CoupledRqi, general_path(&model, n_modes, eigen))
+            (SolverPath::CoupledRqi, general_path(&model, n_modes, eigen, poles))
         };
         *last_path = Some(path);
         match result {
@@ -391,8 +400,12 @@ impl ModalSolver {
     /// [`ModalResult`] on the interpolated path (issue 15: a calibration
     /// evaluates this ~1.75 times per draw, and the result's vectors, the sort
     /// of its real poles and the copy into a prediction vector were ~5 % of a
-    /// whole `calibrate`). `Ok(false)` when a requested mode is overdamped or
-    /// was not computed.
+    /// whole `calibrate`). On the coupled path only the oscillatory poles are
+    /// solved ([`Poles::Oscillatory`]): the same RQI from the same starts, so
+    /// the same bits, except where `modal` falls back to the state space
+    /// because two real-pole starts met (then both are exact to the
+    /// solvers' tolerance, not bitwise equal). `Ok(false)` when a requested
+    /// mode is overdamped or was not computed.
     pub fn observables(
         &mut self,
         beam: &BeamSpec,
@@ -421,7 +434,7 @@ impl ModalSolver {
                 return Ok(true);
             }
         }
-        let result = self.modal(beam, n_modes)?;
+        let result = self.solve(beam, n_modes, Poles::Oscillatory)?;
         for (k, &mode) in modes.iter().enumerate() {
             let Some(md) = result.mode(mode) else { return Ok(false) };
             out[k] = md.omega_rad_s;
@@ -429,6 +442,20 @@ impl ModalSolver {
         }
         Ok(true)
     }
+}
+
+/// Which poles the coupled path (c) solves for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Poles {
+    /// Every pole of the requested families (what [`ModalSolver::modal`] reports).
+    All,
+    /// The oscillatory pairs only (what [`ModalSolver::observables`] needs).
+    /// Real relaxation poles are not modes; a slow relaxation (Ω̃ ≪ ω̃₁) gives
+    /// every family a real pole near −Ω̃/(1 + Δ), equal to leading order for
+    /// all families, and RQI from two of those starts can land on one pole:
+    /// the coupled path then fails and the dense state space (~25·dim³ flops,
+    /// dim = 2n + N·n) takes over for poles no observable uses.
+    Oscillatory,
 }
 
 /// The oscillatory member of a family: the Im > 0 root of largest |s|.
@@ -522,7 +549,7 @@ fn assemble<F: std::ops::Deref<Target = [Complex64]>>(families: &[F], n_modes: u
 /// Path (b): exact decoupling.
 fn decoupled_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -> Result<ModalResult, BeamError> {
     let params = model.pencil_params();
-    let pairs = eigen.lowest(model.mesh, &params, model.k, &model.m, model.point_mass.as_ref(), n_modes)?;
+    let pairs = eigen.lowest(model.mesh, &params, &model.k, &model.m, model.point_mass.as_ref(), n_modes)?;
     let families =
         pairs.iter().map(|p| family_roots(0.0, p.lambda, model.c, &model.ivs)).collect::<Result<Vec<_>, _>>()?;
     Ok(assemble(&families, n_modes, model.omega_ref))
@@ -554,7 +581,12 @@ fn rayleigh_of(model: &ScaledModel, phi: &[f64]) -> (f64, (f64, f64, f64)) {
 /// one, each by nonlinear Rayleigh-quotient iteration from the one-term
 /// approximation of its family (root and eigenvector of (K̃ + K̃_spring, M̃)).
 /// Any failure → the caller falls back to (a).
-fn general_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -> Result<ModalResult, BeamError> {
+fn general_path(
+    model: &ScaledModel,
+    n_modes: usize,
+    eigen: &mut EigenCache,
+    poles: Poles,
+) -> Result<ModalResult, BeamError> {
     {
         let count = n_modes;
         let approx = family_approximations(model, count, eigen)?;
@@ -563,7 +595,8 @@ fn general_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -> 
         for ((a, b, c), phi) in &approx {
             let starts = family_roots(*a, *b, *c, &model.ivs)?;
             let mut fam = Vec::with_capacity(starts.len());
-            for s0 in starts.iter().copied().filter(|s| s.im >= 0.0) {
+            let wanted = |s: &Complex64| s.im > 0.0 || (s.im == 0.0 && poles == Poles::All);
+            for s0 in starts.iter().copied().filter(wanted) {
                 // Real poles cluster (one per family within [−Ωᵢ, −Ωᵢ/(1+Δᵢ)]) next
                 // next to the n-fold poles of det T at −Ωᵢ, where methods on det T crawl;
                 // nonlinear Rayleigh-quotient iteration from the family's vector
@@ -649,7 +682,7 @@ fn complex_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comple
         re.extend(x.iter().map(|v| v.re));
         im.clear();
         im.extend(x.iter().map(|v| v.im));
-        for (mat, coef) in [(&model.m, 2.0 * s), (&model.m_beam, Complex64::new(model.c, 0.0)), (model.k, dg)] {
+        for (mat, coef) in [(&model.m, 2.0 * s), (&model.m_beam, Complex64::new(model.c, 0.0)), (&*model.k, dg)] {
             mat.mul_vec_into(&re, &mut tmp);
             y.iter_mut().zip(&tmp).for_each(|(yi, v)| *yi += coef * v);
             mat.mul_vec_into(&im, &mut tmp);

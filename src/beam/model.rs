@@ -23,6 +23,8 @@
 //! (both ends for simply supported, x = L for clamped–pinned); it is elastic
 //! only (not multiplied by the relaxation factor 1 + ΣΔᵢ s/(s+Ωᵢ)).
 
+use std::borrow::Cow;
+
 use crate::beam::band::SymBand;
 use crate::beam::element;
 use crate::beam::spec::{BeamSpec, Support};
@@ -66,17 +68,22 @@ const GW: [f64; 4] =
 
 /// The Timoshenko part of a [`UnitMesh`] (`element::timoshenko_point`: four
 /// DOFs per node (w, θ, s, γ), half-bandwidth 7). The mesh's `k`, `m0`, `m1` are
-/// k = Σ∫(θ′θ′ᵀ + g̃ γγᵀ), m0 = Σ∫(wwᵀ + r̃²θθᵀ), m1 = Σ∫(w′w′ᵀ + r̃²θ′θ′ᵀ),
-/// and the external viscous damping acts on the translational part only.
+/// k = Σ∫θ′θ′ᵀ (bending only), m0 = Σ∫(wwᵀ + r̃²θθᵀ), m1 = Σ∫(w′w′ᵀ + r̃²θ′θ′ᵀ);
+/// the beam's stiffness is K̃ = k + g̃·`ks`, ks = Σ∫γγᵀ, with the shear
+/// stiffness g̃ a pencil parameter ([`PencilParams::shear`]), not part of the
+/// mesh: a calibration or a diagnosis that moves κ then keeps the mesh and
+/// its eigenpair caches (each new g̃ used to cost a new mesh and scratch
+/// eigensolves, ~2.3× a fixed-κ chain step). The external viscous damping
+/// acts on the translational part only.
 /// Supports: w = 0 at a supported end, θ = 0 at a clamped one (section
 /// rotation); s₀ = 0 fixes the split's gauge (a uniform shift of w_s against
 /// w_b changes neither w nor θ nor γ).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ShearMesh {
-    /// g̃ = κGAL²/EI (dimensionless shear stiffness).
-    pub g: f64,
     /// r̃² = I/(AL²) (rotary inertia relative to ρAL).
     pub r2: f64,
+    /// Σ∫γγᵀ: the shear stiffness per unit g̃.
+    pub ks: SymBand,
     /// Σ∫wwᵀ and Σ∫w′w′ᵀ (translational mass: the damping shape).
     pub mt0: SymBand,
     pub mt1: SymBand,
@@ -102,16 +109,18 @@ impl UnitMesh {
         Self::with_shear(beam.elements, beam.support, shear_params(beam))
     }
 
-    /// True when this mesh is the one [`Self::for_beam`] would build (bitwise).
+    /// True when this mesh is the one [`Self::for_beam`] would build (bitwise;
+    /// g̃ is a pencil parameter and does not enter).
     pub fn matches(&self, beam: &BeamSpec) -> bool {
-        let mine = self.shear.as_ref().map(|s| (s.g.to_bits(), s.r2.to_bits()));
-        let theirs = shear_params(beam).map(|(g, r2)| (g.to_bits(), r2.to_bits()));
+        let mine = self.shear.as_ref().map(|s| s.r2.to_bits());
+        let theirs = shear_params(beam).map(|(_, r2)| r2.to_bits());
         self.elements == beam.elements && self.support == beam.support && mine == theirs
     }
 
-    /// Timoshenko mesh with shear parameters (g̃, r̃²), or Euler–Bernoulli for `None`.
+    /// Timoshenko mesh with rotary inertia r̃² (`shear_params`), or
+    /// Euler–Bernoulli for `None`.
     pub fn with_shear(elements: usize, support: Support, shear: Option<(f64, f64)>) -> Self {
-        let Some((g, r2)) = shear else { return Self::new(elements, support) };
+        let Some((_, r2)) = shear else { return Self::new(elements, support) };
         let mut mesh = Self::new(elements, support);
         let last = elements;
         let node = |i: usize, d: usize| SHEAR_DPN * i + d;
@@ -142,10 +151,11 @@ impl UnitMesh {
         let comb = |a: &element::Mat8, c: f64, b: &element::Mat8| -> element::Mat8 {
             std::array::from_fn(|i| std::array::from_fn(|j| a[i][j] + c * b[i][j]))
         };
-        let [k, m0, m1, mt0, mt1, g1] = mesh.assemble_shear(
+        let [k, ks, m0, m1, mt0, mt1, g1] = mesh.assemble_shear(
             next,
             [
-                comb(&te.bending, g, &te.shear),
+                te.bending,
+                te.shear,
                 comb(&te.mass_w0, r2, &te.mass_t0),
                 comb(&te.mass_w1, r2, &te.bending),
                 te.mass_w0,
@@ -153,7 +163,7 @@ impl UnitMesh {
                 te.geometric_1,
             ],
         );
-        mesh.gauss_shear_init(h, g, r2, mt0, mt1);
+        mesh.gauss_shear_init(h, r2, ks, mt0, mt1);
         mesh.g0 = mesh.shear.as_ref().expect("just set").mt1.clone();
         mesh.g1 = g1;
         mesh.k = k;
@@ -162,12 +172,12 @@ impl UnitMesh {
         mesh
     }
 
-    fn gauss_shear_init(&mut self, h: f64, g: f64, r2: f64, mt0: SymBand, mt1: SymBand) {
+    fn gauss_shear_init(&mut self, h: f64, r2: f64, ks: SymBand, mt0: SymBand, mt1: SymBand) {
         let gauss = std::array::from_fn(|i| {
             let xl = 0.5 * h * (1.0 + element::GAUSS4_X[i]);
             (0.5 * h * element::GAUSS4_W[i], element::timoshenko_point(h, xl))
         });
-        self.shear = Some(ShearMesh { g, r2, mt0, mt1, gauss });
+        self.shear = Some(ShearMesh { r2, ks, mt0, mt1, gauss });
     }
 
     /// Assembles 8×8 Timoshenko element matrices over the mesh (n reduced DOFs).
@@ -291,8 +301,9 @@ impl UnitMesh {
     /// xᵀK̃x, xᵀM̃₀x, xᵀM̃₁x (M̃ = M̃₀ + ẽ²M̃₁), the translational parts of M̃₀, M̃₁
     /// (the damping shape) and xᵀG̃₀x = ∫(w′)², xᵀG̃₁x = ∫(w″)² (axial force).
     /// Euler–Bernoulli: k = g1 = ∫(w″)², m0 = mt0 = ∫w², m1 = mt1 = g0 = ∫(w′)².
-    /// Timoshenko: k = ∫(θ′)² + g̃∫γ², m0 = ∫w² + r̃²∫θ², m1 = ∫(w′)² + r̃²∫(θ′)².
-    pub fn energy_forms_ext<T>(&self, x: &[T]) -> [T; 7]
+    /// Timoshenko with shear stiffness `g` = g̃ (ignored for Euler–Bernoulli):
+    /// k = ∫(θ′)² + g̃∫γ², m0 = ∫w² + r̃²∫θ², m1 = ∫(w′)² + r̃²∫(θ′)².
+    pub fn energy_forms_ext<T>(&self, x: &[T], g: f64) -> [T; 7]
     where
         T: Copy + Default + std::ops::Add<Output = T> + std::ops::Mul<Output = T> + std::ops::Mul<f64, Output = T>,
     {
@@ -312,7 +323,7 @@ impl UnitMesh {
                 let dot = |f: &[f64; 8]| (0..8).fold(T::default(), |acc, a| acc + q[a] * f[a]);
                 let (w, w1, w2) = (dot(&p.w), dot(&p.dw), dot(&p.ddw));
                 let (t, t1, gam) = (dot(&p.rot), dot(&p.drot), dot(&p.shear));
-                out[0] = out[0] + (t1 * t1 + gam * gam * sh.g) * *wt;
+                out[0] = out[0] + (t1 * t1 + gam * gam * g) * *wt;
                 out[1] = out[1] + t * t * *wt;
                 out[2] = out[2] + t1 * t1 * *wt;
                 out[3] = out[3] + w * w * *wt;
@@ -332,9 +343,10 @@ impl UnitMesh {
     /// Same accuracy argument as [`Self::energy_forms`] (no cancellation
     /// between assembled entries; a² + ab + b² ≥ (a² + b²)/2 has none either),
     /// at a tenth of its cost: this is the numerator of every Rayleigh quotient.
-    pub fn stiffness_form(&self, x: &[f64]) -> f64 {
+    /// Timoshenko: ∫(θ′)² + g̃∫γ² with `g` = g̃ (ignored for Euler–Bernoulli).
+    pub fn stiffness_form(&self, x: &[f64], g: f64) -> f64 {
         if self.shear.is_some() {
-            return self.energy_forms_ext(x)[0];
+            return self.energy_forms_ext(x, g)[0];
         }
         let h = 1.0 / self.elements as f64;
         let [n0, n1] = &self.curvature_ends;
@@ -400,8 +412,8 @@ impl UnitMesh {
 }
 
 /// What the undamped relaxed pencil (K̃ + K̃_spring, M̃) depends on, for a
-/// given mesh: not E, ρ, d, C, Δ, Ω (they only scale time and enter the
-/// family polynomials).
+/// given mesh: not E, ρ, C, Δ, Ω (they only scale time and enter the
+/// family polynomials); d and L only through the Timoshenko mesh's r̃² and g̃.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PencilParams {
     /// ẽ = e0a/L.
@@ -412,6 +424,8 @@ pub struct PencilParams {
     pub spring: f64,
     /// ñ = NL²/EI, the axial force (0 = none).
     pub axial: f64,
+    /// g̃ = κGAL²/EI, the shear stiffness of a Timoshenko mesh (0 for Euler–Bernoulli).
+    pub shear: f64,
 }
 
 /// Grid of [`PencilParams::snapped`]: steps in ẽ², ln μ̃, x̃ and ln k̃_r.
@@ -431,12 +445,24 @@ const GRID_X: f64 = 0.05;
 /// Snapped towards 0, so a compressed grid pencil is never past buckling
 /// when the pencil itself is not.
 const GRID_N: f64 = 0.25;
+/// Step of ln g̃ on the grid. g̃ = κ(G/E)·16(L/d)² is ≈ 100–450 for the
+/// paper's L/d ≈ 8 and κ ∈ [0.3, 1], and mode r's shear share of its
+/// compliance is ≈ (rπ)²/g̃: a step of 0.1 (10 % in g̃) moves it by ≲ 10 %
+/// of itself, as the other steps move their parameters' share.
+const GRID_LN_SHEAR: f64 = 0.1;
 
 impl PencilParams {
     /// Bitwise identity.
-    pub fn bits(&self) -> [u64; 5] {
+    pub fn bits(&self) -> [u64; 6] {
         let (mu, x) = self.point_mass.unwrap_or((0.0, 0.0));
-        [self.e_tilde.to_bits(), mu.to_bits(), x.to_bits(), self.spring.to_bits(), self.axial.to_bits()]
+        [
+            self.e_tilde.to_bits(),
+            mu.to_bits(),
+            x.to_bits(),
+            self.spring.to_bits(),
+            self.axial.to_bits(),
+            self.shear.to_bits(),
+        ]
     }
 
     /// The nearest grid point: a pencil whose eigenpairs serve as RQI starts
@@ -451,6 +477,11 @@ impl PencilParams {
             point_mass: self.point_mass.map(|(mu, x)| (ln_snap(mu), ((x / GRID_X).round() * GRID_X).clamp(0.0, 1.0))),
             spring: if self.spring > 0.0 { ln_snap(self.spring) } else { 0.0 },
             axial: (self.axial / GRID_N).trunc() * GRID_N,
+            shear: if self.shear > 0.0 {
+                ((self.shear.ln() / GRID_LN_SHEAR).round() * GRID_LN_SHEAR).exp()
+            } else {
+                0.0
+            },
         }
     }
 }
@@ -458,7 +489,7 @@ impl PencilParams {
 impl UnitMesh {
     /// (K̃ + K̃_spring, M̃) for these parameters.
     pub fn pencil(&self, p: &PencilParams) -> (SymBand, SymBand) {
-        let mut k = self.k.clone();
+        let mut k = self.stiffness(p.shear);
         if p.spring > 0.0 {
             for &i in &self.spring_dofs {
                 k.add(i, i, p.spring);
@@ -481,10 +512,19 @@ impl UnitMesh {
         let spring = p.spring;
         let ks: f64 = if spring > 0.0 { self.spring_dofs.iter().map(|&i| spring * x[i] * x[i]).sum() } else { 0.0 };
         if p.axial != 0.0 {
-            let f = self.energy_forms_ext(x);
+            let f = self.energy_forms_ext(x, p.shear);
             return f[0] + ks + p.axial * (f[5] + p.e_tilde * p.e_tilde * f[6]);
         }
-        self.stiffness_form(x) + ks
+        self.stiffness_form(x, p.shear) + ks
+    }
+
+    /// K̃ of the beam (relaxed, no extension): `k`, plus g̃·Σ∫γγᵀ on a
+    /// Timoshenko mesh (`g` = g̃, ignored for Euler–Bernoulli).
+    pub fn stiffness(&self, g: f64) -> SymBand {
+        match &self.shear {
+            Some(sh) => self.k.plus_scaled(g, &sh.ks),
+            None => self.k.clone(),
+        }
     }
 
     /// K̃_N = ñ(G̃₀ + ẽ²G̃₁): the axial force N·(∫N′N′ᵀ + (e0a)²∫N″N″ᵀ) with
@@ -515,7 +555,10 @@ fn add_point_mass(m: &mut SymBand, mu: f64, nv: &[f64]) {
 pub struct ScaledModel<'a> {
     pub mesh: &'a UnitMesh,
     /// K̃ (beam, relaxed).
-    pub k: &'a SymBand,
+    /// (The mesh's own matrix for Euler–Bernoulli; K̃ = k + g̃·ks for Timoshenko.)
+    pub k: Cow<'a, SymBand>,
+    /// g̃ = κGAL²/EI (0 for Euler–Bernoulli).
+    pub shear: f64,
     /// Point mass μ̃ and N(x̃₀) (reduced DOFs).
     pub point_mass: Option<(f64, Vec<f64>)>,
     /// M̃ including the point mass.
@@ -589,6 +632,7 @@ impl Scaling {
 impl<'a> ScaledModel<'a> {
     pub fn new(beam: &BeamSpec, mesh: &'a UnitMesh) -> Self {
         let Scaling { l, ei, rho_a, omega_ref, e_tilde, c, spring, axial } = Scaling::new(beam);
+        let shear = shear_params(beam).map_or(0.0, |(g, _)| g);
         let m_all = mesh.m0.plus_scaled(e_tilde * e_tilde, &mesh.m1);
         let m_beam = match &mesh.shear {
             Some(sh) => sh.mt0.plus_scaled(e_tilde * e_tilde, &sh.mt1),
@@ -607,7 +651,11 @@ impl<'a> ScaledModel<'a> {
             beam.internal_variables.iter().map(|iv| (iv.delta, iv.omega_rad_s / omega_ref)).collect();
         Self {
             mesh,
-            k: &mesh.k,
+            k: match &mesh.shear {
+                Some(_) => Cow::Owned(mesh.stiffness(shear)),
+                None => Cow::Borrowed(&mesh.k),
+            },
+            shear,
             point_mass,
             m,
             m_beam,
@@ -638,6 +686,7 @@ impl<'a> ScaledModel<'a> {
             point_mass: self.point_mass.as_ref().map(|(mu, _)| (*mu, self.point_mass_x)),
             spring: if self.has_spring() { self.spring } else { 0.0 },
             axial: self.axial,
+            shear: self.shear,
         }
     }
 
@@ -654,7 +703,7 @@ impl<'a> ScaledModel<'a> {
 
     /// K̃ + K̃_spring (the elastic stiffness of the undamped, relaxed pencil).
     pub fn k_total(&self) -> SymBand {
-        let mut k = self.k.clone();
+        let mut k = self.k.as_ref().clone();
         if self.has_spring() {
             for &i in &self.spring_dofs {
                 k.add(i, i, self.spring);
@@ -685,7 +734,7 @@ impl<'a> ScaledModel<'a> {
             let mb = m0 + m1 * e2;
             (k, mb, mb, T::default())
         } else {
-            let [k, m0, m1, mt0, mt1, g0, g1] = self.mesh.energy_forms_ext(x);
+            let [k, m0, m1, mt0, mt1, g0, g1] = self.mesh.energy_forms_ext(x, self.shear);
             (k, m0 + m1 * e2, mt0 + mt1 * e2, (g0 + g1 * e2) * self.axial)
         };
         if let Some((mu, nv)) = &self.point_mass {

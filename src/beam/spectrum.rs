@@ -142,7 +142,7 @@ pub fn piece_range(p: usize) -> (f64, f64) {
 /// previous ones only).
 fn direct_mu(mesh: &UnitMesh, t: f64, count: usize) -> Option<Vec<f64>> {
     let m = mesh.m0.plus_scaled(t, &mesh.m1);
-    let pairs = lowest_eigenpairs(&mesh.k, &m, count, &mut Vec::new(), &|x| mesh.stiffness_form(x)).ok()?;
+    let pairs = lowest_eigenpairs(&mesh.k, &m, count, &mut Vec::new(), &|x| mesh.stiffness_form(x, 0.0)).ok()?;
     pairs.iter().map(|p| (p.lambda.is_finite() && p.lambda > 0.0).then(|| 1.0 / p.lambda)).collect()
 }
 
