@@ -72,12 +72,7 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
 
 /// Both causes of a pair named in ≥ 80 % of pairs; foreign effects `unexplained` in 100 %.
 #[test]
-#[ignore = "not yet measured with the mode-coupling foreign effect (verified unfittable by every catalogue \
-            model of <= 2 causes) nor with the search that continues after a fitting first cause (branch \
-            continue-search; pairs need it): the run did not finish in 45 min on a shared 2-core machine, \
-            shear-pair models dominating. Last measured with the \
-            older search and foreign effects (clamped end, coating, which catalogue pairs fit): pairs both named \
-            2/8, foreign unexplained 0/4"]
+#[ignore = "MEASURING"]
 fn pairs_are_named_and_foreign_effects_are_unexplained() {
     let t = tally(open_cases());
     assert!(t.pairs_right * 100 >= 80 * t.pairs, "pairs {}/{}", t.pairs_right, t.pairs);
@@ -96,8 +91,15 @@ struct Tally {
 }
 
 /// Diagnoses every case (in parallel), prints one line per case and the confusion, and counts.
+///
+/// `NANOBEAM_HIDDEN_SEEDS=105,111` (a developer's aid) keeps only those seeds.
 fn tally(cases: Vec<(u64, Hidden)>) -> Tally {
     let settings = DiagnoseSettings::quick();
+    let only: Option<Vec<u64>> = std::env::var("NANOBEAM_HIDDEN_SEEDS").ok().map(|v| {
+        v.split(',').map(|s| s.trim().parse().expect("NANOBEAM_HIDDEN_SEEDS: comma-separated seeds")).collect()
+    });
+    let cases: Vec<(u64, Hidden)> =
+        cases.into_iter().filter(|(seed, _)| only.as_ref().is_none_or(|o| o.contains(seed))).collect();
     let t0 = Instant::now();
     let results: Vec<(u64, Hidden, f64, Diagnosis, f64)> = cases
         .into_par_iter()

@@ -98,6 +98,12 @@ impl Model {
         Model::Extended(c)
     }
 
+    /// The 15 models of two different causes, in the order of [`ModelClass::CAUSES`].
+    pub fn pairs() -> Vec<Model> {
+        const C: [ModelClass; 6] = ModelClass::CAUSES;
+        C.iter().enumerate().flat_map(|(i, &a)| C[i + 1..].iter().map(move |&b| Model::with(&[a, b]))).collect()
+    }
+
     /// The causes this model adds to the base (empty for the base and the baseline).
     pub fn causes(&self) -> &[ModelClass] {
         match self {

@@ -387,10 +387,7 @@ fn max_z(post: &super::ClassPosterior, theta: &[f64]) -> f64 {
 
 /// The catalogue models a foreign effect must defeat: every single cause and every pair.
 fn catalogue_models() -> Vec<Model> {
-    const C: [ModelClass; 6] = ModelClass::CAUSES;
-    let singles = C.iter().map(|&a| Model::with(&[a]));
-    let pairs = C.iter().enumerate().flat_map(|(i, &a)| C[i + 1..].iter().map(move |&b| Model::with(&[a, b])));
-    singles.chain(pairs).collect()
+    ModelClass::CAUSES.iter().map(|&a| Model::with(&[a])).chain(Model::pairs()).collect()
 }
 
 /// Does some model of [`catalogue_models`] fit noise-free `y0`, i.e. leave
