@@ -344,7 +344,10 @@ fn finish(model: &Model, theta: Vec<f64>, evaluations: usize) -> Option<FitResul
 /// pole crawls along a flat valley (measured, paper's beam, 4 000 points,
 /// 5 modes: the 0-real-pole candidate stops here, 120 evaluations, its
 /// out-of-band pole collapsing onto the real axis to imitate the relaxation;
-/// with γ = e^η the others converge by [`VARPRO_FTOL`] in 25–110).
+/// with γ = e^η the 1–3-pole candidates converged by [`VARPRO_FTOL`] in
+/// 25–131 evaluations, except the 3-pole candidate of one noisy sweep, which
+/// reached its budget of 144 — a candidate the BIC forward selection does
+/// not fit on that record).
 pub const VARPRO_PATIENCE: usize = 8;
 
 /// Relative-reduction tolerance of the projected LM (MINPACK's ftol: stop
