@@ -60,7 +60,7 @@ fn noise_free_sweep_gives_the_model_modes() {
         // 1e-6 relative for both (the target). What remains is the
         // truncation of the background model (≤ 3 real poles for the 40
         // relaxation poles of the mesh, 2 poles plus a quadratic for the modes
-        // above the band): measured ≤ 1.4e-7 on ζ₅, ≤ 2e-9 on ω.
+        // above the band): measured ≤ 3.4e-7 on ζ₅, ≤ 5e-9 on ω.
         assert!(ew < 1e-6, "mode {} omega off by {ew:e}", t.mode);
         assert!(ez < 1e-6, "mode {} zeta off by {ez:e}", t.mode);
     }
@@ -192,7 +192,7 @@ fn noisy_psd_recovers_the_modes_within_their_sd() {
 }
 
 #[test]
-#[ignore = "known failure (200 seeds; 28 s at LM budget 3·(p+1), 323 s under load at 20·(p+1)): 39 of 200 noisy PSDs yield fewer than 3 stable modes in the diagram; at budget 20 a few fits go astray (mean z of omega_1 30, sd z 170); pooled coverage 0.72 (0.75 at budget 3, where the fitted 161 had mean z within ±0.31 but mode 1 under-covered: 142/161, 138/161)"]
+#[ignore = "known failure (200 seeds; 28 s at LM budget 3·(p+1), 323 s under load at 20·(p+1)): 39 of 200 noisy PSDs yield fewer than 3 stable modes in the diagram; at budget 20 a few fits go astray (mean z of omega_1 30, sd z 170); pooled coverage 0.72 (0.75 at budget 3, where the fitted 161 had mean z within ±0.31 but mode 1 under-covered: 142/161, 138/161). Checked: generator and likelihood use the same nu (Gamma(20, 1/20) bins; Whittle/Gamma deviance, Pearson 1/nu_hat, Fisher (1/nu_hat)(G^T G)^+), so the cause is the initial poles (LSCF on a noisy PSD), not the sigma formula; the PSD path was not changed or re-measured in the round that made the sweep fit converge"]
 fn psd_intervals_cover_the_truth_at_their_level() {
     // 1500-bin Welch PSDs (ν = 20) over modes 1–3 (with 600 bins of this
     // noise the stabilisation diagram holds only 1–2 of the three modes).

@@ -273,9 +273,18 @@ fn check_points_per_resonance(sc: &Scaled, modes: &[Complex64]) -> Result<(), In
     Ok(())
 }
 
-/// Refinements with 0 … MAX_REAL_POLES real poles (in parallel, gathered
-/// in order, so the choice does not depend on the thread count); the lowest
-/// BIC = m·ln(RSS/m) + p·ln m wins.
+/// Refinements with 0 … MAX_REAL_POLES real poles; the lowest
+/// BIC = m·ln(RSS/m) + p·ln m wins. Complex records and ring-downs (variable
+/// projection, converging by `refine::VARPRO_FTOL`) fit the candidates in
+/// sequence by forward selection: the first candidate whose BIC is not below
+/// the best so far ends the search (a noisy record stops after one or two
+/// candidates; a noise-free one, whose BIC keeps falling, fits all four).
+/// Warm starts from the previous candidate's poles were tried and rejected:
+/// they converge in fewer evaluations but into a worse background (noise-free
+/// sweep of the paper's beam: RSS 2.3e-10 against 3.8e-13 from the
+/// geometric start, ζ off by 1.8e-6 against 1.5e-7). Magnitude and PSD
+/// records (joint LM) fit the candidates in parallel, gathered in order, so
+/// the choice does not depend on the thread count.
 fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResult), IdentifyError> {
     let poly = if sc.kind == FitKind::Time { vec![0] } else { vec![0, 1, 2] };
     // frequency records: OUT_OF_BAND_MODES oscillatory poles above the band
@@ -288,33 +297,58 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
         }
     }
     let initial = &initial[..];
-    let candidates: Vec<Option<(f64, Model, FitResult)>> = (0..=MAX_REAL_POLES)
-        .into_par_iter()
-        .map(|n_real| {
-            let model = Model {
-                kind: sc.kind,
-                x: sc.x.clone(),
-                y: sc.y.clone(),
-                n_modes: initial.len(),
-                n_real,
-                poly: poly.clone(),
-            };
-            if model.n_params() + 1 >= model.n_residuals() {
-                return None;
+    let model_with = |n_real: usize| Model {
+        kind: sc.kind,
+        x: sc.x.clone(),
+        y: sc.y.clone(),
+        n_modes: initial.len(),
+        n_real,
+        poly: poly.clone(),
+    };
+    let scored = |model: Model, fit: FitResult| {
+        if !stable_modes(&fit, n_identified) {
+            return None;
+        }
+        let m = model.n_residuals() as f64;
+        let bic = m * (fit.rss / m).max(f64::MIN_POSITIVE).ln() + model.n_params() as f64 * m.ln();
+        Some((bic, model, fit))
+    };
+    let fits_in_budget = |model: &Model| model.n_params() + 1 < model.n_residuals();
+    let candidates: Vec<Option<(f64, Model, FitResult)>> = match sc.kind {
+        FitKind::Complex | FitKind::Time => {
+            let mut out = Vec::new();
+            let mut best = f64::INFINITY;
+            for n_real in 0..=MAX_REAL_POLES {
+                let model = model_with(n_real);
+                if !fits_in_budget(&model) {
+                    break;
+                }
+                let candidate = initial_theta(&model, sc, initial)
+                    .and_then(|t| refine::fit_projected(&model, &t))
+                    .and_then(|f| scored(model, f));
+                match &candidate {
+                    // forward selection: a real pole that does not lower the
+                    // BIC ends the search
+                    Some((bic, ..)) if *bic >= best => break,
+                    Some((bic, ..)) => best = *bic,
+                    None => {}
+                }
+                out.push(candidate);
             }
-            let theta0 = initial_theta(&model, sc, initial)?;
-            let fit = match model.kind {
-                FitKind::Complex | FitKind::Time => refine::fit_projected(&model, &theta0)?,
-                FitKind::Magnitude | FitKind::Psd => refine::fit(&model, theta0)?,
-            };
-            if !stable_modes(&fit, n_identified) {
-                return None;
-            }
-            let m = model.n_residuals() as f64;
-            let bic = m * (fit.rss / m).max(f64::MIN_POSITIVE).ln() + model.n_params() as f64 * m.ln();
-            Some((bic, model, fit))
-        })
-        .collect();
+            out
+        }
+        FitKind::Magnitude | FitKind::Psd => (0..=MAX_REAL_POLES)
+            .into_par_iter()
+            .map(|n_real| {
+                let model = model_with(n_real);
+                if !fits_in_budget(&model) {
+                    return None;
+                }
+                let theta0 = initial_theta(&model, sc, initial)?;
+                scored(model.clone(), refine::fit(&model, theta0)?)
+            })
+            .collect(),
+    };
     candidates
         .into_iter()
         .flatten()
