@@ -24,8 +24,9 @@
 //!    both models on the held-out modes.
 //! 5. **Undecided.** Models within [`DiagnoseSettings::alternative_margin`]
 //!    nats of the selected one are listed as alternatives, with the unmeasured
-//!    observable whose predictions under the two differ most
-//!    ([`next::next_measurement`]).
+//!    observable whose predictions under the selected model and the closest
+//!    rival (an alternative that is not the selected causes plus more; else
+//!    the closest alternative) differ most ([`next::next_measurement`]).
 
 pub mod classes;
 pub mod evidence;
@@ -515,7 +516,14 @@ impl Decision {
                 .collect()
         };
         alternatives.sort_by(|a, b| a.log_bayes_factor_gap.total_cmp(&b.log_bayes_factor_gap));
-        let next_measurement = match alternatives.first() {
+        // a rival explanation (not the selected causes plus more) first: a
+        // nested model within the margin only says "perhaps X as well", which
+        // its Occam factor already weighed; which cause it is comes first
+        let rival = |a: &&Alternative| {
+            let m = Model::from_name(&a.extension).expect("names of visited models parse");
+            !selected.causes().iter().all(|c| m.causes().contains(c))
+        };
+        let next_measurement = match alternatives.iter().find(rival).or(alternatives.first()) {
             Some(a) => {
                 let other = search.visited.iter().find(|m| m.name() == a.extension).expect("visited");
                 next::next_measurement(problem.data, run(selected), run(other))
