@@ -102,6 +102,7 @@ fn report_directory_is_written_and_json_is_shaped() {
         "extension",
         "log_evidence",
         "log_evidence_se",
+        "log_evidence_runs",
         "log_evidence_laplace",
         "laplace_disagrees",
         "log_bayes_factor",

@@ -41,6 +41,8 @@ pub enum Purpose {
     MeasurementNoise = 11,
     /// Prior draws stored beside a calibration (InferenceData `prior` group) `[0, 0]`.
     PriorDraws = 12,
+    /// Replicate r ≥ 1 of a model's TMCMC run when the first missed the peak `[r, 0]`.
+    EvidenceReplicate = 13,
 }
 
 /// The stream keyed by `(seed, purpose, index)`.
