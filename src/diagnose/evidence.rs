@@ -12,8 +12,9 @@
 //! the stage estimator's standard error says 0.2; a 6-parameter pair on the
 //! same data spread 1.3 nats. The MAP search from the population's best
 //! sample shows the shortfall: when the MAP lies further above the best
-//! sample than [`missed_peak_nats`] allows, the model gets
-//! [`EVIDENCE_REPLICATES`] runs in all and their evidences are combined
+//! sample than [`missed_peak_nats`] allows and the Laplace evidence at the
+//! MAP exceeds TMCMC's by more than [`LAPLACE_DISAGREEMENT_NATS`], the model
+//! gets [`EVIDENCE_REPLICATES`] runs in all and their evidences are combined
 //! ([`combine`]), with a standard error from their spread.
 
 use crate::bayes::laplace::laplace_log_evidence_with_step;
@@ -26,7 +27,7 @@ use crate::bayes::tmcmc::{tmcmc, TmcmcConfig, TmcmcResult};
 use crate::bayes::{BayesError, Posterior};
 
 use super::classes::Model;
-use super::{ClassPosterior, DiagnoseSettings};
+use super::{ClassPosterior, DiagnoseSettings, LAPLACE_DISAGREEMENT_NATS};
 
 /// Everything computed for one model (kept for the report's plots).
 #[derive(Debug, Clone)]
@@ -69,12 +70,19 @@ pub fn run_model(
     let counted = Counted::new(&posterior);
     let first = tmcmc(&counted, &config)?;
     let mut map = map_from_best(&counted, &first, s)?;
-    let mut runs = vec![first];
+    let mut log_evidence_laplace = laplace_at(&counted, &map, &first);
     // a final population whose best sample lies further below the MAP than a
-    // sample of the posterior plausibly does missed the peak region, and its
-    // evidence is an underestimate (by 1–20 nats, module doc): independent
-    // replicates are run and combined
-    if map.log_posterior - best_sample(&runs[0], &posterior)?.1 > missed_peak_nats(d, s.samples) {
+    // posterior draw plausibly does, and whose evidence falls short of the
+    // Laplace evidence at that MAP, missed the peak region's mass (module
+    // doc): independent replicates are run and combined. Both signs are
+    // needed: a high but narrow spike the MAP climbs (a mass at a node) has
+    // a small Laplace evidence, and Laplace alone is off on any non-Gaussian
+    // posterior.
+    let shortfall = map.log_posterior - best_sample(&first, &posterior)?.1;
+    let missed = shortfall > missed_peak_nats(d, s.samples)
+        && log_evidence_laplace.is_some_and(|l| l - first.log_evidence > LAPLACE_DISAGREEMENT_NATS);
+    let mut runs = vec![first];
+    if missed {
         for r in 1..EVIDENCE_REPLICATES {
             let seed = child_seed(seed, Purpose::EvidenceReplicate, [r as u64, 0]);
             runs.push(tmcmc(&counted, &TmcmcConfig { seed, ..config.clone() })?);
@@ -84,13 +92,8 @@ pub fn run_model(
     let t = combine(runs, &posterior)?;
     if best_sample(&t, &posterior)?.1 > map.log_posterior {
         map = map_from_best(&counted, &t, s)?;
+        log_evidence_laplace = laplace_at(&counted, &map, &t);
     }
-    let sd = sample_sd(&t.samples, d);
-    // FD step 0.05 sd: the O(h²) truncation error is ≈ 0.25 % of the curvature
-    // of a near-Gaussian posterior, while the forward model's round-off
-    // (~1e-12 relative) stays negligible against the h²-sized differences.
-    let log_evidence_laplace =
-        laplace_log_evidence_with_step(&counted, &map.theta, &sd, 0.05).ok().map(|l| l.log_evidence);
     let forward_evaluations = counted.count();
     Ok(ModelRun {
         model,
@@ -131,6 +134,16 @@ fn best_sample(t: &TmcmcResult, posterior: &dyn Posterior) -> Result<(Vec<f64>, 
         .max_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(u, l)| (u.clone(), l))
         .ok_or(BayesError::NoFiniteLikelihood { stage: t.stages.len() })
+}
+
+/// The Laplace evidence at `map` (`None` when the MAP sits on a prior
+/// boundary or the Hessian is not positive definite). FD step 0.05 sd: the
+/// O(h²) truncation error is ≈ 0.25 % of the curvature of a near-Gaussian
+/// posterior, while the forward model's round-off (~1e-12 relative) stays
+/// negligible against the h²-sized differences.
+fn laplace_at(counted: &dyn Posterior, map: &MapResult, t: &TmcmcResult) -> Option<f64> {
+    let sd = sample_sd(&t.samples, map.theta.len());
+    laplace_log_evidence_with_step(counted, &map.theta, &sd, 0.05).ok().map(|l| l.log_evidence)
 }
 
 /// The MAP by Nelder–Mead from the best sample of `t`, initial simplex half
