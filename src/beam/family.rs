@@ -6,8 +6,9 @@
 //! In the decoupled case a = 0, b = λ, c = C/ρA (dimensionless units).
 //!
 //! Method: first the certified Newton route of [`newton_family`] (one complex
-//! Newton iteration for the oscillatory pair, the real roots from their
-//! brackets, completeness proved by counting: ~10× cheaper); where it does not
+//! Halley iteration for the oscillatory pair, the real roots from their
+//! brackets, completeness proved by counting: ~10× cheaper; the N = 1 families
+//! of one beam side by side in [`decoupled_family_roots_into`]); where it does not
 //! apply (near-critical damping, equal Ωᵢ, no convergence), Aberth–Ehrlich
 //! simultaneous iteration on p evaluated in the product
 //! form above (more accurate than expanded coefficients), after scaling s by
@@ -103,7 +104,7 @@ impl std::ops::Deref for Roots {
 /// (the caller then runs Aberth). With f(ŝ) = ŝ² + ĉŝ + 1 + b̂ΣΔᵢŝ/(ŝ + Ω̂ᵢ),
 /// Ω̂₁ < … < Ω̂_N distinct, f → −∞ just right of each pole −Ω̂ᵢ and → +∞ just left
 /// of it, and f(0) = 1 > 0: each of the N intervals (−Ω̂ᵢ, −Ω̂ᵢ₋₁) (Ω̂₀ = 0) holds a
-/// real root, so at most one complex pair is left of the N + 2. Newton on f from
+/// real root, so at most one complex pair is left of the N + 2. Halley on f from
 /// the root of ŝ² + ĉŝ + f₁(i) = 0 (f₁ = f − ŝ² − ĉŝ frozen at ŝ = i) finds a
 /// non-real root or fails; if it finds one, the count proves that the pair and
 /// one real root per interval are all the roots, and the real ones come from a
