@@ -41,7 +41,7 @@ use serde::{Deserialize, Serialize};
 use crate::beam::band::{ldl_factor_for_inverse_iteration, ldl_solve, BandLu, ShiftedLdl, SymBand};
 use crate::beam::dual::Dual;
 use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
-use crate::beam::family::{family_roots, family_roots_into, Roots, REAL_TOL};
+use crate::beam::family::{decoupled_family_roots_into, family_roots, Roots, REAL_TOL};
 use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
 use crate::beam::spec::BeamSpec;
 use crate::beam::spectrum::SpectrumTable;
@@ -410,9 +410,7 @@ impl ModalSolver {
             nv += 1;
         }
         self.roots.resize(n_modes, Roots::default());
-        for (&lambda, roots) in self.lambdas.iter().zip(self.roots.iter_mut()) {
-            family_roots_into(0.0, lambda, sc.c, &ivs[..nv], roots).ok()?;
-        }
+        decoupled_family_roots_into(&self.lambdas, sc.c, &ivs[..nv], &mut self.roots).ok()?;
         Some(sc.omega_ref)
     }
 
