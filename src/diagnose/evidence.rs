@@ -43,19 +43,17 @@ pub struct ModelRun {
     pub map: Vec<f64>,
     /// `None` when the MAP sits on a prior boundary or the Hessian is not positive definite.
     pub log_evidence_laplace: Option<f64>,
+    /// The first TMCMC run ended below the posterior's peak (module doc).
+    pub missed_peak: bool,
+    /// The master seed of the model's random streams.
+    pub seed: u64,
     /// Forward-model solves of TMCMC, the MAP and the Laplace Hessian together.
     pub forward_evaluations: u64,
 }
 
-/// Runs TMCMC, the MAP and the Laplace evidence of `posterior` with the master seed `seed`.
-pub fn run_model(
-    model: Model,
-    posterior: ClassPosterior,
-    s: &DiagnoseSettings,
-    seed: u64,
-) -> Result<ModelRun, BayesError> {
-    let d = posterior.dim();
-    let config = TmcmcConfig {
+/// The TMCMC settings of one model (its dimension `d`, master seed `seed`).
+fn tmcmc_config(d: usize, s: &DiagnoseSettings, seed: u64) -> TmcmcConfig {
+    TmcmcConfig {
         n_samples: s.samples,
         mh_steps: s.mh_steps,
         // optimal random-walk scale for a d-dimensional Gaussian target
@@ -66,43 +64,75 @@ pub fn run_model(
         max_mh_steps: Some(5 * s.mh_steps),
         seed,
         ..TmcmcConfig::default()
-    };
+    }
+}
+
+/// Runs TMCMC, the MAP and the Laplace evidence of `posterior` with the master seed `seed`.
+pub fn run_model(
+    model: Model,
+    posterior: ClassPosterior,
+    s: &DiagnoseSettings,
+    seed: u64,
+) -> Result<ModelRun, BayesError> {
+    let d = posterior.dim();
     let counted = Counted::new(&posterior);
-    let first = tmcmc(&counted, &config)?;
-    let mut map = map_from_best(&counted, &first, s)?;
-    let mut log_evidence_laplace = laplace_at(&counted, &map, &first);
+    let t = tmcmc(&counted, &tmcmc_config(d, s, seed))?;
+    let map = map_from_best(&counted, &t, s)?;
+    let log_evidence_laplace = laplace_at(&counted, &map, &t);
     // a final population whose best sample lies further below the MAP than a
     // posterior draw plausibly does, and whose evidence falls short of the
     // Laplace evidence at that MAP, missed the peak region's mass (module
-    // doc): independent replicates are run and combined. Both signs are
-    // needed: a high but narrow spike the MAP climbs (a mass at a node) has
-    // a small Laplace evidence, and Laplace alone is off on any non-Gaussian
-    // posterior.
-    let shortfall = map.log_posterior - best_sample(&first, &posterior)?.1;
-    let missed = shortfall > missed_peak_nats(d, s.samples)
-        && log_evidence_laplace.is_some_and(|l| l - first.log_evidence > LAPLACE_DISAGREEMENT_NATS);
-    let mut runs = vec![first];
-    if missed {
-        for r in 1..EVIDENCE_REPLICATES {
-            let seed = child_seed(seed, Purpose::EvidenceReplicate, [r as u64, 0]);
-            runs.push(tmcmc(&counted, &TmcmcConfig { seed, ..config.clone() })?);
-        }
-    }
-    let log_evidence_runs: Vec<f64> = runs.iter().map(|t| t.log_evidence).collect();
-    let t = combine(runs, &posterior)?;
-    if best_sample(&t, &posterior)?.1 > map.log_posterior {
-        map = map_from_best(&counted, &t, s)?;
-        log_evidence_laplace = laplace_at(&counted, &map, &t);
-    }
+    // doc). Both signs are needed: a high but narrow spike the MAP climbs (a
+    // mass at a node) has a small Laplace evidence, and Laplace alone is off
+    // on any non-Gaussian posterior.
+    let shortfall = map.log_posterior - best_sample(&t, &posterior)?.1;
+    let missed_peak = shortfall > missed_peak_nats(d, s.samples)
+        && log_evidence_laplace.is_some_and(|l| l - t.log_evidence > LAPLACE_DISAGREEMENT_NATS);
     let forward_evaluations = counted.count();
     Ok(ModelRun {
         model,
         posterior,
+        log_evidence_runs: vec![t.log_evidence],
         tmcmc: t,
-        log_evidence_runs,
         map: map.theta,
         log_evidence_laplace,
+        missed_peak,
+        seed,
         forward_evaluations,
+    })
+}
+
+/// `run` with [`EVIDENCE_REPLICATES`] TMCMC runs in all, combined
+/// ([`combine`]); the MAP and Laplace evidence are redone when the kept
+/// population holds a better point than the MAP. The search calls it for the
+/// models whose first run missed the peak and whose Laplace evidence puts
+/// them in contention.
+pub fn replicate(run: ModelRun, s: &DiagnoseSettings) -> Result<ModelRun, BayesError> {
+    let ModelRun { model, posterior, tmcmc: first, mut map, mut log_evidence_laplace, seed, .. } = run;
+    let d = posterior.dim();
+    let counted = Counted::new(&posterior);
+    let mut runs = vec![first];
+    for r in 1..EVIDENCE_REPLICATES {
+        let seed = child_seed(seed, Purpose::EvidenceReplicate, [r as u64, 0]);
+        runs.push(tmcmc(&counted, &tmcmc_config(d, s, seed))?);
+    }
+    let log_evidence_runs: Vec<f64> = runs.iter().map(|t| t.log_evidence).collect();
+    let t = combine(runs, &posterior)?;
+    if best_sample(&t, &posterior)?.1 > posterior.log_posterior(&map) {
+        let better = map_from_best(&counted, &t, s)?;
+        log_evidence_laplace = laplace_at(&counted, &better, &t);
+        map = better.theta;
+    }
+    Ok(ModelRun {
+        model,
+        log_evidence_runs,
+        tmcmc: t,
+        map,
+        log_evidence_laplace,
+        missed_peak: true,
+        seed,
+        forward_evaluations: run.forward_evaluations + counted.count(),
+        posterior,
     })
 }
 
