@@ -72,13 +72,13 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
 
 /// Both causes of a pair named in ≥ 80 % of pairs; foreign effects `unexplained` in 100 %.
 #[test]
-#[ignore = "targets not met: measured 2026-11-23 (41 cases, 758 s wall with the closed-world test beside it on \
-            2 shared cores): pairs both named 4/8 (target 7/8), foreign effects unexplained 4/4. Misses: \
+#[ignore = "pair target not met: measured 2026-11-23 (41 cases, 901 s wall with the closed-world test beside it on \
+            2 cores): pairs both named 6/8 (target 7/8), foreign effects unexplained 4/4. Misses: \
             support-rotational-stiffness+attached-mass named attached-mass+axial-force (the true pair is an \
-            alternative: a spring and a tension both shift mode n by ~1/n^2 at leading order); \
-            axial-force+attached-mass and extra-relaxation+attached-mass named support-rotational-stiffness+\
-            attached-mass (greedy search: the spring won the first step, the true pair was never visited); \
-            viscous-damping+attached-mass named viscous-damping (the mass gained < 3 nats; listed as alternative)"]
+            alternative 0.2 nats behind: a spring and a tension both shift mode n by ~1/n^2 at leading order); \
+            extra-relaxation+attached-mass named support-rotational-stiffness+attached-mass (with all 15 pairs \
+            evaluated the true pair's TMCMC evidence spreads -111.6 ... -122.6 over six seeds even with replicated \
+            runs, against -113.4 ... -114.6 for the spring pair: the sampler, not the search, decides this case)"]
 fn pairs_are_named_and_foreign_effects_are_unexplained() {
     let t = tally(open_cases());
     assert!(t.pairs_right * 100 >= 80 * t.pairs, "pairs {}/{}", t.pairs_right, t.pairs);
