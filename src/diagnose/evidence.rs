@@ -13,13 +13,14 @@
 //! same data spread 1.3 nats. The MAP search from the population's best
 //! sample shows the shortfall: when the MAP lies further above the best
 //! sample than [`missed_peak_nats`] allows and the Laplace evidence at the
-//! MAP exceeds TMCMC's by more than [`LAPLACE_DISAGREEMENT_NATS`], the model
-//! gets [`EVIDENCE_REPLICATES`] runs in all and their evidences are combined
-//! ([`combine`]), with a standard error from their spread.
+//! MAP exceeds TMCMC's by more than [`LAPLACE_DISAGREEMENT_NATS`], the run is
+//! flagged (`ModelRun::missed_peak`). The search [`replicate`]s the flagged
+//! models that are in contention: [`EVIDENCE_REPLICATES`] runs in all, their
+//! evidences combined ([`combine`]) with a standard error from their spread.
 
-use crate::bayes::laplace::laplace_log_evidence_with_step;
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
+use crate::bayes::laplace::laplace_log_evidence_with_step;
 use crate::bayes::map::{map_estimate, MapResult};
 use crate::bayes::posterior::Counted;
 use crate::bayes::rng::{child_seed, Purpose};
@@ -142,7 +143,7 @@ pub fn replicate(run: ModelRun, s: &DiagnoseSettings) -> Result<ModelRun, BayesE
 /// a mass on either side of the midspan: −111.6 … −133.1 over six seeds at
 /// 400 samples, −113.8 … −118.3 with 10 MH steps, while the stage estimator
 /// says 0.2) needs several runs; four bound the cost at 4× for the flagged
-/// models only.
+/// models in contention only.
 pub const EVIDENCE_REPLICATES: usize = 4;
 
 /// The largest shortfall, in nats, of the best of `n` posterior draws below
@@ -189,13 +190,10 @@ fn map_from_best(counted: &dyn Posterior, t: &TmcmcResult, s: &DiagnoseSettings)
 /// Ẑ estimates Z without bias — the SMC normalising-constant property — so
 /// their mean does too, while a mean of ln Ẑ would carry each run's
 /// shortfall), with the delta-method standard error sd(Ẑ_r)/(√R·mean Ẑ),
-/// never below the single runs' stage estimate. The population kept for the
-/// predictive draws is that of the run whose best sample is highest (the one
-/// that found the peak). One run passes through unchanged.
+/// never below the largest stage estimate over √R. The population kept for
+/// the predictive draws is that of the run whose best sample is highest (the
+/// one that found the peak). `runs` holds at least two runs.
 fn combine(runs: Vec<TmcmcResult>, posterior: &dyn Posterior) -> Result<TmcmcResult, BayesError> {
-    if runs.len() == 1 {
-        return Ok(runs.into_iter().next().expect("one run"));
-    }
     let lz: Vec<f64> = runs.iter().map(|t| t.log_evidence).collect();
     let se_stage = runs.iter().map(|t| t.log_evidence_se).fold(0.0, f64::max);
     let (log_evidence, log_evidence_se) = mean_log_evidence(&lz, se_stage);
