@@ -5,7 +5,7 @@
 //! (only Δᵢ > 0 enter: a term with Δᵢ = 0 is an uncoupled factor (s + Ωᵢ)).
 //! In the decoupled case a = 0, b = λ, c = C/ρA (dimensionless units).
 //!
-//! Method: first the certified Newton route of [`newton_family`] (one complex
+//! Method: first the certified iterative route of [`newton_family`] (one complex
 //! Halley iteration for the oscillatory pair, the real roots from their
 //! brackets, completeness proved by counting: ~10× cheaper; the N = 1 families
 //! of one beam side by side in [`decoupled_family_roots_into`]); where it does not
@@ -123,7 +123,7 @@ fn newton_family(c: f64, b: f64, ivs: &[(f64, f64)], roots: &mut Roots) -> bool 
     if sorted.windows(2).any(|w| w[1].1 <= w[0].1 * (1.0 + 1e-9)) {
         return false;
     }
-    let Some(pair) = newton_pair(c, b, sorted) else { return false };
+    let Some(pair) = halley_pair(c, b, sorted) else { return false };
     roots.len = 0;
     if sorted.len() == 1 {
         roots.push(Complex64::new(-sorted[0].1 / pair.norm_sqr(), 0.0));
@@ -165,7 +165,7 @@ fn sqrt_upper(z: Complex64) -> Complex64 {
 /// step costs one complex division, like a Newton step, plus a few products.
 /// Any non-real root it converges to is the pair (at most one pair exists,
 /// see [`newton_family`]); one it cannot find sends the caller to Aberth.
-fn newton_pair(c: f64, b: f64, ivs: &[(f64, f64)]) -> Option<Complex64> {
+fn halley_pair(c: f64, b: f64, ivs: &[(f64, f64)]) -> Option<Complex64> {
     let cubic = cubic_coefficients(c, b, ivs);
     let mut s = pair_start(c, b, ivs);
     let mut prev = f64::INFINITY;
@@ -181,7 +181,7 @@ fn newton_pair(c: f64, b: f64, ivs: &[(f64, f64)]) -> Option<Complex64> {
 /// Halley steps before the route gives up (it converges in 2–3 from its start).
 const HALLEY_MAX_STEPS: usize = 60;
 
-/// The start of [`newton_pair`]: the root of ŝ² + ĉŝ + f₁(i) = 0 with Im ≥ 0
+/// The start of [`halley_pair`]: the root of ŝ² + ĉŝ + f₁(i) = 0 with Im ≥ 0
 /// (f₁ = f − ŝ² − ĉŝ frozen at ŝ = i).
 #[inline(always)]
 fn pair_start(c: f64, b: f64, ivs: &[(f64, f64)]) -> Complex64 {
@@ -654,7 +654,7 @@ mod tests {
             let c = if k % 2 == 0 { 0.0 } else { log_uniform(1e-4, 3.0) };
             let b = log_uniform(1e-2, 1.0);
             let ivs: Vec<(f64, f64)> = (0..n).map(|_| (log_uniform(1e-3, 10.0), log_uniform(1e-3, 1e4))).collect();
-            match (newton_pair(c, b, &ivs), newton_pair_reference(c, b, &ivs)) {
+            match (halley_pair(c, b, &ivs), newton_pair_reference(c, b, &ivs)) {
                 (Some(new), Some(old)) => {
                     compared += 1;
                     worst = worst.max((new - old).norm() / old.norm());
