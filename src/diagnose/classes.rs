@@ -35,7 +35,7 @@
 //! evidence is invariant under this change of variables.
 
 use crate::bayes::prior::Prior;
-use crate::beam::{BeamError, BeamSpec};
+use crate::beam::{BeamError, BeamSpec, Support};
 use crate::calibration::{Parameter, ParameterSet, Target};
 
 /// One candidate cause: an extension of the base model.
@@ -206,6 +206,22 @@ pub fn model_parameters(model: &Model, base: &ParameterSet, beam: &BeamSpec, s: 
     ClassParameters { set: ParameterSet { params }, log_scale }
 }
 
+/// Upper end of the attached-mass position prior. On a beam whose supports
+/// mirror each other (simply supported, clamped–clamped; rotational springs
+/// act at each supported end alike, and the uniform mesh mirrors too) a mass
+/// at x and one at L − x give the same frequencies and damping ratios, so the
+/// likelihood is symmetric about midspan and the posterior on x has two mirror
+/// peaks. The prior is folded onto the left half, U[0, L/2]: the evidence is
+/// unchanged (the likelihood integrates to the same value on each half and
+/// the prior density doubles), the sampler no longer has to cross between
+/// the two peaks, and the reported position is the canonical (left) one.
+fn mass_position_upper_nm(beam: &BeamSpec) -> f64 {
+    match beam.support {
+        Support::SimplySupported | Support::ClampedClamped => 0.5 * beam.length_nm,
+        Support::ClampedFree | Support::ClampedPinned => beam.length_nm,
+    }
+}
+
 /// Appends the parameters of one cause, with the priors of the module doc.
 fn add_extension(params: &mut Vec<Parameter>, class: ModelClass, beam: &BeamSpec, s: &NominalScales) {
     match class {
@@ -241,7 +257,7 @@ fn add_extension(params: &mut Vec<Parameter>, class: ModelClass, beam: &BeamSpec
         ModelClass::AttachedMass => {
             let m_ref = s.rho_a_kg_m * s.length_m;
             params.push(param("point_mass_kg", Prior::LogUniform { lower: 1e-3 * m_ref, upper: m_ref }));
-            params.push(param("point_mass_x_nm", Prior::Uniform { lower: 0.0, upper: beam.length_nm }));
+            params.push(param("point_mass_x_nm", Prior::Uniform { lower: 0.0, upper: mass_position_upper_nm(beam) }));
         }
         ModelClass::AxialForce => {
             let n = s.buckling_load_n;
