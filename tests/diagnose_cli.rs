@@ -103,6 +103,8 @@ fn report_directory_is_written_and_json_is_shaped() {
         "log_evidence",
         "log_evidence_se",
         "log_evidence_runs",
+        "log_evidence_importance",
+        "log_evidence_method",
         "log_evidence_laplace",
         "laplace_disagrees",
         "log_bayes_factor",
@@ -112,6 +114,7 @@ fn report_directory_is_written_and_json_is_shaped() {
         assert!(c.get(key).is_some(), "candidate.{key} missing");
     }
     assert!(["omega", "zeta"].contains(&v["misfit"][0]["quantity"].as_str().unwrap()));
+    assert!(["importance", "tmcmc"].contains(&c["log_evidence_method"].as_str().unwrap()));
 }
 
 #[test]

@@ -6,6 +6,7 @@ pub mod chains;
 pub mod diagnostics;
 pub mod dram;
 pub mod error;
+pub mod importance;
 pub mod laplace;
 pub mod likelihood;
 pub mod map;

@@ -43,6 +43,8 @@ pub enum Purpose {
     PriorDraws = 12,
     /// Replicate r ≥ 1 of a model's TMCMC run when the first missed the peak `[r, 0]`.
     EvidenceReplicate = 13,
+    /// Draw `[i, 0]` of an importance-sampling evidence (`bayes::importance`).
+    ImportanceDraw = 14,
 }
 
 /// The stream keyed by `(seed, purpose, index)`.

@@ -45,6 +45,7 @@ use std::collections::BTreeMap;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::bayes::importance::ImportanceEvidence;
 use crate::bayes::rng::{child_seed, Purpose};
 use crate::bayes::transform::Reparameterized;
 use crate::bayes::{BayesError, Posterior};
@@ -170,16 +171,24 @@ pub struct Candidate {
     pub extension: String,
     pub causes: Vec<String>,
     pub log_evidence: f64,
-    /// Standard error of the TMCMC log evidence: Ching & Chen's stage
-    /// estimator for one run, the replicates' spread when there were several.
+    /// Standard error of `log_evidence`: Ching & Chen's stage estimator for
+    /// one TMCMC run, the replicates' spread when there were several, the
+    /// weights' when the importance evidence replaced them.
     pub log_evidence_se: f64,
     /// ln Ẑ of every TMCMC run: one, or `evidence::EVIDENCE_REPLICATES` when
-    /// the first run missed the posterior's peak (`log_evidence` combines them).
+    /// the first run missed the posterior's peak (`log_evidence` combines them,
+    /// or is `log_evidence_importance` when that one is reliable).
     pub log_evidence_runs: Vec<f64>,
+    /// Importance-sampling evidence (`evidence` module doc; `null` when its
+    /// proposal could not be built); it is `log_evidence` when its `ess` ≥
+    /// `evidence::IMPORTANCE_MIN_ESS`.
+    pub log_evidence_importance: Option<ImportanceEvidence>,
+    /// Which estimate `log_evidence` is: `importance` or `tmcmc`.
+    pub log_evidence_method: String,
     /// `null` when the MAP sits on a prior boundary or the Hessian is not positive definite.
     pub log_evidence_laplace: Option<f64>,
-    /// Laplace and TMCMC disagree by more than [`LAPLACE_DISAGREEMENT_NATS`]: the
-    /// posterior is far from Gaussian (trust TMCMC).
+    /// Laplace and `log_evidence` disagree by more than
+    /// [`LAPLACE_DISAGREEMENT_NATS`]: the posterior is far from Gaussian.
     pub laplace_disagrees: bool,
     pub log_bayes_factor: f64,
     /// Posterior model probability among the extended models evaluated (equal prior
@@ -312,8 +321,9 @@ impl Problem<'_> {
     }
 
     /// Evidence of every model in `models` (in parallel; each keyed by the
-    /// model's identity). A model whose first TMCMC run missed the peak is
-    /// replicated ([`evidence::replicate`]) when it is in contention: its
+    /// model's identity). A model whose first TMCMC run missed the peak, and
+    /// whose importance evidence is not reliable enough to stand in for it,
+    /// is replicated ([`evidence::replicate`]) when it is in contention: its
     /// Laplace evidence within the alternative margin of the best TMCMC
     /// evidence of the batch. One far behind cannot change a decision and
     /// keeps its single run (flagged in the output by one entry in
@@ -331,11 +341,11 @@ impl Problem<'_> {
                 evidence::run_model(m.clone(), self.posterior(&m), self.settings, seed).map_err(err(&m))
             })
             .collect::<Result<_, _>>()?;
-        let best = runs.iter().map(|r| r.tmcmc.log_evidence).fold(f64::NEG_INFINITY, f64::max);
+        let best = runs.iter().map(|r| r.log_evidence).fold(f64::NEG_INFINITY, f64::max);
         let margin = self.settings.alternative_margin;
         runs.into_par_iter()
             .map(|r| match r.log_evidence_laplace {
-                Some(l) if r.missed_peak && l >= best - margin => {
+                Some(l) if r.missed_peak && !r.importance_reliable() && l >= best - margin => {
                     let m = r.model.clone();
                     evidence::replicate(r, self.settings).map_err(err(&m))
                 }
@@ -404,7 +414,7 @@ fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Search, Diagnos
     let mut path = vec![Model::BASE];
     let mut visited = vec![Model::BASE];
     let z = |runs: &[ModelRun], m: &Model| {
-        runs.iter().find(|r| &r.model == m).map_or(f64::NEG_INFINITY, |r| r.tmcmc.log_evidence)
+        runs.iter().find(|r| &r.model == m).map_or(f64::NEG_INFINITY, |r| r.log_evidence)
     };
     let margin = problem.settings.alternative_margin;
     let mut level = vec![Model::BASE];
@@ -508,7 +518,7 @@ impl Decision {
                 .visited
                 .iter()
                 .skip(1)
-                .max_by(|a, b| run(a).tmcmc.log_evidence.total_cmp(&run(b).tmcmc.log_evidence))
+                .max_by(|a, b| run(a).log_evidence.total_cmp(&run(b).log_evidence))
                 .cloned()
                 .unwrap_or(Model::BASE)
         } else {
@@ -527,7 +537,7 @@ impl Decision {
     fn diagnosis(&self, problem: &Problem, runs: &[ModelRun], search: &Search) -> Result<Diagnosis, DiagnoseError> {
         let s = problem.settings;
         let run = |m: &Model| runs.iter().find(|r| &r.model == m).expect("every visited model ran");
-        let z_base = run(&Model::BASE).tmcmc.log_evidence;
+        let z_base = run(&Model::BASE).log_evidence;
         let nf = self.fitted.len();
         let per_test = ppc::sidak_level(s.family_alpha, nf);
         let misfit = ppc::check_fitted(&self.fitted, &self.draws_base);
@@ -547,24 +557,24 @@ impl Decision {
         };
 
         // probabilities over the visited extended models, equal prior probabilities
-        let z_max = search.visited.iter().map(|m| run(m).tmcmc.log_evidence).fold(f64::NEG_INFINITY, f64::max);
-        let norm: f64 = search.visited.iter().map(|m| (run(m).tmcmc.log_evidence - z_max).exp()).sum();
-        let prob = |r: &ModelRun| (r.tmcmc.log_evidence - z_max).exp() / norm;
+        let z_max = search.visited.iter().map(|m| run(m).log_evidence).fold(f64::NEG_INFINITY, f64::max);
+        let norm: f64 = search.visited.iter().map(|m| (run(m).log_evidence - z_max).exp()).sum();
+        let prob = |r: &ModelRun| (r.log_evidence - z_max).exp() / norm;
         let candidate = |r: &ModelRun, p: f64| candidate(r, z_base, p);
         let candidates: Vec<Candidate> =
             search.visited.iter().skip(1).map(|m| candidate(run(m), prob(run(m)))).collect();
         let baseline_run = run(&Model::Baseline);
-        let lb = baseline_run.tmcmc.log_evidence - z_base;
+        let lb = baseline_run.log_evidence - z_base;
 
-        let z_sel = run(selected).tmcmc.log_evidence;
+        let z_sel = run(selected).log_evidence;
         let mut alternatives: Vec<Alternative> = if selected == &Model::BASE {
             vec![]
         } else {
             search
                 .visited
                 .iter()
-                .filter(|m| *m != selected && z_sel - run(m).tmcmc.log_evidence < s.alternative_margin)
-                .map(|m| Alternative { extension: m.name(), log_bayes_factor_gap: z_sel - run(m).tmcmc.log_evidence })
+                .filter(|m| *m != selected && z_sel - run(m).log_evidence < s.alternative_margin)
+                .map(|m| Alternative { extension: m.name(), log_bayes_factor_gap: z_sel - run(m).log_evidence })
                 .collect()
         };
         alternatives.sort_by(|a, b| a.log_bayes_factor_gap.total_cmp(&b.log_bayes_factor_gap));
@@ -585,7 +595,7 @@ impl Decision {
 
         let gain = Gain {
             extension: self.selected.name(),
-            log_bayes_factor: run(&self.selected).tmcmc.log_evidence - z_base,
+            log_bayes_factor: run(&self.selected).log_evidence - z_base,
             rms_z_before: ppc::rms_z(&misfit),
             rms_z_after: ppc::rms_z(&misfit_after),
             misfit_after,
@@ -660,13 +670,15 @@ impl Model {
 }
 
 fn candidate(r: &ModelRun, z_base: f64, probability: f64) -> Candidate {
-    let z = r.tmcmc.log_evidence;
+    let z = r.log_evidence;
     Candidate {
         extension: r.model.name(),
         causes: r.model.causes().iter().map(|c| c.name().to_string()).collect(),
         log_evidence: z,
-        log_evidence_se: r.tmcmc.log_evidence_se,
+        log_evidence_se: r.log_evidence_se,
         log_evidence_runs: r.log_evidence_runs.clone(),
+        log_evidence_importance: r.importance.clone(),
+        log_evidence_method: if r.importance_reliable() { "importance" } else { "tmcmc" }.to_string(),
         log_evidence_laplace: r.log_evidence_laplace,
         laplace_disagrees: r.log_evidence_laplace.is_some_and(|l| (l - z).abs() > LAPLACE_DISAGREEMENT_NATS),
         log_bayes_factor: z - z_base,
