@@ -9,8 +9,16 @@ py=${1:-python3}
 runs=${2:-3}
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-(cd "$root" && cargo build --quiet)
-bin="$root/target/debug/nanobeam"
+# The binary a user runs: `cargo build --release` / `cargo install --path .`
+# ([profile.release] in Cargo.toml). The dev profile of the test suite has
+# debug assertions and overflow checks; NANOBEAM_PROFILE=dev measures it.
+profile=${NANOBEAM_PROFILE:-release}
+case $profile in
+  release) (cd "$root" && cargo build --quiet --release --bin nanobeam); bin="$root/target/release/nanobeam" ;;
+  dev) (cd "$root" && cargo build --quiet --bin nanobeam); bin="$root/target/debug/nanobeam" ;;
+  *) echo "NANOBEAM_PROFILE: '$profile' is not one of release, dev" >&2; exit 2 ;;
+esac
+echo "nanobeam binary: $bin ($profile profile)"
 draws=80000   # 4 chains x 20 000 draws (measured.yaml)
 export RAYON_NUM_THREADS=1 OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
 echo "load before: $(uptime)"
