@@ -92,10 +92,13 @@ impl Diagram {
 
     /// The modes: clusters of stable poles (see the module doc) whose
     /// frequency lies in `[w_lo, w_hi]`, as initial poles sorted by frequency.
-    pub fn modes(&self, w_lo: f64, w_hi: f64) -> Vec<Complex64> {
+    /// With `frequency_only` a pole stable in frequency alone also counts
+    /// (PSD records: see `identify::stabilisation_diagram`).
+    pub fn modes(&self, w_lo: f64, w_hi: f64, frequency_only: bool) -> Vec<Complex64> {
         // cluster: (latest ω, member count, first order, latest pole, latest order)
         let mut clusters: Vec<(f64, usize, usize, Complex64, usize)> = Vec::new();
-        for p in self.poles.iter().filter(|p| p.stability == Stability::Stable) {
+        let counts = |s: Stability| s == Stability::Stable || (frequency_only && s == Stability::Frequency);
+        for p in self.poles.iter().filter(|p| counts(p.stability)) {
             let hit = clusters
                 .iter_mut()
                 .filter(|c| c.4 < p.order && ((p.omega_rad_s - c.0).abs() <= FREQ_TOL * c.0))
