@@ -72,13 +72,15 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
 
 /// Both causes of a pair named in ≥ 80 % of pairs; foreign effects `unexplained` in 100 %.
 #[test]
-#[ignore = "pair target not met: measured 2026-11-23 (41 cases, 901 s wall with the closed-world test beside it on \
-            2 cores): pairs both named 6/8 (target 7/8), foreign effects unexplained 4/4. Misses: \
-            support-rotational-stiffness+attached-mass named attached-mass+axial-force (the true pair is an \
-            alternative 0.2 nats behind: a spring and a tension both shift mode n by ~1/n^2 at leading order); \
-            extra-relaxation+attached-mass named support-rotational-stiffness+attached-mass (with all 15 pairs \
-            evaluated the true pair's TMCMC evidence spreads -111.6 ... -122.6 over six seeds even with replicated \
-            runs, against -113.4 ... -114.6 for the spring pair: the sampler, not the search, decides this case)"]
+#[ignore = "pair target not met: measured 2026-11-24 with importance-sampled evidence (12 cases, 614 s run alone on 2 \
+            cores): pairs both named 6/8 (target 7/8), foreign effects unexplained 4/4. Misses: \
+            support-rotational-stiffness+attached-mass named attached-mass+extra-relaxation, the true pair an \
+            alternative 0.19 nats behind (a spring and a tension or relaxation both move mode n smoothly in n; \
+            all pairs with the mass lie within 1.2 nats); extra-relaxation+attached-mass named \
+            support-rotational-stiffness+attached-mass: the true pair's evidence (importance sampling, four seeds: \
+            -114.29 ... -114.41, se <= 0.09) is 0.8 nats below the spring pair's (-113.46 ... -113.57), so the data \
+            prefer the spring pair slightly, and the greedy search never visits the true pair (its singles lie 19 \
+            and 58 nats behind the spring)"]
 fn pairs_are_named_and_foreign_effects_are_unexplained() {
     let t = tally(open_cases());
     assert!(t.pairs_right * 100 >= 80 * t.pairs, "pairs {}/{}", t.pairs_right, t.pairs);
