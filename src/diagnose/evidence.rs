@@ -70,12 +70,13 @@ pub struct ModelRun {
     pub log_evidence_laplace: Option<f64>,
     /// The first TMCMC run ended below the posterior's peak (module doc).
     pub missed_peak: bool,
-    /// The importance-sampling evidence of a replicated model (module doc);
-    /// when its ESS ≥ [`IMPORTANCE_MIN_ESS`] it is the model's evidence.
+    /// The importance-sampling evidence (module doc; `None` when its proposal
+    /// could not be built); when its ESS ≥ [`IMPORTANCE_MIN_ESS`] it is the
+    /// model's evidence.
     pub importance: Option<ImportanceEvidence>,
     /// The master seed of the model's random streams.
     pub seed: u64,
-    /// Forward-model solves of TMCMC, the MAP and the Laplace Hessian together.
+    /// Forward-model solves of TMCMC, the MAP, the Laplace Hessian and the importance draws together.
     pub forward_evaluations: u64,
 }
 
@@ -218,9 +219,9 @@ pub fn replicate(run: ModelRun, s: &DiagnoseSettings) -> Result<ModelRun, BayesE
     })
 }
 
-/// Importance draws per TMCMC sample of a replicated model: 4 × 400 = 1600
-/// forward solves at quick settings, against ≈ 3 × 25 000 for the three
-/// extra TMCMC runs.
+/// Importance draws per TMCMC sample: 4 × 400 = 1600 forward solves per
+/// model at quick settings, a few per cent of its TMCMC run, against
+/// ≈ 3 × 25 000 for the replicate runs a reliable estimate saves.
 pub const IMPORTANCE_DRAWS_PER_SAMPLE: usize = 4;
 
 /// Least effective sample size at which the importance evidence replaces

@@ -194,7 +194,7 @@ pub struct Candidate {
     /// Posterior model probability among the extended models evaluated (equal prior
     /// probabilities); for the baseline, its probability had it been compared with the base alone.
     pub probability: f64,
-    /// Forward-model solves spent on this model (TMCMC, MAP, Laplace).
+    /// Forward-model solves spent on this model (TMCMC, MAP, Laplace, importance draws).
     pub forward_evaluations: u64,
     pub posterior: BTreeMap<String, Summary>,
 }
