@@ -34,6 +34,18 @@ pub enum BayesError {
     /// Laplace: θ* is not a strict local maximum.
     #[error("Laplace: Hessian of −log posterior is not positive definite at θ* (smallest eigenvalue of the standardised Hessian {min_eigenvalue:e}); θ* is not a strict local maximum")]
     NotPositiveDefinite { min_eigenvalue: f64 },
+    /// Importance sampling: the centre, the population and the posterior disagree in
+    /// dimension, or the population is too small to estimate its covariance.
+    #[error("importance sampling: centre has dimension {center}, posterior {posterior}; population of {population} needs >= {needed} samples of that dimension")]
+    ImportancePopulation { center: usize, posterior: usize, population: usize, needed: usize },
+    /// Importance sampling: a proposal covariance (Laplace's or the population's) is not positive definite.
+    #[error(
+        "importance sampling: the {which} covariance is not positive definite (smallest eigenvalue {min_eigenvalue:e})"
+    )]
+    ImportanceCovariance { which: &'static str, min_eigenvalue: f64 },
+    /// Importance sampling: no draw has a finite log posterior.
+    #[error("importance sampling: none of {draws} draws has a finite log posterior")]
+    ImportanceNoFiniteDraw { draws: usize },
 }
 
 impl BayesError {

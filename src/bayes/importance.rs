@@ -92,20 +92,26 @@ pub fn importance_log_evidence(
     let d = center.len();
     let k = population.len();
     if posterior.dim() != d || k < d + 2 || population.iter().any(|p| p.len() != d) {
-        return Err(BayesError::Dimension { theta: d, scales: k, posterior: posterior.dim() });
+        return Err(BayesError::ImportancePopulation {
+            center: d,
+            posterior: posterior.dim(),
+            population: k,
+            needed: d + 2,
+        });
     }
     let pop_cov = sample_covariance(population);
     let t_cov = match covariance {
         Some(c) => DMatrix::from_fn(d, d, |i, j| c[i][j]),
         None => pop_cov.clone(),
     };
-    let not_pd = |m: &DMatrix<f64>| BayesError::NotPositiveDefinite {
+    let not_pd = |which: &'static str, m: &DMatrix<f64>| BayesError::ImportanceCovariance {
+        which,
         min_eigenvalue: m.clone().symmetric_eigenvalues().iter().copied().fold(f64::INFINITY, f64::min),
     };
-    let t = Component::new(t_cov.clone()).ok_or_else(|| not_pd(&t_cov))?;
+    let t = Component::new(t_cov.clone()).ok_or_else(|| not_pd("t component", &t_cov))?;
     let h = (4.0 / ((d as f64 + 2.0) * k as f64)).powf(1.0 / (d as f64 + 4.0));
     let kde_cov = pop_cov * (h * h);
-    let kde = Component::new(kde_cov.clone()).ok_or_else(|| not_pd(&kde_cov))?;
+    let kde = Component::new(kde_cov.clone()).ok_or_else(|| not_pd("kernel", &kde_cov))?;
 
     let df = d as f64;
     // ln of the t_ν density's normalising constant, less ½ ln det Σ*
@@ -152,7 +158,7 @@ pub fn importance_log_evidence(
         .collect();
     let max = log_w.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     if !max.is_finite() {
-        return Err(BayesError::NoFiniteLikelihood { stage: 0 });
+        return Err(BayesError::ImportanceNoFiniteDraw { draws });
     }
     let w: Vec<f64> = log_w.iter().map(|l| (l - max).exp()).collect();
     let n = draws as f64;
@@ -255,5 +261,13 @@ mod tests {
         // determinism: the same seed gives the same bits
         let again = importance_log_evidence(&g, &vec![0.0; d], Some(&cov), &pop, 4000, 11).unwrap();
         assert_eq!(r.log_evidence.to_bits(), again.log_evidence.to_bits());
+    }
+
+    #[test]
+    fn a_population_too_small_for_its_covariance_is_an_error() {
+        let g = Gauss { sd: vec![1.0, 1.0, 1.0], half_width: 10.0 };
+        let pop = vec![vec![0.0; 3]; 4]; // d + 2 = 5 needed
+        let e = importance_log_evidence(&g, &[0.0; 3], None, &pop, 10, 1).unwrap_err();
+        assert!(matches!(e, BayesError::ImportancePopulation { population: 4, needed: 5, .. }), "{e}");
     }
 }
