@@ -324,8 +324,8 @@ impl Problem<'_> {
     /// model's identity). A model whose first TMCMC run missed the peak, and
     /// whose importance evidence is not reliable enough to stand in for it,
     /// is replicated ([`evidence::replicate`]) when it is in contention: its
-    /// Laplace evidence within the alternative margin of the best TMCMC
-    /// evidence of the batch. One far behind cannot change a decision and
+    /// Laplace evidence within the alternative margin of the best evidence
+    /// of the batch. One far behind cannot change a decision and
     /// keeps its single run (flagged in the output by one entry in
     /// `log_evidence_runs`): on a foreign effect, where every pair is tried,
     /// replicating every flagged model took one case from 85 s to 690 s.
