@@ -93,7 +93,7 @@ impl Diagram {
     /// The modes: clusters of stable poles (see the module doc) whose
     /// frequency lies in `[w_lo, w_hi]`, as initial poles sorted by frequency.
     /// With `frequency_only` a pole stable in frequency alone also counts
-    /// (PSD records: see `identify::stabilisation_diagram`).
+    /// (PSD records: the reasoning is where `identify::identify` reads the diagram).
     pub fn modes(&self, w_lo: f64, w_hi: f64, frequency_only: bool) -> Vec<Complex64> {
         // cluster: (latest ω, member count, first order, latest pole, latest order)
         let mut clusters: Vec<(f64, usize, usize, Complex64, usize)> = Vec::new();
