@@ -15,6 +15,13 @@
 //! `unexplained` in 100 %, no false alarm on clean data. These are counts on
 //! fixed seeds, not rates estimated with an error: the test fails on any
 //! seed that falls below them.
+//!
+//! CI runs a fixed part of the closed world: the first seed of each single
+//! cause (100–105) and the first two clean seeds (200, 201), each of which
+//! must be right. The whole closed world (29 diagnoses, 749 s of the 25-min
+//! CI run on 2 cores, measured 2026-11-24) would keep CI over its ~15-min
+//! budget; it and the open world run with
+//! `cargo test --test diagnose_hidden -- --ignored --nocapture`.
 
 use std::collections::BTreeMap;
 use std::time::Instant;
@@ -62,8 +69,25 @@ fn verdict(d: &Diagnosis) -> String {
     }
 }
 
-/// Single causes ≥ 95 % right, no false alarm on clean data.
+/// The seeds CI diagnoses: the first of each single cause and the first two clean ones.
+fn ci_cases() -> Vec<(u64, Hidden)> {
+    closed_cases().into_iter().filter(|(seed, _)| (100..106).contains(seed) || (200..202).contains(seed)).collect()
+}
+
+/// Every single cause named on its first seed, no false alarm on two clean sets.
 #[test]
+fn first_seed_of_every_single_cause_is_named_and_clean_data_raise_no_alarm() {
+    let t = tally(ci_cases());
+    assert_eq!(t.singles, ModelClass::CAUSES.len());
+    assert_eq!(t.singles_right, t.singles, "singles {}/{}", t.singles_right, t.singles);
+    assert_eq!(t.false_alarms, 0);
+}
+
+/// Single causes ≥ 95 % right, no false alarm on clean data (the whole closed world).
+#[test]
+#[ignore = "the whole closed world (29 diagnoses) takes 749 s on CI's 2 cores, half its budget; CI runs \
+            first_seed_of_every_single_cause_is_named_and_clean_data_raise_no_alarm. Measured 2026-11-24 on a fresh \
+            clone: singles 23/24 (support-rotational-stiffness seed 114 named axial-force), clean 5/5"]
 fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
     let t = tally(closed_cases());
     assert!(t.singles_right * 100 >= 95 * t.singles, "singles {}/{}", t.singles_right, t.singles);
