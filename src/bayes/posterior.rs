@@ -26,6 +26,15 @@ pub trait Posterior: Sync {
     /// One draw from the prior (used by TMCMC and multi-start optimisers).
     fn sample_prior(&self, rng: &mut dyn RngCore) -> Vec<f64>;
 
+    /// Maps θ to the canonical member of the set of points this posterior
+    /// cannot tell apart because some of its components are exchangeable
+    /// (identical priors, a likelihood symmetric in them): a permutation of
+    /// those components only, so log π is unchanged. Reports apply it to every
+    /// draw so that chains which found the same mode under different labels
+    /// agree and R̂ measures real disagreement; samplers never call it. The
+    /// default claims no symmetry (the identity).
+    fn relabel(&self, _theta: &mut [f64]) {}
+
     /// log π(θ) + log L(θ); the likelihood is not evaluated outside the support.
     fn log_posterior(&self, theta: &[f64]) -> f64 {
         let lp = self.log_prior(theta);
@@ -81,5 +90,9 @@ impl<P: Posterior + ?Sized> Posterior for Counted<'_, P> {
 
     fn sample_prior(&self, rng: &mut dyn RngCore) -> Vec<f64> {
         self.inner.sample_prior(rng)
+    }
+
+    fn relabel(&self, theta: &mut [f64]) {
+        self.inner.relabel(theta)
     }
 }

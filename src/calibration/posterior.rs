@@ -13,7 +13,7 @@ use crate::bayes::likelihood::DiagonalGaussian;
 use crate::bayes::prior::Prior;
 use crate::bayes::Posterior;
 use crate::beam::{self, BeamSpec};
-use crate::calibration::{MeasuredData, ModeObservation, ParameterSet};
+use crate::calibration::{MeasuredData, ModeObservation, ParameterSet, Target};
 
 thread_local! {
     /// The scratch beam of [`BeamPosterior::with_beam_at`] (one per thread).
@@ -43,6 +43,10 @@ pub struct BeamPosterior {
     /// computes them (so the same bits), without a logarithm per parameter per
     /// proposal (issue 15: ~3 % of a calibrate).
     uniform_log_prior: Option<f64>,
+    /// θ indices (Δᵢ, Ωᵢ) of internal variables that are exchangeable (both
+    /// sampled, the same priors as every other one here): empty unless two or
+    /// more are. See [`Posterior::relabel`].
+    exchangeable: Vec<[usize; 2]>,
 }
 
 impl BeamPosterior {
@@ -68,6 +72,7 @@ impl BeamPosterior {
             .map(|terms| terms.into_iter().sum::<f64>());
         Self {
             uniform_log_prior,
+            exchangeable: exchangeable_relaxations(&params),
             base: base.clone(),
             modes: observations.iter().map(|m| m.mode).collect(),
             n_modes: observations.iter().map(|m| m.mode).max().unwrap_or(1),
@@ -233,9 +238,44 @@ pub fn observables(obs: &[ModeObservation]) -> Vec<Observable> {
     omega.chain(zeta).collect()
 }
 
+/// The (Δᵢ, Ωᵢ) index pairs of θ when at least two internal variables have
+/// both sampled with the same priors as each other: eq. (8) sums over the
+/// variables, so relabelling them leaves the model and the prior unchanged.
+/// Empty otherwise (one variable, or priors that tell them apart).
+fn exchangeable_relaxations(params: &ParameterSet) -> Vec<[usize; 2]> {
+    let find = |t: Target| params.params.iter().position(|p| p.target == t);
+    let mut pairs = Vec::new();
+    for i in 0.. {
+        match (find(Target::Delta(i)), find(Target::Omega(i))) {
+            (Some(d), Some(o)) => pairs.push([d, o]),
+            _ => break,
+        }
+    }
+    let prior = |k: usize| params.params[k].prior;
+    let same = pairs.iter().all(|&[d, o]| prior(d) == prior(pairs[0][0]) && prior(o) == prior(pairs[0][1]));
+    if pairs.len() >= 2 && same {
+        pairs
+    } else {
+        Vec::new()
+    }
+}
+
 impl Posterior for BeamPosterior {
     fn names(&self) -> Vec<String> {
         self.params.names()
+    }
+
+    /// Exchangeable internal variables in ascending Ω (the fastest-relaxing last).
+    fn relabel(&self, theta: &mut [f64]) {
+        if self.exchangeable.is_empty() {
+            return;
+        }
+        let mut pairs: Vec<(f64, f64)> = self.exchangeable.iter().map(|&[d, o]| (theta[d], theta[o])).collect();
+        pairs.sort_by(|a, b| a.1.total_cmp(&b.1));
+        for (&[d, o], (delta, omega)) in self.exchangeable.iter().zip(pairs) {
+            theta[d] = delta;
+            theta[o] = omega;
+        }
     }
 
     fn dim(&self) -> usize {
@@ -276,5 +316,56 @@ impl Posterior for BeamPosterior {
 
     fn sample_prior(&self, rng: &mut dyn RngCore) -> Vec<f64> {
         self.params.params.iter().map(|p| p.prior.sample(rng)).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn data(second_omega_upper: f64) -> MeasuredData {
+        MeasuredData::from_yaml(&format!(
+            "beam: {{ length_nm: 8.0, diameter_nm: 1.0, youngs_modulus_pa: 1.0e12, density_kg_m3: 2300.0, \
+             support: simply-supported, elements: 20, internal_variables: [{{ delta: 0.3, omega_rad_s: 1.0e11 }}, \
+             {{ delta: 0.2, omega_rad_s: 1.0e12 }}] }}
+modes:
+  - {{ mode: 1, omega_rad_s: 8.9e11, omega_sd_rad_s: 2.7e9, zeta: 0.048, zeta_sd: 0.0015 }}
+  - {{ mode: 2, omega_rad_s: 3.0e12, omega_sd_rad_s: 9.0e9, zeta: 0.016, zeta_sd: 0.0005 }}
+  - {{ mode: 3, omega_rad_s: 5.5e12, omega_sd_rad_s: 1.6e10, zeta: 0.008, zeta_sd: 0.00025 }}
+parameters:
+  delta: {{ prior: {{ dist: uniform, lower: 0.0, upper: 1.0 }}, proposal_sd: 0.01 }}
+  omega_rad_s: {{ prior: {{ dist: uniform, lower: 0.0, upper: 1.0e13 }}, proposal_sd: 1.0e10 }}
+  nonlocal_e0a_nm: {{ prior: {{ dist: uniform, lower: 0.0, upper: 2.0 }}, proposal_sd: 0.01 }}
+  delta_2: {{ prior: {{ dist: uniform, lower: 0.0, upper: 1.0 }}, proposal_sd: 0.01 }}
+  omega_2_rad_s: {{ prior: {{ dist: uniform, lower: 0.0, upper: {second_omega_upper:e} }}, proposal_sd: 1.0e10 }}
+sampler: {{ draws_per_chain: 2000, burn_in: 500, nonadaptive_draws: 200, adaptation_start: 200, covariance_skip: 100, chains: 2, seed: 1 }}
+"
+        ))
+        .expect("valid test data")
+    }
+
+    /// Two relaxations with the same priors are put in ascending Ω, Δ moving
+    /// with its Ω; the swap leaves log π unchanged (the model sums over them).
+    #[test]
+    fn exchangeable_relaxations_are_relabelled_in_ascending_omega() {
+        let d = data(1.0e13);
+        let post = BeamPosterior::new(&d, d.parameters.clone());
+        // θ = [Δ₁, Ω₁, e0a, Δ₂, Ω₂] with Ω₁ > Ω₂
+        let theta = vec![0.2, 2.0e12, 0.8, 0.4, 3.0e11];
+        let mut relabelled = theta.clone();
+        post.relabel(&mut relabelled);
+        assert_eq!(relabelled, vec![0.4, 3.0e11, 0.8, 0.2, 2.0e12]);
+        let (a, b) = (post.log_posterior(&theta), post.log_posterior(&relabelled));
+        assert!(a.is_finite() && a == b, "{a} vs {b}");
+    }
+
+    /// Different priors tell the variables apart: no relabelling.
+    #[test]
+    fn relaxations_with_different_priors_keep_their_labels() {
+        let d = data(5.0e12);
+        let post = BeamPosterior::new(&d, d.parameters.clone());
+        let mut theta = vec![0.2, 2.0e12, 0.8, 0.4, 3.0e11];
+        post.relabel(&mut theta);
+        assert_eq!(theta, vec![0.2, 2.0e12, 0.8, 0.4, 3.0e11]);
     }
 }

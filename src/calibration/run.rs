@@ -168,10 +168,14 @@ pub fn calibrate_posterior(
             pb.inc(n as u64);
         }
     };
-    let chains = run_chains(post, sampler, c0_sd, &starts, sampler.seed, Some(&tick));
+    let mut chains = run_chains(post, sampler, c0_sd, &starts, sampler.seed, Some(&tick));
     if let Some(pb) = &bar {
         pb.finish_and_clear();
     }
+    // exchangeable components in their canonical order (`Posterior::relabel`):
+    // chains at one mode under swapped labels agree, and R̂ still shows
+    // chains at different modes
+    chains.iter_mut().flat_map(|c| c.draws.iter_mut()).for_each(|d| post.relabel(d));
 
     // borrowed post-burn-in draws (a copy of every state cost ~5 % of a calibrate)
     let kept: Vec<&[Vec<f64>]> = chains.iter().map(|c| &c.draws[sampler.burn_in..]).collect();
@@ -189,7 +193,8 @@ pub fn calibrate_posterior(
         .zip(c0_sd)
         .map(|(p, s)| if p.sd.is_finite() && p.sd > 0.0 { p.sd } else { *s })
         .collect();
-    let map = map_estimate(post, best_state, &scales, 4000);
+    let mut map = map_estimate(post, best_state, &scales, 4000);
+    post.relabel(&mut map.theta);
     let summary = summary.with_map(&map.theta);
 
     Ok(CalibrationResult {
