@@ -76,12 +76,26 @@ pub fn rhat(chains: &[Vec<f64>]) -> f64 {
 ///   ascend from it; merging the two runs sorts them (ties are averaged by
 ///   value, so their order among themselves is irrelevant).
 pub fn convergence(chains: &[Vec<f64>]) -> (f64, f64, f64) {
+    convergence_and_quantiles(chains, []).0
+}
+
+/// [`convergence`] and the type-7 quantiles `ps` of the pooled draws, read
+/// from the same sort (issue 15: `summarize` selected its 95 % interval with
+/// two more passes over the draws). The quantiles are the bits of
+/// [`quantile_select`] (the same order statistics and formula; see the test
+/// `quantile_select_equals_quantile_sorted`); `None` where `convergence` takes
+/// its unsorted fallback (an odd or < 4 draw count, or chains of unequal length).
+pub fn convergence_and_quantiles<const K: usize>(
+    chains: &[Vec<f64>],
+    ps: [f64; K],
+) -> ((f64, f64, f64), Option<[f64; K]>) {
     let n = match valid_draws_per_chain(chains) {
         Some(n) if n >= 4 && n % 2 == 0 => n,
-        _ => return (rhat(chains), ess_bulk(chains), ess_tail(chains)),
+        _ => return ((rhat(chains), ess_bulk(chains), ess_tail(chains)), None),
     };
     debug_assert!(n % 2 == 0);
     let order = sorted_with_positions(chains);
+    let quantiles = ps.map(|p| quantile_of_sorted(order.len(), |k| order[k].0, p));
     let sorted = |k: usize| order[k].0;
     let ranked_split = split_chains(&reshape(&normal_scores(&order), chains));
     let bulk = classic_rhat(&ranked_split);
@@ -112,7 +126,7 @@ pub fn convergence(chains: &[Vec<f64>]) -> (f64, f64, f64) {
     }
     let tail = classic_rhat(&split_chains(&reshape(&normal_scores(&folded), chains)));
     let q = [0.05, 0.95].map(|p| quantile_of_sorted(order.len(), sorted, p));
-    (bulk.max(tail), ess(&ranked_split), tail_ess_at(chains, q))
+    ((bulk.max(tail), ess(&ranked_split), tail_ess_at(chains, q)), Some(quantiles))
 }
 
 /// Bulk effective sample size: ESS of the rank-normalised split chains.
@@ -556,6 +570,15 @@ mod tests {
         assert_eq!(r.to_bits(), rhat(&chains).to_bits());
         assert_eq!(b.to_bits(), ess_bulk(&chains).to_bits());
         assert_eq!(t.to_bits(), ess_tail(&chains).to_bits());
+        // the quantiles read from the shared sort are the selections' bits
+        let ps = [0.0, 0.025, 0.5, 0.975, 1.0];
+        let ((r2, b2, t2), q) = convergence_and_quantiles(&chains, ps);
+        assert_eq!((r2.to_bits(), b2.to_bits(), t2.to_bits()), (r.to_bits(), b.to_bits(), t.to_bits()));
+        let q = q.expect("even chain length: the sorted route");
+        let mut all = pooled(&chains);
+        for (p, qk) in ps.into_iter().zip(q) {
+            assert_eq!(qk.to_bits(), quantile_select(&mut all, p).to_bits(), "p = {p}");
+        }
     }
 
     /// Selection gives the bits of the sorted type-7 quantile, ties and ends included.

@@ -13,7 +13,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::diagnostics::{convergence, quantile_select, quantile_sorted};
+use super::diagnostics::{convergence_and_quantiles, quantile_select, quantile_sorted};
 
 /// Summary of one scalar parameter. Parameters are in their own units (the
 /// name carries the unit); `cov` is dimensionless.
@@ -96,10 +96,13 @@ pub fn summarize<C: AsRef<[Vec<f64>]>>(names: &[String], chains: &[C]) -> Summar
     }
     let parameters = (0..d)
         .map(|i| {
-            let mut draws = pooled[i].clone();
-            let ci95 = [quantile_select(&mut draws, 0.025), quantile_select(&mut draws, 0.975)];
+            // the interval from the sort of the R̂/ESS ranks when there is one
+            let ((rhat, ess_bulk, ess_tail), sorted_ci) = convergence_and_quantiles(&per_param[i], [0.025, 0.975]);
+            let ci95 = sorted_ci.unwrap_or_else(|| {
+                let mut draws = pooled[i].clone();
+                [quantile_select(&mut draws, 0.025), quantile_select(&mut draws, 0.975)]
+            });
             let sd = cov[i][i].sqrt();
-            let (rhat, ess_bulk, ess_tail) = convergence(&per_param[i]);
             ParameterSummary {
                 name: names[i].clone(),
                 mean: means[i],

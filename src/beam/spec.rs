@@ -209,6 +209,83 @@ impl BeamSpec {
 
     /// Checks every documented range; the error names the field, value and allowed range.
     pub fn validate(&self) -> Result<(), InputError> {
+        if self.plainly_valid() {
+            return Ok(());
+        }
+        self.validate_in_full()
+    }
+
+    /// A conservative, division- and square-root-free screen for [`Self::validate`]
+    /// (issue 15: `validate` runs at every forward evaluation of a calibration,
+    /// and its chain of divisions and a square root for ω_ref was ~5 % of a
+    /// whole `calibrate`). `true` implies `validate_in_full` is `Ok`; `false`
+    /// only means "check in full" (the errors and the extensions' bounds,
+    /// e.g. the buckling load, come from there). Every test is the full one's
+    /// exact expression except the ω_ref groups, rewritten squared:
+    /// lo ≤ Ω/ω_ref ≤ hi ⇔ lo²·EI ≤ Ω²·ρA·L⁴ ≤ hi²·EI (ω_ref² = EI/(ρA·L⁴)) and
+    /// C ≤ C̃max·ρA·ω_ref ⇔ C²·ρA·L⁴ ≤ C̃max²·(ρA)²·EI. Each side takes ≤ 8 roundings
+    /// (relative error ≤ 8·2⁻⁵³ < 1e-15 while every product stays in
+    /// [1e-300, 1e300], checked: no underflow, no overflow), and the full test's
+    /// own divisions and square root add < 1e-15; a margin of 1e-9 between the
+    /// squared sides therefore makes the screen's "inside" imply the full
+    /// test's. Beams near a bound (within 1e-9 relative) take the full check.
+    #[inline]
+    fn plainly_valid(&self) -> bool {
+        const MARGIN: f64 = 1.0 + 1e-9;
+        let normal = |x: f64| (1e-300..=1e300).contains(&x);
+        let raw = |x: f64| x.is_finite() && (RAW_MIN..=RAW_MAX).contains(&x);
+        let nonneg = |x: f64| x.is_finite() && x >= 0.0;
+        let min_elements = if self.support == Support::ClampedClamped { 2 } else { 1 };
+        if !(raw(self.length_nm)
+            && raw(self.diameter_nm)
+            && raw(self.youngs_modulus_pa)
+            && raw(self.density_kg_m3)
+            && (min_elements..=MAX_ELEMENTS).contains(&self.elements)
+            && nonneg(self.nonlocal_e0a_nm)
+            && nonneg(self.viscous_damping_n_s_m2)
+            && self.internal_variables.len() <= MAX_INTERNAL_VARIABLES
+            // the extensions: only the all-off beam is screened
+            && self.support_rotational_stiffness_n_m_rad == 0.0
+            && self.point_mass.is_none()
+            && self.axial_force_n.is_finite()
+            && self.axial_force_n >= 0.0
+            && self.shear_deformation.is_none()
+            && self.nonlocal_e0a_nm <= MAX_E_TILDE * self.length_nm)
+        {
+            return false;
+        }
+        let l = self.length_nm * 1e-9;
+        let ei = self.youngs_modulus_pa * self.inertia_m4();
+        let rho_a = self.density_kg_m3 * self.area_m2();
+        let l2 = l * l;
+        let q = rho_a * (l2 * l2); // ρA·L⁴ = EI/ω_ref²
+        let (lo, hi) = OMEGA_TILDE_RANGE;
+        let (lo_ei, hi_ei) = (lo * lo * ei, hi * hi * ei);
+        if !(normal(ei) && normal(rho_a) && normal(q) && normal(lo_ei) && normal(hi_ei)) {
+            return false;
+        }
+        let c = self.viscous_damping_n_s_m2;
+        if c > 0.0 {
+            let (lhs, rhs) = (c * c * q, MAX_C_TILDE * MAX_C_TILDE * (rho_a * rho_a) * ei);
+            if !(normal(lhs) && normal(rhs) && lhs * MARGIN <= rhs) {
+                return false;
+            }
+        }
+        self.internal_variables.iter().all(|iv| {
+            let w2q = iv.omega_rad_s * iv.omega_rad_s * q; // (Ω/ω_ref)²·EI
+            iv.delta.is_finite()
+                && iv.delta >= 0.0
+                && iv.delta <= MAX_DELTA
+                && iv.omega_rad_s.is_finite()
+                && iv.omega_rad_s > 0.0
+                && normal(w2q)
+                && lo_ei * MARGIN <= w2q
+                && w2q * MARGIN <= hi_ei
+        })
+    }
+
+    /// Every check of [`Self::validate`] with its error.
+    fn validate_in_full(&self) -> Result<(), InputError> {
         in_window("length_nm", self.length_nm, false)?;
         in_window("diameter_nm", self.diameter_nm, false)?;
         in_window("youngs_modulus_pa", self.youngs_modulus_pa, false)?;
@@ -365,5 +442,77 @@ impl BeamSpec {
         let spec: BeamSpec = crate::error::parse_yaml(text)?;
         spec.validate()?;
         Ok(spec)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The screen never accepts a beam the full check rejects, over beams
+    /// drawn log-uniformly across and around every bound it screens (each
+    /// dimensionless group from 1e-3× its lower bound to 1e3× its upper
+    /// one), and it accepts the ordinary beams a calibration evaluates.
+    #[test]
+    fn plainly_valid_implies_valid() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut u = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut accepted, mut full_only, mut rejected) = (0, 0, 0);
+        for k in 0..200_000 {
+            let log_uniform = |lo: f64, hi: f64, r: f64| (lo.ln() + r * (hi.ln() - lo.ln())).exp();
+            let mut b = BeamSpec::elastic(
+                log_uniform(1e-31, 1e31, u()),
+                log_uniform(1e-31, 1e31, u()),
+                log_uniform(1e-31, 1e31, u()),
+                log_uniform(1e-31, 1e31, u()),
+                Support::ALL[k % 4],
+                1 + k % 301,
+            );
+            if k % 2 == 0 {
+                // realistic scales, so the ω_ref groups sit near their bounds
+                b.length_nm = log_uniform(1.0, 100.0, u());
+                b.diameter_nm = log_uniform(0.1, 10.0, u());
+                b.youngs_modulus_pa = log_uniform(1e9, 1e13, u());
+                b.density_kg_m3 = log_uniform(100.0, 1e5, u());
+            }
+            let l = b.length_nm * 1e-9;
+            let omega_ref = (b.youngs_modulus_pa * b.inertia_m4() / (b.density_kg_m3 * b.area_m2())).sqrt() / (l * l);
+            b.nonlocal_e0a_nm = if k % 3 == 0 { 0.0 } else { log_uniform(1e-3, 1e2, u()) * b.length_nm };
+            b.viscous_damping_n_s_m2 = if k % 5 == 0 {
+                0.0
+            } else {
+                log_uniform(1e-3, 1e3, u()) * MAX_C_TILDE * b.density_kg_m3 * b.area_m2() * omega_ref
+            };
+            for _ in 0..(k % 4) {
+                let (lo, hi) = OMEGA_TILDE_RANGE;
+                let omega = if u() < 0.5 {
+                    // within 1e-8 relative of a bound
+                    (if u() < 0.5 { lo } else { hi }) * omega_ref * (1.0 + (u() - 0.5) * 2e-8)
+                } else {
+                    log_uniform(lo * 1e-3, hi * 1e3, u()) * omega_ref
+                };
+                b.internal_variables.push(InternalVariable { delta: log_uniform(1e-3, 1e4, u()), omega_rad_s: omega });
+            }
+            let full = b.validate_in_full().is_ok();
+            if b.plainly_valid() {
+                assert!(full, "screen accepted an invalid beam: {b:?}");
+                accepted += 1;
+            } else if full {
+                full_only += 1;
+            } else {
+                rejected += 1;
+            }
+        }
+        // every branch exercised (the test cannot pass by never screening)
+        assert!(accepted > 10_000 && full_only > 1_000 && rejected > 10_000, "{accepted} {full_only} {rejected}");
+        let mut beam = BeamSpec::elastic(8.0, 1.0, 1e12, 2300.0, Support::SimplySupported, 20);
+        beam.nonlocal_e0a_nm = 1.05;
+        beam.internal_variables.push(InternalVariable { delta: 0.45, omega_rad_s: 3e11 });
+        assert!(beam.plainly_valid());
     }
 }

@@ -40,7 +40,7 @@ pub fn chains_csv(result: &CalibrationResult) -> String {
         s.push_str(n);
     }
     s.push_str(",log_posterior\n");
-    // The same bytes as `write!(s, "{c},{i}")` and `",{x:e}"`, through ryu/itoa
+    // The same bytes as `write!(s, "{c},{i}")` and `",{x:e}"`, through zmij/itoa
     // (`NumberFormatter`): core::fmt made this file ~10 % of a whole calibrate.
     let rows: usize = result.chains.iter().map(|c| c.draws.len().saturating_sub(result.burn_in)).sum();
     // ~16 bytes per number: one allocation for the whole file
