@@ -4,6 +4,7 @@
 
 use std::time::Instant;
 
+use crate::bayes::Posterior;
 use crate::beam::BeamSpec;
 use crate::calibration::output::{summary_cells, SUMMARY_HEADERS};
 use crate::calibration::{calibrate_posterior, BeamPosterior, CalibrateOptions, CalibrationResult, ModeObservation};
@@ -63,9 +64,12 @@ pub fn run_case(
     let mut inverse = rec.table_1.clone();
     inverse.diameter_nm = spec.inverse_diameter_nm;
     inverse.internal_variables = spec.inverse_internal_variables.clone();
-    let truth_vec: Vec<f64> = params.params.iter().map(|p| truth_value(p.target, truth)).collect();
+    let mut truth_vec: Vec<f64> = params.params.iter().map(|p| truth_value(p.target, truth)).collect();
     let c0: Vec<f64> = params.params.iter().map(|p| p.proposal_sd).collect();
     let post = BeamPosterior::from_parts(&inverse, &obs, params.clone());
+    // the truth in the canonical order the draws are reported in (exchangeable
+    // internal variables by ascending Ω), so each row compares like with like
+    post.relabel(&mut truth_vec);
     let mut sampler = if quick { spec.quick_sampler.clone() } else { spec.sampler.clone() };
     sampler.seed = spec.seed;
     let result = calibrate_posterior(&post, &c0, &sampler, &CalibrateOptions::default())
