@@ -218,6 +218,24 @@ fn psd_intervals_cover_the_truth_at_their_level() {
 }
 
 #[test]
+#[ignore = "not in CI (its 2-core budget): measured 2026-11-24 with IDENTIFY_SEEDS=60 (167 s, quiet 2-core machine): pooled 0.956, omega_1 0.933 (mean z +0.28, sd z 2.28: an outlying record), zeta_1 0.950, omega_2 0.933, zeta_2 0.967, omega_3 0.983, zeta_3 0.967, 0 records without three modes; all within the 60-seed bars (3 sqrt(0.0475/60) = 0.084 per observable, 0.034 pooled). 200 seeds not run"]
+fn magnitude_intervals_cover_the_truth_at_their_level() {
+    // |H| only (the sweep's noise, 0.1 % of max|H| per component, then the
+    // modulus) over modes 1–3, 1500 points: the joint-LM path the PSD takes,
+    // with the Gaussian likelihood and the same real-pole selection.
+    let beam = paper_beam();
+    let truth = modal(&beam, 4).unwrap();
+    let w = sweep(&truth, 3, 1500);
+    let h = frf(&beam, 3.6, 6.8, &w).unwrap();
+    let sd = 1e-3 * h.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    assert_coverage("magnitude", &truth, 200, |seed| {
+        let abs: Vec<f64> = noisy(&h, sd, 500 + seed).iter().map(|z| z.norm()).collect();
+        let data = Measurement::Magnitude { omega_rad_s: w.clone(), h_abs_m_per_n: abs };
+        identify(&data, &IdentifySettings { modes: Some(3), ..IdentifySettings::default() }).ok().map(|id| id.modes)
+    });
+}
+
+#[test]
 fn noisy_magnitude_sweep_recovers_the_modes_within_their_sd() {
     let beam = paper_beam();
     let truth = modal(&beam, 4).unwrap();
