@@ -48,7 +48,9 @@ fn bench_dram(c: &mut Criterion) {
             ..DramSettings::default()
         };
         group.bench_function(label, |b| {
-            b.iter(|| run_chain(&Gaussian3, &settings, &[0.5, 0.5, 0.5], &[0.0; 3], &mut chain_rng(1, 0), None))
+            b.iter(|| {
+                run_chain(&Gaussian3, &settings, &[0.5, 0.5, 0.5], &[0.0; 3], &mut chain_rng(1, 0), None).unwrap()
+            })
         });
     }
     group.finish();
@@ -76,7 +78,7 @@ fn bench_beam(c: &mut Criterion) {
     let settings = DramSettings { draws_per_chain: steps, ..DramSettings::default() };
     let c0: Vec<f64> = data.parameters.params.iter().map(|p| p.proposal_sd).collect();
     group.bench_function("paper_settings", |b| {
-        b.iter(|| run_chain(&post, &settings, &c0, &theta, &mut chain_rng(1, 0), None))
+        b.iter(|| run_chain(&post, &settings, &c0, &theta, &mut chain_rng(1, 0), None).unwrap())
     });
     group.finish();
 }

@@ -166,7 +166,7 @@ fn stationary_on_correlated_gaussian() {
     };
     let starts: Vec<Vec<f64>> = (0..4).map(|c| vec![0.5 + 0.1 * c as f64, 0.0, 0.4]).collect();
     let s = short_settings();
-    let chains = run_chains(&target, &s, &[0.5, 5.0, 0.05], &starts, 7, None);
+    let chains = run_chains(&target, &s, &[0.5, 5.0, 0.05], &starts, 7, None).expect("valid settings");
     for k in 0..3 {
         assert_within_mcse(&per_chain(&chains, s.burn_in, |t| t[k]), mu[k], &format!("mean x{k}"));
         for m in k..3 {
@@ -191,7 +191,7 @@ fn stationary_on_banana() {
     };
     let starts: Vec<Vec<f64>> = (0..4).map(|c| vec![0.1 * c as f64, 0.0]).collect();
     let s = DramSettings { draws_per_chain: 60_000, ..short_settings() };
-    let chains = run_chains(&target, &s, &[1.0, 1.0], &starts, 3, None);
+    let chains = run_chains(&target, &s, &[1.0, 1.0], &starts, 3, None).expect("valid settings");
     let burn = s.burn_in;
     assert_within_mcse(&per_chain(&chains, burn, |t| t[0]), 0.0, "mean x1");
     assert_within_mcse(&per_chain(&chains, burn, |t| t[1]), 0.0, "mean x2");
@@ -206,7 +206,7 @@ fn flat_likelihood_returns_the_prior() {
     let target = Target { lo: vec![0.0, -1.0], hi: vec![2.0, 3.0], log_lik: |_x: &[f64]| 0.0 };
     let starts: Vec<Vec<f64>> = (0..4).map(|c| vec![1.0, 0.1 * c as f64]).collect();
     let s = short_settings();
-    let chains = run_chains(&target, &s, &[0.1, 0.2], &starts, 5, None);
+    let chains = run_chains(&target, &s, &[0.1, 0.2], &starts, 5, None).expect("valid settings");
     assert_within_mcse(&per_chain(&chains, s.burn_in, |t| t[0]), 1.0, "mean x0");
     assert_within_mcse(&per_chain(&chains, s.burn_in, |t| t[1]), 1.0, "mean x1");
     // Var of U[a, b] = (b − a)²/12.
@@ -225,7 +225,7 @@ fn deterministic_for_any_thread_count_and_distinct_across_chains() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| run_chains(&target, &s, &[0.5, 0.5], &starts, 42, None))
+            .install(|| run_chains(&target, &s, &[0.5, 0.5], &starts, 42, None).expect("valid settings"))
     };
     let one = run(1);
     let two = run(2);
@@ -244,7 +244,7 @@ fn nan_model_output_is_a_counted_rejection() {
         log_lik: |x: &[f64]| if x[0] > 1.0 { f64::NAN } else { -0.5 * x[0] * x[0] },
     };
     let s = DramSettings { draws_per_chain: 10_000, burn_in: 1_000, ..DramSettings::default() };
-    let chains = run_chains(&target, &s, &[1.0], &[vec![0.0]], 1, None);
+    let chains = run_chains(&target, &s, &[1.0], &[vec![0.0]], 1, None).expect("valid settings");
     assert!(chains[0].rejected_invalid > 100);
     assert!(chains[0].draws.iter().all(|t| t[0] <= 1.0));
 }

@@ -63,6 +63,7 @@ fn sampler(seed: u64) -> DramSettings {
 fn x_chains(post: &Bimodal, starts: &[Vec<f64>], s: &DramSettings) -> Vec<Vec<f64>> {
     let c0 = [0.1, 0.1];
     run_chains(post, s, &c0, starts, s.seed, None)
+        .expect("valid settings")
         .iter()
         .map(|c| c.draws[s.burn_in..].iter().map(|t| t[0]).collect())
         .collect()

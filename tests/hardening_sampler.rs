@@ -39,9 +39,35 @@ fn an_underflowing_proposal_covariance_does_not_panic() {
         ..Default::default()
     };
     // sd² = 1e-400 underflows to 0: C0 = diag(sd²) is not factorisable
-    let out = run_chain(&Gauss(2), &s, &[1e-200, 1e-200], &[0.5, 0.5], &mut chain_rng(1, 0), None);
+    let out =
+        run_chain(&Gauss(2), &s, &[1e-200, 1e-200], &[0.5, 0.5], &mut chain_rng(1, 0), None).expect("valid settings");
     assert_eq!(out.draws.len(), 300);
     assert!(out.draws.iter().flatten().all(|x| x.is_finite()));
+}
+
+/// `run_chain` is public: it checks its settings and inputs itself instead
+/// of assuming a caller did, and names the offending field.
+#[test]
+fn run_chain_rejects_bad_settings_and_inputs_by_name() {
+    let good = DramSettings {
+        draws_per_chain: 300,
+        burn_in: 10,
+        nonadaptive_draws: 100,
+        adaptation_start: 100,
+        covariance_skip: 50,
+        ..Default::default()
+    };
+    let run = |s: &DramSettings, c0: &[f64], start: &[f64]| {
+        run_chain(&Gauss(start.len()), s, c0, start, &mut chain_rng(1, 0), None).map(|_| ()).unwrap_err().field
+    };
+    let bad_burn = DramSettings { burn_in: 300, ..good.clone() };
+    assert_eq!(run(&bad_burn, &[0.1, 0.1], &[0.5, 0.5]), "sampler.draws_per_chain");
+    let bad_gamma = DramSettings { dr_shrink_factors: vec![0.0], ..good.clone() };
+    assert_eq!(run(&bad_gamma, &[0.1, 0.1], &[0.5, 0.5]), "sampler.dr_shrink_factors[0]");
+    assert_eq!(run(&good, &[0.1], &[0.5, 0.5]), "c0_sd");
+    assert_eq!(run(&good, &[0.1, -1.0], &[0.5, 0.5]), "c0_sd[1]");
+    assert_eq!(run(&good, &[0.1, 0.1], &[0.5, f64::NAN]), "start[1]");
+    assert_eq!(run(&good, &[], &[]), "start");
 }
 
 /// Finite only on the lattice k/1024 of [0, 1]: a random-walk proposal never

@@ -5,9 +5,10 @@
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
-use crate::bayes::dram::{run_chain, ChainOutput, DramSettings};
+use crate::bayes::dram::{check_chain_inputs, run_checked_chain, ChainOutput, DramSettings};
 use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::Posterior;
+use crate::error::InputError;
 
 /// The RNG of chain `chain` under master seed `seed`: the keyed stream
 /// `(seed, Chain, [chain, 0])` of [`crate::bayes::rng`].
@@ -16,6 +17,8 @@ pub fn chain_rng(seed: u64, chain: usize) -> ChaCha8Rng {
 }
 
 /// Runs one chain per start state; `on_progress` receives step increments.
+/// Every start is checked as [`crate::bayes::dram::run_chain`] checks its one
+/// before any chain runs (so a bad start fails fast, not after the others).
 pub fn run_chains(
     post: &dyn Posterior,
     settings: &DramSettings,
@@ -23,15 +26,18 @@ pub fn run_chains(
     starts: &[Vec<f64>],
     seed: u64,
     on_progress: Option<&(dyn Fn(usize) + Sync)>,
-) -> Vec<ChainOutput> {
-    starts
+) -> Result<Vec<ChainOutput>, InputError> {
+    for start in starts {
+        check_chain_inputs(settings, c0_sd, start)?;
+    }
+    Ok(starts
         .par_iter()
         .enumerate()
         .map(|(c, start)| {
             let mut rng = chain_rng(seed, c);
-            run_chain(post, settings, c0_sd, start, &mut rng, on_progress)
+            run_checked_chain(post, settings, c0_sd, start, &mut rng, on_progress)
         })
-        .collect()
+        .collect())
 }
 
 /// Pooled acceptance fraction per DR stage over all chains.

@@ -422,7 +422,50 @@ impl RunningCovariance {
 
 /// Runs one DRAM chain from `start` with initial proposal standard
 /// deviations `c0_sd` (C0 = diag(c0_sd²)). `on_step` is called every 256 states.
+///
+/// The settings are checked here ([`DramSettings::validate`]), not assumed:
+/// this is public, and a burn-in beyond the chain or a shrink factor that
+/// underflows would otherwise surface as a panic or a silent nonsense chain.
+/// So are the inputs' shapes: `c0_sd` must have one positive finite sd per
+/// parameter and `start` must be finite. Every such error is an
+/// [`InputError`] naming the field (recoverable: fix the input).
 pub fn run_chain(
+    post: &dyn Posterior,
+    settings: &DramSettings,
+    c0_sd: &[f64],
+    start: &[f64],
+    rng: &mut ChaCha8Rng,
+    on_step: Option<&(dyn Fn(usize) + Sync)>,
+) -> Result<ChainOutput, InputError> {
+    check_chain_inputs(settings, c0_sd, start)?;
+    Ok(run_checked_chain(post, settings, c0_sd, start, rng, on_step))
+}
+
+/// The checks of [`run_chain`] (also [`crate::bayes::chains::run_chains`]'s, for every start).
+pub(crate) fn check_chain_inputs(settings: &DramSettings, c0_sd: &[f64], start: &[f64]) -> Result<(), InputError> {
+    let d = start.len();
+    settings.validate(d)?;
+    if d == 0 {
+        return Err(InputError::new("start", "(0 parameters)", "at least 1 parameter"));
+    }
+    if c0_sd.len() != d {
+        return Err(InputError::new(
+            "c0_sd",
+            format!("({} entries)", c0_sd.len()),
+            format!("one proposal sd per parameter ({d})"),
+        ));
+    }
+    for (i, &sd) in c0_sd.iter().enumerate() {
+        crate::error::positive(&format!("c0_sd[{i}]"), sd)?;
+    }
+    if let Some(i) = start.iter().position(|x| !x.is_finite()) {
+        return Err(InputError::new(format!("start[{i}]"), crate::error::fmt_num(start[i]), "finite"));
+    }
+    Ok(())
+}
+
+/// [`run_chain`] after its checks.
+pub(crate) fn run_checked_chain(
     post: &dyn Posterior,
     settings: &DramSettings,
     c0_sd: &[f64],

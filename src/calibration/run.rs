@@ -168,7 +168,7 @@ pub fn calibrate_posterior(
             pb.inc(n as u64);
         }
     };
-    let mut chains = run_chains(post, sampler, c0_sd, &starts, sampler.seed, Some(&tick));
+    let mut chains = run_chains(post, sampler, c0_sd, &starts, sampler.seed, Some(&tick))?;
     if let Some(pb) = &bar {
         pb.finish_and_clear();
     }
