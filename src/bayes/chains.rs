@@ -5,7 +5,7 @@
 use rand_chacha::ChaCha8Rng;
 use rayon::prelude::*;
 
-use crate::bayes::dram::{check_chain_inputs, run_checked_chain, ChainOutput, DramSettings};
+use crate::bayes::dram::{check_chain_inputs, run_chain, ChainOutput, DramSettings};
 use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::Posterior;
 use crate::error::InputError;
@@ -30,14 +30,14 @@ pub fn run_chains(
     for start in starts {
         check_chain_inputs(settings, c0_sd, start)?;
     }
-    Ok(starts
+    starts
         .par_iter()
         .enumerate()
         .map(|(c, start)| {
             let mut rng = chain_rng(seed, c);
-            run_checked_chain(post, settings, c0_sd, start, &mut rng, on_progress)
+            run_chain(post, settings, c0_sd, start, &mut rng, on_progress)
         })
-        .collect())
+        .collect()
 }
 
 /// Pooled acceptance fraction per DR stage over all chains.

@@ -438,41 +438,6 @@ pub fn run_chain(
     on_step: Option<&(dyn Fn(usize) + Sync)>,
 ) -> Result<ChainOutput, InputError> {
     check_chain_inputs(settings, c0_sd, start)?;
-    Ok(run_checked_chain(post, settings, c0_sd, start, rng, on_step))
-}
-
-/// The checks of [`run_chain`] (also [`crate::bayes::chains::run_chains`]'s, for every start).
-pub(crate) fn check_chain_inputs(settings: &DramSettings, c0_sd: &[f64], start: &[f64]) -> Result<(), InputError> {
-    let d = start.len();
-    settings.validate(d)?;
-    if d == 0 {
-        return Err(InputError::new("start", "(0 parameters)", "at least 1 parameter"));
-    }
-    if c0_sd.len() != d {
-        return Err(InputError::new(
-            "c0_sd",
-            format!("({} entries)", c0_sd.len()),
-            format!("one proposal sd per parameter ({d})"),
-        ));
-    }
-    for (i, &sd) in c0_sd.iter().enumerate() {
-        crate::error::positive(&format!("c0_sd[{i}]"), sd)?;
-    }
-    if let Some(i) = start.iter().position(|x| !x.is_finite()) {
-        return Err(InputError::new(format!("start[{i}]"), crate::error::fmt_num(start[i]), "finite"));
-    }
-    Ok(())
-}
-
-/// [`run_chain`] after its checks.
-pub(crate) fn run_checked_chain(
-    post: &dyn Posterior,
-    settings: &DramSettings,
-    c0_sd: &[f64],
-    start: &[f64],
-    rng: &mut ChaCha8Rng,
-    on_step: Option<&(dyn Fn(usize) + Sync)>,
-) -> ChainOutput {
     let d = start.len();
     let stages = settings.stages();
     let gammas: Vec<f64> = std::iter::once(1.0).chain(settings.dr_shrink_factors.iter().copied()).collect();
@@ -556,5 +521,29 @@ pub(crate) fn run_checked_chain(
     }
     // row-major C¹ (symmetric up to rounding: the Welford scatter is not)
     out.final_covariance = current_cov;
-    out
+    Ok(out)
+}
+
+/// The checks of [`run_chain`] (also [`crate::bayes::chains::run_chains`]'s,
+/// for every start before any chain runs).
+pub(crate) fn check_chain_inputs(settings: &DramSettings, c0_sd: &[f64], start: &[f64]) -> Result<(), InputError> {
+    let d = start.len();
+    settings.validate(d)?;
+    if d == 0 {
+        return Err(InputError::new("start", "(0 parameters)", "at least 1 parameter"));
+    }
+    if c0_sd.len() != d {
+        return Err(InputError::new(
+            "c0_sd",
+            format!("({} entries)", c0_sd.len()),
+            format!("one proposal sd per parameter ({d})"),
+        ));
+    }
+    for (i, &sd) in c0_sd.iter().enumerate() {
+        crate::error::positive(&format!("c0_sd[{i}]"), sd)?;
+    }
+    if let Some(i) = start.iter().position(|x| !x.is_finite()) {
+        return Err(InputError::new(format!("start[{i}]"), crate::error::fmt_num(start[i]), "finite"));
+    }
+    Ok(())
 }
