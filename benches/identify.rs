@@ -3,27 +3,15 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use nanobeam::bayes::rng::{stream, Purpose};
-use nanobeam::beam::{frf, modal, BeamSpec, InternalVariable, Support};
+use nanobeam::beam::{frf, modal};
 use nanobeam::identify::{identify, IdentifySettings, Measurement};
+use nanobeam::reproduce::reconstruction::table_4_beam_from_yaml;
 use num_complex::Complex64;
 use rand_distr::{Distribution, StandardNormal};
 
 fn record() -> Measurement {
-    let beam = BeamSpec {
-        length_nm: 8.1321,
-        diameter_nm: 1.0,
-        youngs_modulus_pa: 1.0e12,
-        density_kg_m3: 2300.0,
-        support: Support::SimplySupported,
-        elements: 20,
-        nonlocal_e0a_nm: 1.217,
-        viscous_damping_n_s_m2: 0.0,
-        internal_variables: vec![InternalVariable { delta: 0.4999, omega_rad_s: 3.9925e11 }],
-        support_rotational_stiffness_n_m_rad: 0.0,
-        point_mass: None,
-        axial_force_n: 0.0,
-        shear_deformation: None,
-    };
+    // the paper's beam: Table 4 truth as reconstructed in paper/reconstructed.yaml
+    let beam = table_4_beam_from_yaml(include_str!("../paper/reconstructed.yaml")).unwrap();
     let t = modal(&beam, 6).unwrap();
     let (lo, hi) = (0.2 * t.modes[0].omega_rad_s, 0.5 * (t.modes[4].omega_rad_s + t.modes[5].omega_rad_s));
     let w: Vec<f64> = (0..4000).map(|i| lo + (hi - lo) * i as f64 / 3999.0).collect();

@@ -3,28 +3,15 @@
 //! Run with `-- --nocapture` for the numbers.
 
 use nanobeam::bayes::rng::{stream, Purpose};
-use nanobeam::beam::{frf, impulse_response, modal, BeamSpec, InternalVariable, ModalResult, Support};
+use nanobeam::beam::{frf, impulse_response, modal, BeamSpec, ModalResult};
 use nanobeam::identify::{identify, IdentifiedMode, IdentifySettings, Measurement};
 use num_complex::Complex64;
 use rand_distr::{Distribution, Gamma, StandardNormal};
 
 /// The paper's beam (Table 4 truth as reconstructed in paper/reconstructed.yaml).
 fn paper_beam() -> BeamSpec {
-    BeamSpec {
-        length_nm: 8.1321,
-        diameter_nm: 1.0,
-        youngs_modulus_pa: 1.0e12,
-        density_kg_m3: 2300.0,
-        support: Support::SimplySupported,
-        elements: 20,
-        nonlocal_e0a_nm: 1.217,
-        viscous_damping_n_s_m2: 0.0,
-        internal_variables: vec![InternalVariable { delta: 0.4999, omega_rad_s: 3.9925e11 }],
-        support_rotational_stiffness_n_m_rad: 0.0,
-        point_mass: None,
-        axial_force_n: 0.0,
-        shear_deformation: None,
-    }
+    let text = include_str!("../paper/reconstructed.yaml");
+    nanobeam::reproduce::reconstruction::table_4_beam_from_yaml(text).expect("paper/reconstructed.yaml holds Table 4")
 }
 
 /// A linear sweep from 0.2·ω₁ to midway between modes k and k + 1.

@@ -23,6 +23,7 @@ use crate::bayes::map::multi_start_optimum;
 use crate::bayes::Posterior;
 use crate::beam::BeamSpec;
 use crate::calibration::{BeamPosterior, ModeObservation, ParameterSet};
+use crate::error::InputError;
 use crate::reproduce::reference::{FrequencyReading, Published, ReferenceModal};
 use crate::reproduce::specs::ReconstructionSpec;
 
@@ -89,6 +90,38 @@ pub struct Reconstruction {
     pub fit_table_9: Fit,
     pub sigma_fit_table_4: Fit,
     pub sigma_fit_table_9: Fit,
+}
+
+/// The Table 4 truth (Table 1 + Table 4: the N = 1 beam of Cases 1–2) as
+/// `cargo xtask reproduce` recorded it in `paper/reconstructed.yaml`: its
+/// `fixed_assumptions` and `reconstruction.table_4_fit.parameters`. For code
+/// that needs the paper's beam without re-running the fit (the identify
+/// tests and bench), so that the paper's numbers live in `paper/` only;
+/// `tests/reproduce_quick.rs` checks that the file is the fit's current output.
+pub fn table_4_beam_from_yaml(text: &str) -> Result<BeamSpec, InputError> {
+    let doc: serde_yaml::Value = crate::error::parse_yaml(text)?;
+    let get = |path: &[&str]| -> Result<serde_yaml::Value, InputError> {
+        path.iter().try_fold(&doc, |v, key| v.get(*key)).cloned().ok_or_else(|| {
+            InputError::new(path.join("."), "(missing)", "present, as `cargo xtask reproduce` writes it")
+        })
+    };
+    let fixed = |key: &str| get(&["fixed_assumptions", key]);
+    let fitted = |key: &str| get(&["reconstruction", "table_4_fit", "parameters", key]);
+    let mut beam = serde_yaml::Mapping::new();
+    for key in ["diameter_nm", "youngs_modulus_pa", "density_kg_m3", "support", "elements"] {
+        beam.insert(key.into(), fixed(key)?);
+    }
+    for key in ["length_nm", "nonlocal_e0a_nm"] {
+        beam.insert(key.into(), fitted(key)?);
+    }
+    let mut variable = serde_yaml::Mapping::new();
+    for key in ["delta", "omega_rad_s"] {
+        variable.insert(key.into(), fitted(key)?);
+    }
+    beam.insert("internal_variables".into(), serde_yaml::Value::Sequence(vec![variable.into()]));
+    let text =
+        serde_yaml::to_string(&beam).map_err(|e| InputError::new("reconstructed beam", e.to_string(), "YAML"))?;
+    BeamSpec::from_yaml(&text)
 }
 
 /// ω in rad/s of a printed "GHz" value (cyclic reading).
