@@ -1,7 +1,7 @@
 //! Banded matrices of half-bandwidth [`KD`] = 3 (two Hermite DOFs per node,
 //! one element couples DOFs at most 3 apart, before and after eliminating
-//! supported DOFs) — or, for the Timoshenko mesh (four DOFs per node), a
-//! runtime half-bandwidth up to [`MAX_KD`] = 7 (`SymBand::kd`; the KD = 3 code
+//! supported DOFs) — or, for the Timoshenko mesh (five DOFs per node), a
+//! runtime half-bandwidth up to [`MAX_KD`] = 9 (`SymBand::kd`; the KD = 3 code
 //! paths are unchanged) — and the factorisations the solvers need:
 //!
 //! * [`SymBand::ldl_inertia`]: banded LDLᵀ of A(σ) = K − σM in dual numbers,
@@ -22,8 +22,9 @@ use crate::beam::dual::{Dual, Scalar};
 /// Half-bandwidth of the Euler–Bernoulli beam matrices.
 pub const KD: usize = 3;
 const W: usize = KD + 1;
-/// Largest runtime half-bandwidth (the 4-DOF-per-node Timoshenko mesh).
-pub const MAX_KD: usize = 7;
+/// Largest runtime half-bandwidth (the 5-DOF-per-node Timoshenko mesh:
+/// 2·5 − 1 = 9).
+pub const MAX_KD: usize = 9;
 
 /// Symmetric band matrix of half-bandwidth `kd`, lower triangle stored:
 /// (i, i−d) at `data[i·(kd+1) + d]`.
