@@ -113,8 +113,8 @@ fn bench(c: &mut Criterion) {
             bch.iter(|| ModalSolver::new().modal(black_box(&bs), 3).unwrap())
         });
         // issue 13: axial force (coupled path: RQI on T(s)) and shear
-        // deformation (Timoshenko mesh, 4 DOFs/node, decoupled when C = 0 or
-        // no rotary inertia... here C > 0, so coupled too), each along a chain
+        // deformation (Timoshenko mesh, 5 DOFs/node, decoupled when C = 0 or
+        // no rotary inertia: coupled for C > 0, decoupled for `shear_undamped`), each along a chain
         // that moves the new parameter, E and e0a (the Timoshenko mesh is
         // rebuilt only when d or L move: it depends on r̃² = I/(AL²))
         for (name, axial, shear) in [
