@@ -11,8 +11,9 @@
 //! pencil for `direct_chain`, the path before issue 15); `warm`
 //! perturbs only E (the pencil is bitwise unchanged, as in a calibration of
 //! E, ρ, C, Δ, Ω with e0a fixed). `axial_chain`, `shear_chain` (κ moves; g̃
-//! is a pencil parameter, so the mesh stays) and `shear_fixed_chain` (κ fixed)
-//! do the same with the mechanisms of issue 13.
+//! is a pencil parameter, so the mesh stays), `shear_fixed_chain` (κ fixed)
+//! and `shear_undamped_chain` (κ moves, C = 0: the decoupled path) do the same
+//! with the mechanisms of issue 13.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use nanobeam::beam::{modal, modal_state_space, BeamSpec, InternalVariable, ModalSolver, Support};
@@ -112,13 +113,21 @@ fn bench(c: &mut Criterion) {
             bch.iter(|| ModalSolver::new().modal(black_box(&bs), 3).unwrap())
         });
         // issue 13: axial force (coupled path: RQI on T(s)) and shear
-        // deformation (Timoshenko mesh, 4 DOFs/node, decoupled when C = 0 or
-        // no rotary inertia... here C > 0, so coupled too), each along a chain
+        // deformation (Timoshenko mesh, 5 DOFs/node, decoupled when C = 0 or
+        // no rotary inertia: coupled for C > 0, decoupled for `shear_undamped`), each along a chain
         // that moves the new parameter, E and e0a (the Timoshenko mesh is
         // rebuilt only when d or L move: it depends on r̃² = I/(AL²))
-        for (name, axial, shear) in [("axial", 2e-9, None), ("shear", 0.0, Some(0.9)), ("shear_fixed", 0.0, Some(0.9))]
-        {
+        for (name, axial, shear) in [
+            ("axial", 2e-9, None),
+            ("shear", 0.0, Some(0.9)),
+            ("shear_fixed", 0.0, Some(0.9)),
+            ("shear_undamped", 0.0, Some(0.9)),
+        ] {
             let mut bx = b.clone();
+            if name == "shear_undamped" {
+                // C = 0: the decoupled path (D̃ ∝ M̃ holds despite the rotary inertia)
+                bx.viscous_damping_n_s_m2 = 0.0;
+            }
             bx.axial_force_n = axial;
             bx.shear_deformation =
                 shear.map(|k| nanobeam::beam::ShearDeformation { poisson_ratio: 0.2, shear_coefficient: k });
@@ -132,7 +141,7 @@ fn bench(c: &mut Criterion) {
                         walk.axial_force_n = step(walk.axial_force_n, bx.axial_force_n, uniform());
                     }
                     if let (Some(sd), Some(sd0)) = (walk.shear_deformation.as_mut(), bx.shear_deformation) {
-                        if name == "shear" {
+                        if name != "shear_fixed" {
                             sd.shear_coefficient =
                                 step(sd.shear_coefficient, sd0.shear_coefficient, uniform()).min(1.0);
                         }

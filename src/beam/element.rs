@@ -102,42 +102,100 @@ pub fn point_load(h: f64, xbar: f64, e0a: f64) -> [f64; 4] {
     [n[0] - e2 * dd[0], n[1] - e2 * dd[1], n[2] - e2 * dd[2], n[3] - e2 * dd[3]]
 }
 
-/// 8×8 element matrix of the Timoshenko element.
-pub type Mat8 = [[f64; 8]; 8];
+/// Quintic Hermite shape functions on [0, h] (ξ = x̄/h), DOFs
+/// [u₁, u₁′, u₁″, u₂, u₂′, u₂″] (value, slope and curvature at each end):
+///   H = [1 − 10ξ³ + 15ξ⁴ − 6ξ⁵, h(ξ − 6ξ³ + 8ξ⁴ − 3ξ⁵), (h²/2)ξ²(1 − ξ)³,
+///        10ξ³ − 15ξ⁴ + 6ξ⁵, h(−4ξ³ + 7ξ⁴ − 3ξ⁵), (h²/2)ξ³(1 − ξ)²].
+/// Derived from the 6 interpolation conditions (each Hᵢ has unit i-th nodal
+/// value/derivative and zero others; e.g. Hᵢ with a triple root at the
+/// other end), so the six interpolate every polynomial of degree ≤ 5
+/// exactly; tested below. Returns [H, dH/dx̄, d²H/dx̄²] at x̄ ∈ [0, h].
+pub fn quintic_shape(h: f64, xbar: f64) -> [[f64; 6]; 3] {
+    let x = xbar / h;
+    let (x2, x3, x4, x5) = (x * x, x * x * x, x * x * x * x, x * x * x * x * x);
+    let half_h2 = 0.5 * h * h;
+    let n = [
+        1.0 - 10.0 * x3 + 15.0 * x4 - 6.0 * x5,
+        h * (x - 6.0 * x3 + 8.0 * x4 - 3.0 * x5),
+        half_h2 * (x2 - 3.0 * x3 + 3.0 * x4 - x5),
+        10.0 * x3 - 15.0 * x4 + 6.0 * x5,
+        h * (-4.0 * x3 + 7.0 * x4 - 3.0 * x5),
+        half_h2 * (x3 - 2.0 * x4 + x5),
+    ];
+    let d = [
+        (-30.0 * x2 + 60.0 * x3 - 30.0 * x4) / h,
+        1.0 - 18.0 * x2 + 32.0 * x3 - 15.0 * x4,
+        0.5 * h * (2.0 * x - 9.0 * x2 + 12.0 * x3 - 5.0 * x4),
+        (30.0 * x2 - 60.0 * x3 + 30.0 * x4) / h,
+        -12.0 * x2 + 28.0 * x3 - 15.0 * x4,
+        0.5 * h * (3.0 * x2 - 8.0 * x3 + 5.0 * x4),
+    ];
+    let dd = [
+        (-60.0 * x + 180.0 * x2 - 120.0 * x3) / (h * h),
+        (-36.0 * x + 96.0 * x2 - 60.0 * x3) / h,
+        0.5 * (2.0 - 18.0 * x + 36.0 * x2 - 20.0 * x3),
+        (60.0 * x - 180.0 * x2 + 120.0 * x3) / (h * h),
+        (-24.0 * x + 84.0 * x2 - 60.0 * x3) / h,
+        0.5 * (6.0 * x - 24.0 * x2 + 20.0 * x3),
+    ];
+    [n, d, dd]
+}
 
-/// The fields of the Timoshenko element at one point, each as its 8 DOF
+/// DOFs per node of the Timoshenko element: [w, θ, χ, s, γ].
+pub const TIMOSHENKO_DPN: usize = 5;
+/// DOFs per Timoshenko element (two nodes).
+pub const TIMOSHENKO_DOFS: usize = 2 * TIMOSHENKO_DPN;
+
+/// A field of the Timoshenko element at one point: its coefficients on the
+/// element's 10 DOFs.
+pub type TimoshenkoRow = [f64; TIMOSHENKO_DOFS];
+
+/// 10×10 element matrix of the Timoshenko element.
+pub type Mat10 = [[f64; TIMOSHENKO_DOFS]; TIMOSHENKO_DOFS];
+
+/// The fields of the Timoshenko element at one point, each as its 10 DOF
 /// coefficients: deflection w, w′, w″, section rotation θ = w_b′ and θ′ = w_b″,
 /// shear strain γ = w_s′.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TimoshenkoPoint {
-    pub w: [f64; 8],
-    pub dw: [f64; 8],
-    pub ddw: [f64; 8],
-    pub rot: [f64; 8],
-    pub drot: [f64; 8],
-    pub shear: [f64; 8],
+    pub w: TimoshenkoRow,
+    pub dw: TimoshenkoRow,
+    pub ddw: TimoshenkoRow,
+    pub rot: TimoshenkoRow,
+    pub drot: TimoshenkoRow,
+    pub shear: TimoshenkoRow,
 }
 
 /// The bending–shear split Timoshenko element (after the decomposition
 /// w = w_b + w_s, θ = w_b′, γ = w_s′ of the Timoshenko kinematics; e.g.
 /// Wang, Reddy & Lee, *Shear Deformable Beams and Plates*, Elsevier 2000,
-/// §2.4, and the "two-variable" beam elements built on it). Both parts are
-/// cubic Hermite (A3), so with the nodal DOFs
-/// [w₁, θ₁, s₁, γ₁, w₂, θ₂, s₂, γ₂] (w total deflection, θ section rotation,
-/// s = w_s, γ = w_s′ shear strain):
-///   w_b = N·[w₁ − s₁, θ₁, w₂ − s₂, θ₂],  w_s = N·[s₁, γ₁, s₂, γ₂],
-///   w = w_b + w_s = N·[w₁, θ₁ + γ₁, w₂, θ₂ + γ₂].
-/// No constraint ties γ to w and θ, so the element cannot lock in shear; w_b
-/// is H²-conforming (Hermite), so eigenvalues converge at O(h⁴) as for
-/// the Euler–Bernoulli element; with s = γ = 0 every matrix is its Hermite
-/// (A4)–(A6) counterpart (the Euler–Bernoulli limit). Four DOFs per node:
-/// the assembled band has half-width 7.
+/// §2.4, and the "two-variable" beam elements built on it). The bending part
+/// w_b is quintic Hermite ([`quintic_shape`], N5), the shear part w_s cubic
+/// Hermite (A3, N3), so with the nodal DOFs [w, θ, χ, s, γ] (w total
+/// deflection, θ = w_b′ section rotation, χ = θ′ = w_b″ bending curvature,
+/// s = w_s, γ = w_s′ shear strain), element DOFs
+/// [w₁, θ₁, χ₁, s₁, γ₁, w₂, θ₂, χ₂, s₂, γ₂]:
+///   w_b = N5·[w₁ − s₁, θ₁, χ₁, w₂ − s₂, θ₂, χ₂],  w_s = N3·[s₁, γ₁, s₂, γ₂],
+///   w = w_b + w_s.
+/// No constraint ties γ to w and θ, so the element cannot lock in shear.
+/// Rayleigh–Ritz error: the eigenvalue error is the squared energy-norm
+/// error of the best approximation of the mode; w_b enters through H²
+/// (EI∫θ′², quintic: O(h⁴) per field, O(h⁸) in λ), w_s through H¹ only
+/// (κGA∫γ², cubic: O(h³), O(h⁶) in λ, weighted by the mode's shear share of
+/// its strain energy). With s = γ = 0 the (w, θ, χ) matrices are the quintic
+/// Hermite element's (the Euler–Bernoulli limit). Five DOFs per node: the
+/// assembled band has half-width 2·5 − 1 = 9.
 pub fn timoshenko_point(h: f64, xbar: f64) -> TimoshenkoPoint {
-    let (n, d, dd) = (shape(h, xbar), shape_d(h, xbar), shape_dd(h, xbar));
-    let wb = |f: [f64; 4]| [f[0], f[1], -f[0], 0.0, f[2], f[3], -f[2], 0.0];
-    let ws = |f: [f64; 4]| [0.0, 0.0, f[0], f[1], 0.0, 0.0, f[2], f[3]];
-    let w = |f: [f64; 4]| [f[0], f[1], 0.0, f[1], f[2], f[3], 0.0, f[3]];
-    TimoshenkoPoint { w: w(n), dw: w(d), ddw: w(dd), rot: wb(d), drot: wb(dd), shear: ws(d) }
+    let [n5, d5, dd5] = quintic_shape(h, xbar);
+    let (n3, d3) = (shape(h, xbar), shape_d(h, xbar));
+    let wb = |f: [f64; 6]| [f[0], f[1], f[2], -f[0], 0.0, f[3], f[4], f[5], -f[3], 0.0];
+    let ws = |g: [f64; 4]| [0.0, 0.0, 0.0, g[0], g[1], 0.0, 0.0, 0.0, g[2], g[3]];
+    let w = |f: [f64; 6], g: [f64; 4]| -> TimoshenkoRow {
+        let (b, s) = (wb(f), ws(g));
+        std::array::from_fn(|a| b[a] + s[a])
+    };
+    let dd3 = shape_dd(h, xbar);
+    TimoshenkoPoint { w: w(n5, n3), dw: w(d5, d3), ddw: w(dd5, dd3), rot: wb(d5), drot: wb(dd5), shear: ws(d3) }
 }
 
 /// The bare integrals of one Timoshenko element (coefficients applied by
@@ -150,32 +208,47 @@ pub fn timoshenko_point(h: f64, xbar: f64) -> TimoshenkoPoint {
 /// - `geometric_1` = ∫w″w″ᵀ (the (e0a)² part of the axial-force term;
 ///   ∫w′w′ᵀ is `mass_w1`).
 ///
-/// By 4-point Gauss–Legendre, exact to degree 7 (integrands are of degree ≤ 6).
+/// By 6-point Gauss–Legendre, exact to degree 11: the integrands are
+/// products of two fields of degree ≤ 5 (w), so of degree ≤ 10.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TimoshenkoElement {
-    pub bending: Mat8,
-    pub shear: Mat8,
-    pub mass_w0: Mat8,
-    pub mass_w1: Mat8,
-    pub mass_t0: Mat8,
-    pub geometric_1: Mat8,
+    pub bending: Mat10,
+    pub shear: Mat10,
+    pub mass_w0: Mat10,
+    pub mass_w1: Mat10,
+    pub mass_t0: Mat10,
+    pub geometric_1: Mat10,
 }
 
-/// 4-point Gauss–Legendre nodes and weights on [−1, 1].
-pub const GAUSS4_X: [f64; 4] =
-    [-0.861_136_311_594_052_6, -0.339_981_043_584_856_3, 0.339_981_043_584_856_3, 0.861_136_311_594_052_6];
-pub const GAUSS4_W: [f64; 4] =
-    [0.347_854_845_137_453_8, 0.652_145_154_862_546_1, 0.652_145_154_862_546_1, 0.347_854_845_137_453_8];
+/// 6-point Gauss–Legendre nodes and weights on [−1, 1] (exact to degree 11;
+/// the roots of P₆ by Newton's method in 50-digit arithmetic, rounded to the
+/// nearest f64; weights 2/((1 − x²)P₆′(x)²)).
+pub const GAUSS6_X: [f64; 6] = [
+    -0.932_469_514_203_152,
+    -0.661_209_386_466_264_5,
+    -0.238_619_186_083_196_9,
+    0.238_619_186_083_196_9,
+    0.661_209_386_466_264_5,
+    0.932_469_514_203_152,
+];
+pub const GAUSS6_W: [f64; 6] = [
+    0.171_324_492_379_170_36,
+    0.360_761_573_048_138_6,
+    0.467_913_934_572_691_04,
+    0.467_913_934_572_691_04,
+    0.360_761_573_048_138_6,
+    0.171_324_492_379_170_36,
+];
 
 /// The integrals of [`TimoshenkoElement`] for element length h.
 pub fn timoshenko_element(h: f64) -> TimoshenkoElement {
-    let z = [[0.0; 8]; 8];
+    let z = [[0.0; TIMOSHENKO_DOFS]; TIMOSHENKO_DOFS];
     let mut e = TimoshenkoElement { bending: z, shear: z, mass_w0: z, mass_w1: z, mass_t0: z, geometric_1: z };
-    for (x, wt) in GAUSS4_X.iter().zip(GAUSS4_W) {
+    for (x, wt) in GAUSS6_X.iter().zip(GAUSS6_W) {
         let p = timoshenko_point(h, 0.5 * h * (1.0 + x));
         let wt = 0.5 * h * wt;
-        for a in 0..8 {
-            for b in 0..8 {
+        for a in 0..TIMOSHENKO_DOFS {
+            for b in 0..TIMOSHENKO_DOFS {
                 e.bending[a][b] += wt * p.drot[a] * p.drot[b];
                 e.shear[a][b] += wt * p.shear[a] * p.shear[b];
                 e.mass_w0[a][b] += wt * p.w[a] * p.w[b];
@@ -226,11 +299,11 @@ mod tests {
         m
     }
 
-    fn assert_close(a: Mat4, b: Mat4, h: f64) {
+    fn assert_close<const N: usize>(a: [[f64; N]; N], b: [[f64; N]; N], h: f64) {
         // Gauss weights are given to 15 digits: 1e-12 relative to the largest entry.
         let scale = a.iter().flatten().chain(b.iter().flatten()).fold(0.0f64, |m, v| m.max(v.abs()));
-        for i in 0..4 {
-            for j in 0..4 {
+        for i in 0..N {
+            for j in 0..N {
                 assert!((a[i][j] - b[i][j]).abs() <= 1e-12 * scale, "h={h} ({i},{j}): {} vs {}", a[i][j], b[i][j]);
             }
         }
@@ -290,29 +363,170 @@ mod tests {
         assert!((p[0] + p[2] - 1.0).abs() < 1e-14);
     }
 
+    /// The quintic Hermite shape functions of [`quintic_shape`]:
+    /// - interpolation conditions: [H, H′, H″] at x̄ = 0 and x̄ = h pick the
+    ///   six nodal values (δᵢⱼ);
+    /// - partition of unity: H₀ + H₃ = 1 (and its derivatives vanish);
+    /// - exactness: the interpolant of every monomial (x̄ − c)ᵏ, k ≤ 5, from its
+    ///   nodal value, slope and curvature is the monomial itself (value, first
+    ///   and second derivative) at interior points.
+    ///
+    /// Tolerance: each Hᵢ⁽ʳ⁾ is a sum of terms with integer coefficients ≤ 180
+    /// (relative rounding ≲ 180·4 ulp ≈ 2e-13 of hʲ⁻ʳ), six of them per
+    /// interpolant: 1e-12 of Σ|qᵢ|hʲⁱ⁻ʳ. The nodal conditions (ξ ∈ {0, 1},
+    /// integer sums) and the partition of unity are exact up to one rounding.
+    #[test]
+    fn quintic_shape_functions_interpolate_and_are_exact_to_degree_5() {
+        for h in [0.05, 0.7, 2.5] {
+            for (node, xbar) in [(0usize, 0.0), (1, h)] {
+                let s = quintic_shape(h, xbar);
+                for (order, row) in s.iter().enumerate() {
+                    for (i, v) in row.iter().enumerate() {
+                        let want = if i == 3 * node + order { 1.0 } else { 0.0 };
+                        assert!((v - want).abs() <= 1e-13, "h={h} node {node} order {order} H{i}: {v}");
+                    }
+                }
+            }
+            for xi in [0.0, 0.13, 0.5, 0.77, 1.0] {
+                let [n, d, dd] = quintic_shape(h, xi * h);
+                assert!((n[0] + n[3] - 1.0).abs() <= 1e-13, "{}", n[0] + n[3]);
+                assert!((d[0] + d[3]).abs() <= 1e-13 / h && (dd[0] + dd[3]).abs() <= 1e-13 / (h * h));
+            }
+            let c = 0.3 * h;
+            for k in 0..=5i32 {
+                // p = (x̄ − c)ᵏ and its first two derivatives
+                let p = |x: f64, order: i32| -> f64 {
+                    let coef: f64 = (0..order).map(|j| f64::from(k - j)).product();
+                    if k < order {
+                        0.0
+                    } else {
+                        coef * (x - c).powi(k - order)
+                    }
+                };
+                let q = [p(0.0, 0), p(0.0, 1), p(0.0, 2), p(h, 0), p(h, 1), p(h, 2)];
+                for xi in [0.1, 0.37, 0.5, 0.81] {
+                    let x = xi * h;
+                    let s = quintic_shape(h, x);
+                    for order in 0..3 {
+                        let interp: f64 = s[order as usize].iter().zip(&q).map(|(a, b)| a * b).sum();
+                        // |Hᵢ⁽ʳ⁾| ≤ 180·h^(jᵢ − r) (jᵢ = 0, 1, 2 for value, slope, curvature DOFs)
+                        let scale: f64 =
+                            q.iter().zip([0, 1, 2, 0, 1, 2]).map(|(v, j)| v.abs() * h.powi(j - order)).sum();
+                        let exact = p(x, order);
+                        assert!(
+                            (interp - exact).abs() <= 1e-12 * scale.max(1e-300),
+                            "h={h} k={k} order {order} at ξ={xi}: {interp} vs {exact}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// Monomial coefficients (in ξ = x̄/h) of the six quintic Hermite shape
+    /// functions: an independent route to their integrals.
+    fn quintic_coefficients(h: f64) -> [[f64; 6]; 6] {
+        let (h1, h2) = (h, 0.5 * h * h);
+        [
+            [1.0, 0.0, 0.0, -10.0, 15.0, -6.0],
+            [0.0, h1, 0.0, -6.0 * h1, 8.0 * h1, -3.0 * h1],
+            [0.0, 0.0, h2, -3.0 * h2, 3.0 * h2, -h2],
+            [0.0, 0.0, 0.0, 10.0, -15.0, 6.0],
+            [0.0, 0.0, 0.0, -4.0 * h1, 7.0 * h1, -3.0 * h1],
+            [0.0, 0.0, 0.0, h2, -2.0 * h2, h2],
+        ]
+    }
+
+    /// ∫₀ʰ (dʳNᵢ/dx̄ʳ)(dʳNⱼ/dx̄ʳ) dx̄ of the quintic Hermite functions, exactly
+    /// (polynomial products, ∫₀¹ ξᵐ dξ = 1/(m + 1)).
+    fn quintic_integral(h: f64, r: usize) -> [[f64; 6]; 6] {
+        let c = quintic_coefficients(h);
+        // r-th derivative in x̄: coefficient of ξᵏ⁻ʳ is k!/(k−r)!·cₖ/hʳ
+        let deriv = |ci: &[f64; 6]| -> [f64; 6] {
+            std::array::from_fn(|m| {
+                let k = m + r;
+                if k > 5 {
+                    return 0.0;
+                }
+                let f: f64 = (0..r).map(|j| (k - j) as f64).product();
+                f * ci[k] / h.powi(r as i32)
+            })
+        };
+        let d: Vec<[f64; 6]> = c.iter().map(deriv).collect();
+        std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                let mut s = 0.0;
+                for (a, da) in d[i].iter().enumerate() {
+                    for (b, db) in d[j].iter().enumerate() {
+                        s += da * db / (a + b + 1) as f64;
+                    }
+                }
+                h * s
+            })
+        })
+    }
+
+    fn energy<const N: usize>(m: &[[f64; N]; N], q: &[f64; N]) -> f64 {
+        (0..N).map(|a| (0..N).map(|b| q[a] * m[a][b] * q[b]).sum::<f64>()).sum()
+    }
+
     /// Euler–Bernoulli limit of the Timoshenko element: restricted to the
-    /// (w, θ) DOFs (s = γ = 0, no shear strain) every matrix is its Hermite
-    /// counterpart (same 4-point rule, so equal to rounding, 1e-12 of the
-    /// largest entry); the shear matrix vanishes there; and a pure shear
-    /// deflection (w = s, γ = s′, θ = 0) has no bending energy.
+    /// (w, θ, χ) DOFs (s = γ = 0, no shear strain, θ = w′) every matrix is
+    /// the quintic Hermite element's (∫N5″N5″ᵀ for bending and the (e0a)²
+    /// geometric part, ∫N5N5ᵀ, ∫N5′N5′ᵀ for mass, nonlocal mass and rotary
+    /// inertia), here integrated exactly from the monomial coefficients:
+    /// the 6-point rule is exact for these degree-≤ 10 integrands, so they
+    /// agree to rounding (1e-12 of the largest entry). A cubic deflection
+    /// (nodal χ = its curvature) has exactly the energies of the cubic
+    /// Hermite element (A4)–(A6) (the quintic space contains the cubics).
+    /// The shear matrix vanishes there; a pure shear deflection (w = s,
+    /// γ = s′, θ = χ = 0) has no bending energy and shear energy ∫γ².
     #[test]
     fn timoshenko_element_reduces_to_hermite_without_shear() {
         for h in [0.05, 0.4, 1.0] {
             let e = timoshenko_element(h);
-            let eb_dofs = [0, 1, 4, 5];
-            let restrict =
-                |m: &Mat8| -> Mat4 { std::array::from_fn(|i| std::array::from_fn(|j| m[eb_dofs[i]][eb_dofs[j]])) };
-            assert_close(restrict(&e.bending), curvature_integral(h), h);
-            assert_close(restrict(&e.mass_w0), mass_integral(h), h);
-            assert_close(restrict(&e.mass_w1), slope_integral(h), h);
-            assert_close(restrict(&e.mass_t0), slope_integral(h), h);
-            assert_close(restrict(&e.geometric_1), curvature_integral(h), h);
+            let eb_dofs = [0, 1, 2, 5, 6, 7];
+            let restrict = |m: &Mat10| -> [[f64; 6]; 6] {
+                std::array::from_fn(|i| std::array::from_fn(|j| m[eb_dofs[i]][eb_dofs[j]]))
+            };
+            let (q0, q1, q2) = (quintic_integral(h, 0), quintic_integral(h, 1), quintic_integral(h, 2));
+            assert_close(restrict(&e.bending), q2, h);
+            assert_close(restrict(&e.mass_w0), q0, h);
+            assert_close(restrict(&e.mass_w1), q1, h);
+            assert_close(restrict(&e.mass_t0), q1, h);
+            assert_close(restrict(&e.geometric_1), q2, h);
             assert!(restrict(&e.shear).iter().flatten().all(|v| *v == 0.0));
-            // pure shear: w = s = linear, γ = slope, θ = 0 → w_b ≡ 0
-            let q = [0.0, 0.0, 0.0, 0.3, 0.3 * h, 0.0, 0.3 * h, 0.3];
-            let energy = |m: &Mat8| (0..8).map(|a| (0..8).map(|b| q[a] * m[a][b] * q[b]).sum::<f64>()).sum::<f64>();
-            assert!(energy(&e.bending).abs() < 1e-15, "{}", energy(&e.bending));
-            assert!((energy(&e.shear) - 0.09 * h).abs() < 1e-14, "{}", energy(&e.shear));
+            // a cubic p(x̄) = 0.2 − 0.5x̄ + 0.9x̄² − 0.4x̄³ on the element
+            let p = [0.2, -0.5, 0.9, -0.4];
+            let at = |x: f64| {
+                [
+                    p[0] + p[1] * x + p[2] * x * x + p[3] * x * x * x,
+                    p[1] + 2.0 * p[2] * x + 3.0 * p[3] * x * x,
+                    2.0 * p[2] + 6.0 * p[3] * x,
+                ]
+            };
+            let (a, b) = (at(0.0), at(h));
+            let q10 = [a[0], a[1], a[2], 0.0, 0.0, b[0], b[1], b[2], 0.0, 0.0];
+            let q4 = [a[0], a[1], b[0], b[1]];
+            let abs = |m: &[[f64; 10]; 10]| m.map(|r| r.map(f64::abs));
+            let abs4 = |m: &Mat4| m.map(|r| r.map(f64::abs));
+            let q10a = q10.map(f64::abs);
+            let q4a = q4.map(f64::abs);
+            for (m10, m4) in
+                [(&e.bending, curvature_integral(h)), (&e.mass_w0, mass_integral(h)), (&e.mass_w1, slope_integral(h))]
+            {
+                let (quintic, cubic) = (energy(m10, &q10), energy(&m4, &q4));
+                // both exact for the same ∫ of a polynomial: rounding only. A
+                // quadratic form of n² ≤ 100 terms (entries of size up to
+                // 12/h³ that cancel) rounds to ≲ n²·eps·Σ|qₐ||mₐᵦ||qᵦ|: 1e-13 of that
+                // sum covers it (and the entries' own quadrature rounding).
+                let scale = energy(&abs(m10), &q10a) + energy(&abs4(&m4), &q4a);
+                assert!((quintic - cubic).abs() <= 1e-13 * scale, "h={h}: {quintic} vs {cubic} (scale {scale:e})");
+            }
+            // pure shear: w = s = linear, γ = slope, θ = χ = 0 → w_b ≡ 0
+            let q = [0.0, 0.0, 0.0, 0.0, 0.3, 0.3 * h, 0.0, 0.0, 0.3 * h, 0.3];
+            assert!(energy(&e.bending, &q).abs() < 1e-15, "{}", energy(&e.bending, &q));
+            assert!((energy(&e.shear, &q) - 0.09 * h).abs() < 1e-14, "{}", energy(&e.shear, &q));
         }
     }
 }

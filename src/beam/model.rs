@@ -66,8 +66,11 @@ const GX: [f64; 4] =
 const GW: [f64; 4] =
     [0.347_854_845_137_453_8, 0.652_145_154_862_546_1, 0.652_145_154_862_546_1, 0.347_854_845_137_453_8];
 
-/// The Timoshenko part of a [`UnitMesh`] (`element::timoshenko_point`: four
-/// DOFs per node (w, θ, s, γ), half-bandwidth 7). The mesh's `k`, `m0`, `m1` are
+/// The Timoshenko part of a [`UnitMesh`] (`element::timoshenko_point`: the
+/// bending–shear split element with a quintic Hermite bending part and a
+/// cubic Hermite shear part; five DOFs per node (w, θ, χ, s, γ), half-bandwidth
+/// 9; frequencies converge at O(h⁸) in bending, O(h⁶) in the shear part,
+/// measured in `tests/beam_axial_shear.rs`). The mesh's `k`, `m0`, `m1` are
 /// k = Σ∫θ′θ′ᵀ (bending only), m0 = Σ∫(wwᵀ + r̃²θθᵀ), m1 = Σ∫(w′w′ᵀ + r̃²θ′θ′ᵀ);
 /// the beam's stiffness is K̃ = k + g̃·`ks`, ks = Σ∫γγᵀ, with the shear
 /// stiffness g̃ a pencil parameter ([`PencilParams::shear`]), not part of the
@@ -76,8 +79,10 @@ const GW: [f64; 4] =
 /// eigensolves, ~2.3× a fixed-κ chain step). The external viscous damping
 /// acts on the translational part only.
 /// Supports: w = 0 at a supported end, θ = 0 at a clamped one (section
-/// rotation); s₀ = 0 fixes the split's gauge (a uniform shift of w_s against
-/// w_b changes neither w nor θ nor γ).
+/// rotation); the curvature χ = θ′ is never constrained (EIθ′ = 0 at a
+/// pinned or free end is the natural moment condition; at a clamped end the
+/// moment is free); s₀ = 0 fixes the split's gauge (a uniform shift of w_s
+/// against w_b changes neither w nor θ nor γ).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ShearMesh {
     /// r̃² = I/(AL²) (rotary inertia relative to ρAL).
@@ -87,12 +92,15 @@ pub struct ShearMesh {
     /// Σ∫wwᵀ and Σ∫w′w′ᵀ (translational mass: the damping shape).
     pub mt0: SymBand,
     pub mt1: SymBand,
-    /// (weight, fields) at the 4 Gauss points of one element.
-    gauss: [(f64, element::TimoshenkoPoint); 4],
+    /// (weight, fields) at the 6 Gauss points of one element (exact for the
+    /// degree-≤ 10 products of its fields).
+    gauss: [(f64, element::TimoshenkoPoint); 6],
 }
 
 /// DOFs per node of the Timoshenko mesh.
-const SHEAR_DPN: usize = 4;
+const SHEAR_DPN: usize = element::TIMOSHENKO_DPN;
+/// DOFs per Timoshenko element.
+const SHEAR_DOFS: usize = element::TIMOSHENKO_DOFS;
 
 /// (g̃, r̃²) of a beam with shear deformation: g̃ = κGAL²/EI = (κG/E)·AL²/I
 /// and r̃² = I/(AL²) (solid circle: AL²/I = 16L²/d²).
@@ -124,7 +132,8 @@ impl UnitMesh {
         let mut mesh = Self::new(elements, support);
         let last = elements;
         let node = |i: usize, d: usize| SHEAR_DPN * i + d;
-        let mut removed = vec![node(0, 2)];
+        // s₀ (the gauge); supports act on w (0) and θ (1), never on χ (2)
+        let mut removed = vec![node(0, 3)];
         removed.extend(match support {
             Support::SimplySupported => vec![node(0, 0), node(last, 0)],
             Support::ClampedClamped => vec![node(0, 0), node(0, 1), node(last, 0), node(last, 1)],
@@ -148,7 +157,7 @@ impl UnitMesh {
         mesh.spring_dofs = spring_global.iter().filter_map(|&gl| mesh.dof_map[gl]).collect();
         let h = 1.0 / elements as f64;
         let te = element::timoshenko_element(h);
-        let comb = |a: &element::Mat8, c: f64, b: &element::Mat8| -> element::Mat8 {
+        let comb = |a: &element::Mat10, c: f64, b: &element::Mat10| -> element::Mat10 {
             std::array::from_fn(|i| std::array::from_fn(|j| a[i][j] + c * b[i][j]))
         };
         let [k, ks, m0, m1, mt0, mt1, g1] = mesh.assemble_shear(
@@ -174,17 +183,18 @@ impl UnitMesh {
 
     fn gauss_shear_init(&mut self, h: f64, r2: f64, ks: SymBand, mt0: SymBand, mt1: SymBand) {
         let gauss = std::array::from_fn(|i| {
-            let xl = 0.5 * h * (1.0 + element::GAUSS4_X[i]);
-            (0.5 * h * element::GAUSS4_W[i], element::timoshenko_point(h, xl))
+            let xl = 0.5 * h * (1.0 + element::GAUSS6_X[i]);
+            (0.5 * h * element::GAUSS6_W[i], element::timoshenko_point(h, xl))
         });
         self.shear = Some(ShearMesh { r2, ks, mt0, mt1, gauss });
     }
 
-    /// Assembles 8×8 Timoshenko element matrices over the mesh (n reduced DOFs).
-    fn assemble_shear<const K: usize>(&self, n: usize, mats: [element::Mat8; K]) -> [SymBand; K] {
+    /// Assembles 10×10 Timoshenko element matrices over the mesh (n reduced
+    /// DOFs; an element couples DOFs at most 2·5 − 1 = 9 apart).
+    fn assemble_shear<const K: usize>(&self, n: usize, mats: [element::Mat10; K]) -> [SymBand; K] {
         let mut out: [SymBand; K] = std::array::from_fn(|_| SymBand::zeros_kd(n, 2 * SHEAR_DPN - 1));
         for e in 0..self.elements {
-            for a in 0..8 {
+            for a in 0..SHEAR_DOFS {
                 let Some(i) = self.dof_map[SHEAR_DPN * e + a] else { continue };
                 for b in 0..=a {
                     let Some(j) = self.dof_map[SHEAR_DPN * e + b] else { continue };
@@ -198,7 +208,7 @@ impl UnitMesh {
     }
 
     /// v += w·coef scattered from element `e`'s local DOFs to reduced DOFs
-    /// (8 coefficients for Timoshenko, 4 for Euler–Bernoulli).
+    /// (10 coefficients for Timoshenko, 4 for Euler–Bernoulli).
     fn scatter(&self, e: usize, coef: &[f64], w: f64, v: &mut [f64]) {
         let dpn = if self.shear.is_some() { SHEAR_DPN } else { 2 };
         for (a, c) in coef.iter().enumerate() {
@@ -296,8 +306,10 @@ impl UnitMesh {
         out
     }
 
-    /// Every form a model needs, element by element with 4-point Gauss (same
-    /// accuracy argument as [`Self::energy_forms`]): [k, m0, m1, mt0, mt1, g0, g1] =
+    /// Every form a model needs, element by element (same accuracy argument
+    /// as [`Self::energy_forms`]; 4-point Gauss for Euler–Bernoulli, 6-point
+    /// for the Timoshenko mesh, exact for its degree-≤ 10 integrands):
+    /// [k, m0, m1, mt0, mt1, g0, g1] =
     /// xᵀK̃x, xᵀM̃₀x, xᵀM̃₁x (M̃ = M̃₀ + ẽ²M̃₁), the translational parts of M̃₀, M̃₁
     /// (the damping shape) and xᵀG̃₀x = ∫(w′)², xᵀG̃₁x = ∫(w″)² (axial force).
     /// Euler–Bernoulli: k = g1 = ∫(w″)², m0 = mt0 = ∫w², m1 = mt1 = g0 = ∫(w′)².
@@ -313,14 +325,14 @@ impl UnitMesh {
         };
         let mut out = [T::default(); 7];
         for e in 0..self.elements {
-            let mut q = [T::default(); 8];
+            let mut q = [T::default(); SHEAR_DOFS];
             for (a, qa) in q.iter_mut().enumerate() {
                 if let Some(i) = self.dof_map[SHEAR_DPN * e + a] {
                     *qa = x[i];
                 }
             }
             for (wt, p) in &sh.gauss {
-                let dot = |f: &[f64; 8]| (0..8).fold(T::default(), |acc, a| acc + q[a] * f[a]);
+                let dot = |f: &element::TimoshenkoRow| (0..SHEAR_DOFS).fold(T::default(), |acc, a| acc + q[a] * f[a]);
                 let (w, w1, w2) = (dot(&p.w), dot(&p.dw), dot(&p.ddw));
                 let (t, t1, gam) = (dot(&p.rot), dot(&p.drot), dot(&p.shear));
                 out[0] = out[0] + (t1 * t1 + gam * gam * g) * *wt;
@@ -372,14 +384,14 @@ impl UnitMesh {
     fn timoshenko_stiffness_form(&self, sh: &ShearMesh, x: &[f64], g: f64) -> f64 {
         let mut sum = 0.0;
         for e in 0..self.elements {
-            let mut q = [0.0; 8];
+            let mut q = [0.0; SHEAR_DOFS];
             for (a, qa) in q.iter_mut().enumerate() {
                 if let Some(i) = self.dof_map[SHEAR_DPN * e + a] {
                     *qa = x[i];
                 }
             }
             for (wt, p) in &sh.gauss {
-                let dot = |f: &[f64; 8]| (0..8).fold(0.0, |acc, a| acc + q[a] * f[a]);
+                let dot = |f: &element::TimoshenkoRow| (0..SHEAR_DOFS).fold(0.0, |acc, a| acc + q[a] * f[a]);
                 let (t1, gam) = (dot(&p.drot), dot(&p.shear));
                 sum += (t1 * t1 + gam * gam * g) * *wt;
             }
@@ -423,7 +435,7 @@ impl UnitMesh {
             if self.shear.is_some() {
                 // (A7) with the Timoshenko deflection: N_w − ẽ²N_w″
                 let t = element::timoshenko_point(h, xl);
-                let p: [f64; 8] = std::array::from_fn(|a| t.w[a] - e_tilde * e_tilde * t.ddw[a]);
+                let p: element::TimoshenkoRow = std::array::from_fn(|a| t.w[a] - e_tilde * e_tilde * t.ddw[a]);
                 self.scatter(e, &p, w, &mut v);
                 continue;
             }
