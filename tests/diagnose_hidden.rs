@@ -78,7 +78,9 @@ fn ci_cases() -> Vec<(u64, Hidden)> {
 #[test]
 fn first_seed_of_every_single_cause_is_named_and_clean_data_raise_no_alarm() {
     let t = tally(ci_cases());
-    assert_eq!(t.singles, ModelClass::CAUSES.len());
+    if !filtered() {
+        assert_eq!(t.singles, ModelClass::CAUSES.len());
+    }
     assert_eq!(t.singles_right, t.singles, "singles {}/{}", t.singles_right, t.singles);
     assert_eq!(t.false_alarms, 0);
 }
@@ -87,9 +89,11 @@ fn first_seed_of_every_single_cause_is_named_and_clean_data_raise_no_alarm() {
 #[test]
 fn first_pair_is_named_and_first_foreign_effect_is_unexplained() {
     let t = tally(open_cases().into_iter().filter(|(seed, _)| [300, 400].contains(seed)).collect());
-    assert_eq!((t.pairs, t.foreign), (1, 1));
-    assert_eq!(t.pairs_right, 1, "the pair's causes were not both named");
-    assert_eq!(t.foreign_unexplained, 1, "a foreign effect must be unexplained");
+    if !filtered() {
+        assert_eq!((t.pairs, t.foreign), (1, 1));
+    }
+    assert_eq!(t.pairs_right, t.pairs, "the pair's causes were not both named");
+    assert_eq!(t.foreign_unexplained, t.foreign, "a foreign effect must be unexplained");
 }
 
 /// Single causes ≥ 95 % right, no false alarm on clean data (the whole closed world).
@@ -129,6 +133,12 @@ struct Tally {
     foreign: usize,
     foreign_unexplained: usize,
     false_alarms: usize,
+}
+
+/// True when `NANOBEAM_HIDDEN_SEEDS` keeps only some seeds: the tests then
+/// check the verdicts of the seeds kept, not how many cases of each kind ran.
+fn filtered() -> bool {
+    std::env::var_os("NANOBEAM_HIDDEN_SEEDS").is_some()
 }
 
 /// Diagnoses every case (in parallel), prints one line per case and the confusion, and counts.
