@@ -28,16 +28,21 @@ impl Posterior for Gauss {
     }
 }
 
-#[test]
-fn an_underflowing_proposal_covariance_does_not_panic() {
-    let s = DramSettings {
+/// A valid 300-state chain (adaptation from state 100).
+fn short_chain() -> DramSettings {
+    DramSettings {
         draws_per_chain: 300,
         burn_in: 10,
         nonadaptive_draws: 100,
         adaptation_start: 100,
         covariance_skip: 50,
         ..Default::default()
-    };
+    }
+}
+
+#[test]
+fn an_underflowing_proposal_covariance_does_not_panic() {
+    let s = short_chain();
     // sd² = 1e-400 underflows to 0: C0 = diag(sd²) is not factorisable
     let out =
         run_chain(&Gauss(2), &s, &[1e-200, 1e-200], &[0.5, 0.5], &mut chain_rng(1, 0), None).expect("valid settings");
@@ -49,14 +54,7 @@ fn an_underflowing_proposal_covariance_does_not_panic() {
 /// of assuming a caller did, and names the offending field.
 #[test]
 fn run_chain_rejects_bad_settings_and_inputs_by_name() {
-    let good = DramSettings {
-        draws_per_chain: 300,
-        burn_in: 10,
-        nonadaptive_draws: 100,
-        adaptation_start: 100,
-        covariance_skip: 50,
-        ..Default::default()
-    };
+    let good = short_chain();
     let run = |s: &DramSettings, c0: &[f64], start: &[f64]| {
         run_chain(&Gauss(start.len()), s, c0, start, &mut chain_rng(1, 0), None).map(|_| ()).unwrap_err().field
     };

@@ -101,55 +101,19 @@ impl SymBand {
         y.clear();
         y.resize(n, 0.0);
         let a = &self.data;
-        if self.kd == MAX_KD {
-            mul_vec_fixed::<MAX_KD>(a, n, x, y);
-            return;
-        }
-        if self.kd != KD {
-            let (kd, w) = (self.kd, self.kd + 1);
-            for (i, yi) in y.iter_mut().enumerate() {
-                let mut s = a[i * w] * x[i];
-                for d in 1..=kd {
-                    if d <= i {
-                        s += a[i * w + d] * x[i - d];
-                    }
-                    if i + d < n {
-                        s += a[(i + d) * w + d] * x[i + d];
-                    }
-                }
-                *yi = s;
-            }
-            return;
-        }
-        let general = |i: usize| {
-            let mut s = a[i * W] * x[i];
-            for d in 1..=KD {
-                if d <= i {
-                    s += a[i * W + d] * x[i - d];
-                }
-                if i + d < n {
-                    s += a[(i + d) * W + d] * x[i + d];
-                }
-            }
-            s
-        };
-        if n < 2 * KD + 1 {
-            for (i, yi) in y.iter_mut().enumerate() {
-                *yi = general(i);
-            }
-            return;
-        }
-        for i in (0..KD).chain(n - KD..n) {
-            y[i] = general(i);
-        }
-        for i in KD..n - KD {
-            let rows: &[f64; 7 * W] = a[(i - KD) * W..(i + KD + 1) * W].try_into().expect("7 rows");
-            let xs: &[f64; 2 * KD + 1] = x[i - KD..=i + KD].try_into().expect("window");
-            let c = KD * W; // row i inside `rows`
-            y[i] = rows[c] * xs[KD]
-                + (rows[c + 1] * xs[2] + rows[c + W + 1] * xs[4])
-                + (rows[c + 2] * xs[1] + rows[c + 2 * W + 2] * xs[5])
-                + (rows[c + 3] * xs[0] + rows[c + 3 * W + 3] * xs[6]);
+        match self.kd {
+            MAX_KD => mul_vec_fixed::<MAX_KD>(a, n, x, y),
+            KD => mul_vec_rows::<KD>(a, n, x, y, |i| {
+                // the Euler–Bernoulli band, unrolled: pairs at each distance
+                let rows: &[f64; 7 * W] = a[(i - KD) * W..(i + KD + 1) * W].try_into().expect("7 rows");
+                let xs: &[f64; 2 * KD + 1] = x[i - KD..=i + KD].try_into().expect("window");
+                let c = KD * W; // row i inside `rows`
+                rows[c] * xs[KD]
+                    + (rows[c + 1] * xs[2] + rows[c + W + 1] * xs[4])
+                    + (rows[c + 2] * xs[1] + rows[c + 2 * W + 2] * xs[5])
+                    + (rows[c + 3] * xs[0] + rows[c + 3 * W + 3] * xs[6])
+            }),
+            kd => y.iter_mut().enumerate().for_each(|(i, yi)| *yi = gather_row(a, kd, n, x, i)),
         }
     }
 
@@ -226,34 +190,48 @@ fn ldl_in_place<T: Scalar>(
 /// `SymBand::mul_vec_into` was 23 % of a coupled shear chain step).
 fn mul_vec_fixed<const K: usize>(a: &[f64], n: usize, x: &[f64], y: &mut [f64]) {
     let w = K + 1;
-    let general = |i: usize| {
-        let mut s = a[i * w] * x[i];
-        for d in 1..=K {
-            if d <= i {
-                s += a[i * w + d] * x[i - d];
-            }
-            if i + d < n {
-                s += a[(i + d) * w + d] * x[i + d];
-            }
-        }
-        s
-    };
-    if n < 2 * K + 1 {
-        for (i, yi) in y.iter_mut().enumerate() {
-            *yi = general(i);
-        }
-        return;
-    }
-    for i in (0..K).chain(n - K..n) {
-        y[i] = general(i);
-    }
-    for i in K..n - K {
+    mul_vec_rows::<K>(a, n, x, y, |i| {
         let mut s = a[i * w] * x[i];
         for d in 1..=K {
             s += a[i * w + d] * x[i - d];
             s += a[(i + d) * w + d] * x[i + d];
         }
-        y[i] = s;
+        s
+    });
+}
+
+/// Row i of y = A x for a band of half-bandwidth `kd`, with the tests for
+/// the band's ends: the reference order of additions (diagonal, then at each
+/// distance d the lower and the upper neighbour).
+fn gather_row(a: &[f64], kd: usize, n: usize, x: &[f64], i: usize) -> f64 {
+    let w = kd + 1;
+    let mut s = a[i * w] * x[i];
+    for d in 1..=kd {
+        if d <= i {
+            s += a[i * w + d] * x[i - d];
+        }
+        if i + d < n {
+            s += a[(i + d) * w + d] * x[i + d];
+        }
+    }
+    s
+}
+
+/// y = A x for half-bandwidth K: [`gather_row`] on the K rows at each end
+/// (and everywhere when n < 2K + 1), `interior(i)` on the rows whose band
+/// lies inside the matrix.
+fn mul_vec_rows<const K: usize>(a: &[f64], n: usize, x: &[f64], y: &mut [f64], interior: impl Fn(usize) -> f64) {
+    if n < 2 * K + 1 {
+        for (i, yi) in y.iter_mut().enumerate() {
+            *yi = gather_row(a, K, n, x, i);
+        }
+        return;
+    }
+    for i in (0..K).chain(n - K..n) {
+        y[i] = gather_row(a, K, n, x, i);
+    }
+    for (i, yi) in y.iter_mut().enumerate().take(n - K).skip(K) {
+        *yi = interior(i);
     }
 }
 
