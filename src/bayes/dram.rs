@@ -424,9 +424,9 @@ impl RunningCovariance {
 /// deviations `c0_sd` (C0 = diag(c0_sd²)). `on_step` is called every 256 states.
 ///
 /// The settings are checked here ([`DramSettings::validate`]), not assumed:
-/// this is public, and a burn-in beyond the chain or a shrink factor that
-/// underflows would otherwise surface as a panic or a silent nonsense chain.
-/// So are the inputs' shapes: `c0_sd` must have one positive finite sd per
+/// this is public, and a caller that skipped the check would otherwise get
+/// whatever unchecked settings produce (a burn-in beyond the chain, a
+/// shrink factor of 0). So are the inputs' shapes: `c0_sd` must have one positive finite sd per
 /// parameter and `start` must be finite. Every such error is an
 /// [`InputError`] naming the field (recoverable: fix the input).
 pub fn run_chain(
