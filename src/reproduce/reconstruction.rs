@@ -119,9 +119,9 @@ pub fn table_4_beam_from_yaml(text: &str) -> Result<BeamSpec, InputError> {
         variable.insert(key.into(), fitted(key)?);
     }
     beam.insert("internal_variables".into(), serde_yaml::Value::Sequence(vec![variable.into()]));
-    let text =
-        serde_yaml::to_string(&beam).map_err(|e| InputError::new("reconstructed beam", e.to_string(), "YAML"))?;
-    BeamSpec::from_yaml(&text)
+    let spec: BeamSpec = crate::error::from_yaml_value("reconstruction.table_4_fit", beam.into())?;
+    spec.validate()?;
+    Ok(spec)
 }
 
 /// ω in rad/s of a printed "GHz" value (cyclic reading).
