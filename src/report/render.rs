@@ -129,7 +129,8 @@ fn sibling(dest: &Path, tag: &str) -> Result<PathBuf> {
 /// its parent (or nearest existing ancestor) is a writable directory — probed
 /// by creating and removing a temporary sibling. Also removes temporary
 /// siblings left by processes that no longer run (and puts back an output a
-/// dead process had moved aside). Installs the SIGINT/SIGTERM cleanup.
+/// dead process had moved aside). Installs the SIGINT/SIGTERM cleanup first,
+/// so that a signal during the probe leaves nothing behind.
 pub fn check_out_dir(dest: &Path) -> Result<()> {
     let name = file_name_of(dest)?;
     check_dest(dest)?;
@@ -151,13 +152,17 @@ pub fn check_out_dir(dest: &Path) -> Result<()> {
     if existing == parent {
         recover_stale(&parent, &name, dest);
     }
+    // The cleanup is installed before the probe exists, and the probe lives
+    // only while the cleanup lock is held: a signal at any instant finds no
+    // probe (the handler waits for the lock), so none is left behind.
+    signals::install();
+    let _hold = signals::lock();
     let probe = sibling(&existing.join(&name), "probe")?;
     fs::create_dir(&probe).map_err(|e| ReportError::OutPath {
         path: dest.to_path_buf(),
         reason: format!("{} is not writable ({e})", existing.display()),
     })?;
     let _ = fs::remove_dir(&probe);
-    signals::install();
     Ok(())
 }
 
