@@ -98,9 +98,10 @@ fn first_pair_is_named_and_first_foreign_effect_is_unexplained() {
 
 /// Single causes ≥ 95 % right, no false alarm on clean data (the whole closed world).
 #[test]
-#[ignore = "the whole closed world (29 diagnoses) takes 749 s on CI's 2 cores, half its budget; CI runs the \
-            first seed of each cause and two clean ones. Measured 2026-11-24 on a fresh \
-            clone: singles 23/24 (support-rotational-stiffness seed 114 named axial-force), clean 5/5"]
+#[ignore = "the whole closed world (29 diagnoses) takes 877 s on 2 cores, most of CI's budget; CI runs the first \
+            seed of each cause and two clean ones. Measured 2026-11-24 (quintic Timoshenko element, pair swap \
+            step): singles 23/24 (support-rotational-stiffness seed 114 named axial-force, the true cause an \
+            alternative), clean 5/5"]
 fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
     let t = tally(closed_cases());
     assert!(t.singles_right * 100 >= 95 * t.singles, "singles {}/{}", t.singles_right, t.singles);
