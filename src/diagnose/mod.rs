@@ -416,9 +416,7 @@ fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Search, Diagnos
     let threshold = problem.settings.log_bayes_factor_threshold;
     let mut path = vec![Model::BASE];
     let mut visited = vec![Model::BASE];
-    let z = |runs: &[ModelRun], m: &Model| {
-        runs.iter().find(|r| &r.model == m).map_or(f64::NEG_INFINITY, |r| r.log_evidence)
-    };
+    let z = log_evidence_of;
     let margin = problem.settings.alternative_margin;
     let mut level = vec![Model::BASE];
     while path.len() <= problem.settings.max_causes {
@@ -488,6 +486,11 @@ fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Search, Diagnos
     Ok(Search { path, visited })
 }
 
+/// ln Z of `m` among `runs` (−∞ when it has not run).
+fn log_evidence_of(runs: &[ModelRun], m: &Model) -> f64 {
+    runs.iter().find(|r| &r.model == m).map_or(f64::NEG_INFINITY, |r| r.log_evidence)
+}
+
 /// The swap step after a pair was selected: every pair that keeps one of
 /// its causes and replaces the other is visited, and the best pair now
 /// visited replaces the selection when each of its causes earns its place
@@ -507,9 +510,7 @@ fn swap_pair(
     path: &mut Vec<Model>,
     visited: &mut Vec<Model>,
 ) -> Result<(), DiagnoseError> {
-    let z = |runs: &[ModelRun], m: &Model| {
-        runs.iter().find(|r| &r.model == m).map_or(f64::NEG_INFINITY, |r| r.log_evidence)
-    };
+    let z = log_evidence_of;
     let selected = path.last().expect("a pair was selected").clone();
     let mut swaps: Vec<Model> = Vec::new();
     for &keep in selected.causes() {
