@@ -41,6 +41,11 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
         run.diagnosis.forward_evaluations,
         started.elapsed().as_secs_f64()
     );
+    // per model: where the time went (models run concurrently on the
+    // threads, so the elapsed times overlap and sum to more than the wall)
+    for r in &run.runs {
+        eprintln!("  {:<48} {:>8} evaluations {:>7.1} s", r.model.name(), r.forward_evaluations, r.elapsed_s);
+    }
     if let Some(dir) = &args.out {
         report::write_report(dir, &run, &data, &settings)?;
     }

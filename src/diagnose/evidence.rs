@@ -78,6 +78,10 @@ pub struct ModelRun {
     pub seed: u64,
     /// Forward-model solves of TMCMC, the MAP, the Laplace Hessian and the importance draws together.
     pub forward_evaluations: u64,
+    /// Wall time of this model's runs (s), replicates included. Models run
+    /// concurrently and share the threads, so this is a timing summary for
+    /// the CLI's stderr, never part of a (deterministic) result.
+    pub elapsed_s: f64,
 }
 
 /// The TMCMC settings of one model (its dimension `d`, master seed `seed`).
@@ -103,6 +107,7 @@ pub fn run_model(
     s: &DiagnoseSettings,
     seed: u64,
 ) -> Result<ModelRun, BayesError> {
+    let started = std::time::Instant::now();
     let d = posterior.dim();
     let counted = Counted::new(&posterior);
     let t = tmcmc(&counted, &tmcmc_config(d, s, seed))?;
@@ -135,6 +140,7 @@ pub fn run_model(
         importance,
         seed,
         forward_evaluations,
+        elapsed_s: started.elapsed().as_secs_f64(),
     })
 }
 
@@ -183,6 +189,7 @@ impl ModelRun {
 /// models whose first run missed the peak and whose Laplace evidence puts
 /// them in contention.
 pub fn replicate(run: ModelRun, s: &DiagnoseSettings) -> Result<ModelRun, BayesError> {
+    let started = std::time::Instant::now();
     let ModelRun { model, posterior, tmcmc: first, mut map, seed, .. } = run;
     let d = posterior.dim();
     let counted = Counted::new(&posterior);
@@ -215,6 +222,7 @@ pub fn replicate(run: ModelRun, s: &DiagnoseSettings) -> Result<ModelRun, BayesE
         importance,
         seed,
         forward_evaluations: run.forward_evaluations + counted.count(),
+        elapsed_s: run.elapsed_s + started.elapsed().as_secs_f64(),
         posterior,
     })
 }
