@@ -6,10 +6,10 @@ use std::process::Command;
 use nanobeam::calibration::MeasuredData;
 use nanobeam::diagnose::{diagnose, synthetic, DiagnoseError, DiagnoseSettings};
 
-/// `nanobeam diagnose` at quick settings (400 samples); returns the exit code and stderr.
+/// `nanobeam diagnose --quick`; returns the exit code and stderr.
 fn run_cli(input: &Path, out: &Path, json: bool) -> (i32, String) {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_nanobeam"));
-    cmd.arg("diagnose").arg(input).arg("--out").arg(out).args(["--samples", "400"]);
+    cmd.arg("diagnose").arg(input).arg("--out").arg(out).arg("--quick");
     if json {
         cmd.arg("--json");
     }
@@ -115,6 +115,14 @@ fn report_directory_is_written_and_json_is_shaped() {
     }
     assert!(["omega", "zeta"].contains(&v["misfit"][0]["quantity"].as_str().unwrap()));
     assert!(["importance", "tmcmc"].contains(&c["log_evidence_method"].as_str().unwrap()));
+    // `--quick` is the library's quick settings (what the hidden-effect suite validates)
+    let library = diagnose(&case.data(), &DiagnoseSettings::quick()).unwrap();
+    // (as text: serde_json's default float parsing may be 1 ulp off)
+    let written = std::fs::read_to_string(out.join("diagnosis.json")).unwrap();
+    assert!(
+        written == serde_json::to_string_pretty(&library).unwrap() + "\n",
+        "--quick is not DiagnoseSettings::quick()"
+    );
 }
 
 #[test]
