@@ -42,20 +42,33 @@ pub fn fmt_num(value: f64) -> String {
 }
 
 /// Checks `value > 0` and finite.
+///
+/// These checks run on every forward evaluation of a calibration (through
+/// `BeamSpec::validate`): the test is inlined and the error built out of line
+/// (`#[cold]`), so a passing check costs a comparison, not a call.
+#[inline]
 pub fn positive(field: &str, value: f64) -> Result<(), InputError> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(InputError::new(field, fmt_num(value), "> 0 (finite)"))
+        Err(violation(field, value, "> 0 (finite)"))
     }
 }
 
+/// The error of a failed [`positive`] / [`non_negative`] check.
+#[cold]
+#[inline(never)]
+fn violation(field: &str, value: f64, allowed: &str) -> InputError {
+    InputError::new(field, fmt_num(value), allowed)
+}
+
 /// Checks `value >= 0` and finite.
+#[inline]
 pub fn non_negative(field: &str, value: f64) -> Result<(), InputError> {
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
-        Err(InputError::new(field, fmt_num(value), ">= 0 (finite)"))
+        Err(violation(field, value, ">= 0 (finite)"))
     }
 }
 

@@ -330,12 +330,14 @@ fn alpha(points: &[Vec<f64>], log_pi: &[f64], path: &[usize], gammas: &[f64], pr
     if log_pi[y0] == f64::NEG_INFINITY {
         return 1.0;
     }
+    // At every stage i the last factors, q_i(yi → y0) in the numerator and
+    // q_i(y0 → yi) in the denominator, are the same Gaussian density of
+    // ±(yi − y0), bitwise (the forward substitution of a negated vector is the
+    // negated result, exactly), so they cancel in eq. (29) and are skipped
+    // (issue 15: log_q was 6 % of a calibrate; skipping the stage-1 pair and,
+    // at stage 2, the stage-2 pair halves its calls). At stage 1 nothing else
+    // is left: α1 = min(1, π(y1)/π(y0)) (Metropolis).
     if i == 1 {
-        // Stage 1 (any γ1): q1(y1 → y0) and q1(y0 → y1) are the same Gaussian
-        // density of ±(y1 − y0), bitwise (the forward substitution of a negated
-        // vector is the negated result, exactly), so they cancel in eq. (29) and
-        // α1 = min(1, π(y1)/π(y0)) (Metropolis). Issue 15: skipping them halves
-        // the quadratic forms of a two-stage step (log_q was 6 % of a calibrate).
         let log_ratio = log_pi[yi] - log_pi[y0];
         return if log_ratio.is_nan() {
             0.0
@@ -351,19 +353,17 @@ fn alpha(points: &[Vec<f64>], log_pi: &[f64], path: &[usize], gammas: &[f64], pr
     let reverse = &reverse[..path.len()];
     let mut log_num = log_pi[yi];
     let mut log_den = log_pi[y0];
-    for j in 1..=i {
-        // Stage-j proposal density: centred at the path's start.
+    for j in 1..i {
+        // Stage-j proposal density: centred at the path's start (j = i cancels, above).
         log_num += log_q(prop, gammas[j - 1], &points[yi], &points[reverse[j]]);
         log_den += log_q(prop, gammas[j - 1], &points[y0], &points[path[j]]);
-        if j < i {
-            let a_rev = alpha(points, log_pi, &reverse[..=j], gammas, prop);
-            let a_fwd = alpha(points, log_pi, &path[..=j], gammas, prop);
-            if a_rev >= 1.0 {
-                return 0.0;
-            }
-            log_num += (1.0 - a_rev).ln();
-            log_den += (1.0 - a_fwd).ln();
+        let a_rev = alpha(points, log_pi, &reverse[..=j], gammas, prop);
+        let a_fwd = alpha(points, log_pi, &path[..=j], gammas, prop);
+        if a_rev >= 1.0 {
+            return 0.0;
         }
+        log_num += (1.0 - a_rev).ln();
+        log_den += (1.0 - a_fwd).ln();
     }
     let log_ratio = log_num - log_den;
     if log_ratio.is_nan() {

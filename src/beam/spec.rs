@@ -168,14 +168,22 @@ pub const MAX_SPRING_TILDE: f64 = 1e12;
 pub const MAX_MASS_TILDE: f64 = 1e6;
 
 /// `RAW_MIN <= value <= RAW_MAX` (or exactly 0 when `zero_ok`).
+#[inline]
 fn in_window(field: &str, value: f64, zero_ok: bool) -> Result<(), InputError> {
     let ok = value.is_finite() && ((RAW_MIN..=RAW_MAX).contains(&value) || (zero_ok && value == 0.0));
     if ok {
         Ok(())
     } else {
-        let zero = if zero_ok { "0 or " } else { "" };
-        Err(InputError::new(field, fmt_num(value), format!("{zero}{RAW_MIN:e} <= x <= {RAW_MAX:e}")))
+        Err(outside_window(field, value, zero_ok))
     }
+}
+
+/// The error of [`in_window`], out of line (it runs on every forward evaluation).
+#[cold]
+#[inline(never)]
+fn outside_window(field: &str, value: f64, zero_ok: bool) -> InputError {
+    let zero = if zero_ok { "0 or " } else { "" };
+    InputError::new(field, fmt_num(value), format!("{zero}{RAW_MIN:e} <= x <= {RAW_MAX:e}"))
 }
 
 impl BeamSpec {
