@@ -240,7 +240,9 @@ pub struct Gain {
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct Alternative {
     pub extension: String,
-    /// ln Z(selected) − ln Z(alternative) (≥ 0, < the margin).
+    /// ln Z(selected) − ln Z(alternative), below the margin. Negative for a
+    /// model with more causes whose evidence exceeds the selected one's by
+    /// less than the ln B threshold a cause must gain to be added (step 2).
     pub log_bayes_factor_gap: f64,
 }
 
