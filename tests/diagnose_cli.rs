@@ -6,10 +6,10 @@ use std::process::Command;
 use nanobeam::calibration::MeasuredData;
 use nanobeam::diagnose::{diagnose, synthetic, DiagnoseError, DiagnoseSettings};
 
-/// `nanobeam diagnose --quick`; returns the exit code and stderr.
+/// `nanobeam diagnose` at its default settings; returns the exit code and stderr.
 fn run_cli(input: &Path, out: &Path, json: bool) -> (i32, String) {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_nanobeam"));
-    cmd.arg("diagnose").arg(input).arg("--out").arg(out).arg("--quick");
+    cmd.arg("diagnose").arg(input).arg("--out").arg(out);
     if json {
         cmd.arg("--json");
     }
@@ -115,13 +115,13 @@ fn report_directory_is_written_and_json_is_shaped() {
     }
     assert!(["omega", "zeta"].contains(&v["misfit"][0]["quantity"].as_str().unwrap()));
     assert!(["importance", "tmcmc"].contains(&c["log_evidence_method"].as_str().unwrap()));
-    // `--quick` is the library's quick settings (what the hidden-effect suite validates)
+    // the CLI's default is the library's quick settings (what the hidden-effect suite validates)
     let library = diagnose(&case.data(), &DiagnoseSettings::quick()).unwrap();
     // (as text: serde_json's default float parsing may be 1 ulp off)
     let written = std::fs::read_to_string(out.join("diagnosis.json")).unwrap();
     assert!(
         written == serde_json::to_string_pretty(&library).unwrap() + "\n",
-        "--quick is not DiagnoseSettings::quick()"
+        "the default is not DiagnoseSettings::quick()"
     );
 }
 
@@ -141,4 +141,23 @@ fn samples_out_of_range_is_blamed_on_the_flag() {
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(err.starts_with(&format!("invalid --samples = {bad}: allowed 50..=100000")), "{err}");
     }
+}
+
+/// `--quick` (the default) and `--thorough` contradict each other: exit 2,
+/// one line naming both flags, before anything runs.
+#[test]
+fn quick_and_thorough_together_are_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("m.yaml");
+    std::fs::write(&input, yaml_with(&format!("{M1}{M2}{M3}"))).unwrap();
+    let o = Command::new(env!("CARGO_BIN_EXE_nanobeam"))
+        .arg("diagnose")
+        .arg(&input)
+        .args(["--quick", "--thorough"])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert!(err.contains("--quick") && err.contains("--thorough"), "{err}");
 }

@@ -1,4 +1,4 @@
-//! `nanobeam diagnose MEASURED.yaml [--out DIR] [--json] [--samples N] [--quick]`:
+//! `nanobeam diagnose MEASURED.yaml [--out DIR] [--json] [--samples N] [--thorough]`:
 //! misfit, causes, extension and gain (see `crate::diagnose`).
 
 use std::path::PathBuf;
@@ -18,14 +18,34 @@ pub struct DiagnoseArgs {
     /// Print the diagnosis as JSON on stdout.
     #[arg(long)]
     pub json: bool,
-    /// TMCMC samples per stage per model [default: 1000, or 400 with --quick].
+    /// TMCMC samples per stage per model [default: 400, or 1000 with --thorough].
     #[arg(long)]
     pub samples: Option<usize>,
-    /// The settings the hidden-effect test suite validates its accuracy targets at
-    /// (400 samples, 3 MH steps per stage, 250 MAP iterations) instead of the
-    /// defaults (1000, 4, 400): about 2.5 times fewer forward solves.
+    /// The longer runs of the library's defaults (1000 samples, 4 MH steps per stage, 400 MAP
+    /// iterations; about 3 times the forward solves) instead of the settings the hidden-effect
+    /// suite validates its accuracy targets at (400, 3, 250), which are the default.
+    #[arg(long, conflicts_with = "quick")]
+    pub thorough: bool,
+    /// The default settings (400 samples, 3 MH steps, 250 MAP iterations); kept for scripts
+    /// written when they were not the default.
     #[arg(long)]
     pub quick: bool,
+}
+
+/// The settings the flags select: `DiagnoseSettings::quick()`, the settings
+/// the hidden-effect suite validates, unless `--thorough` asks for
+/// `DiagnoseSettings::default()`. The validated settings are the default
+/// since they name as many causes right as the longer runs: on 13
+/// independent 5-mode files, 11/13 against 10/13 (every miss a support spring
+/// taken for an axial force or the reverse, the truth listed as an
+/// alternative, at both settings), in at most 27 s against 78 s (issue 13,
+/// item 8: ≤ 30 s).
+pub fn settings(args: &DiagnoseArgs) -> DiagnoseSettings {
+    let mut settings = if args.thorough { DiagnoseSettings::default() } else { DiagnoseSettings::quick() };
+    if let Some(samples) = args.samples {
+        settings.samples = samples;
+    }
+    settings
 }
 
 /// Runs the command: the summary (or the JSON) goes to `out`; DIR is only
@@ -34,10 +54,7 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
     if let Some(dir) = &args.out {
         crate::report::render::check_out_dir(dir).map_err(|e| crate::cli::calibrate::out_dir_error(dir, e))?;
     }
-    let mut settings = if args.quick { DiagnoseSettings::quick() } else { DiagnoseSettings::default() };
-    if let Some(samples) = args.samples {
-        settings.samples = samples;
-    }
+    let settings = settings(args);
     settings.validate()?;
     let data = read_measured(&args.measured)?;
     let started = std::time::Instant::now();
@@ -80,4 +97,26 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
         t
     };
     write_out(out, &text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(thorough: bool, quick: bool, samples: Option<usize>) -> DiagnoseArgs {
+        DiagnoseArgs { measured: "m.yaml".into(), out: None, json: false, samples, thorough, quick }
+    }
+
+    /// No flag and `--quick` give the validated settings, `--thorough` the
+    /// library's defaults; `--samples` overrides either's sample count only.
+    #[test]
+    fn flags_select_the_settings() {
+        assert_eq!(settings(&args(false, false, None)), DiagnoseSettings::quick());
+        assert_eq!(settings(&args(false, true, None)), DiagnoseSettings::quick());
+        assert_eq!(settings(&args(true, false, None)), DiagnoseSettings::default());
+        let more = DiagnoseSettings { samples: 77, ..DiagnoseSettings::default() };
+        assert_eq!(settings(&args(true, false, Some(77))), more);
+        let fewer = DiagnoseSettings { samples: 77, ..DiagnoseSettings::quick() };
+        assert_eq!(settings(&args(false, false, Some(77))), fewer);
+    }
 }
