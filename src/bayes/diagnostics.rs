@@ -736,6 +736,21 @@ mod tests {
         }
     }
 
+    /// The radix sort orders as `total_cmp` does (−0 before +0, ties
+    /// adjacent) and keeps every (value, position) pair.
+    #[test]
+    fn sorted_with_positions_orders_as_total_cmp() {
+        let chains = vec![vec![0.5, -0.0, 3.0, -2.5, 0.0, 1e-300], vec![-1e300, 0.5, -0.0, 7.0, -2.5, 0.0]];
+        let order = sorted_with_positions(&chains);
+        let mut expected: Vec<(f64, usize)> = chains.iter().flatten().copied().zip(0..).collect();
+        expected.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut got = order.clone();
+        // ties among themselves in any order: compare as sorted pairs
+        got.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        assert_eq!(got, expected);
+        assert!(order.windows(2).all(|w| w[0].0.total_cmp(&w[1].0).is_le()), "{order:?}");
+    }
+
     /// Selection gives the bits of the sorted type-7 quantile, ties and ends included.
     #[test]
     fn quantile_select_equals_quantile_sorted() {
