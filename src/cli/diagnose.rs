@@ -35,7 +35,7 @@ pub struct DiagnoseArgs {
 /// The settings the flags select: `DiagnoseSettings::quick()`, the settings
 /// the hidden-effect suite validates, unless `--thorough` asks for
 /// `DiagnoseSettings::default()`. The validated settings are the default
-/// since they name as many causes right as the longer runs: on 13
+/// since they named at least as many causes right as the longer runs: on 13
 /// independent 5-mode files, 11/13 against 10/13 (every miss a support spring
 /// taken for an axial force or the reverse, the truth listed as an
 /// alternative, at both settings), in at most 27 s against 78 s (issue 13,
