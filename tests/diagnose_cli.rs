@@ -4,7 +4,7 @@ use std::path::Path;
 use std::process::Command;
 
 use nanobeam::calibration::MeasuredData;
-use nanobeam::diagnose::{diagnose, synthetic, DiagnoseError, DiagnoseSettings};
+use nanobeam::diagnose::{diagnose, diagnose_run, report, synthetic, Alternative, DiagnoseError, DiagnoseSettings};
 
 /// `nanobeam diagnose` at its default settings; returns the exit code and stderr.
 fn run_cli(input: &Path, out: &Path, json: bool) -> (i32, String) {
@@ -116,13 +116,22 @@ fn report_directory_is_written_and_json_is_shaped() {
     assert!(["omega", "zeta"].contains(&v["misfit"][0]["quantity"].as_str().unwrap()));
     assert!(["importance", "tmcmc"].contains(&c["log_evidence_method"].as_str().unwrap()));
     // the CLI's default is the library's quick settings (what the hidden-effect suite validates)
-    let library = diagnose(&case.data(), &DiagnoseSettings::quick()).unwrap();
+    let data = case.data();
+    let mut run = diagnose_run(&data, &DiagnoseSettings::quick()).unwrap();
     // (as text: serde_json's default float parsing may be 1 ulp off)
     let written = std::fs::read_to_string(out.join("diagnosis.json")).unwrap();
     assert!(
-        written == serde_json::to_string_pretty(&library).unwrap() + "\n",
+        written == serde_json::to_string_pretty(&run.diagnosis).unwrap() + "\n",
         "the default is not DiagnoseSettings::quick()"
     );
+    // alternatives with no modal measurement to separate them: the report says so
+    let d = &mut run.diagnosis;
+    d.alternatives.push(Alternative { extension: "viscous-damping".into(), log_bayes_factor_gap: 0.5 });
+    d.next_measurement = None;
+    let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
+    assert!(text.contains("| viscous-damping | 0.5 |"), "{text}");
+    assert!(text.contains("**Next measurement:** none of this kind"), "{text}");
+    assert!(text.contains("unmeasured mode up to 8 separates"), "{text}");
 }
 
 #[test]

@@ -91,8 +91,19 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
         for a in &d.alternatives {
             t += &format!("alternative: {} (ln B gap {:.2})\n", a.extension, a.log_bayes_factor_gap);
         }
-        if let Some(n) = &d.next_measurement {
-            t += &format!("next measurement: {} of mode {} ({:.1} sd apart)\n", n.quantity, n.mode, n.separation_sd);
+        match (&d.next_measurement, d.alternatives.is_empty()) {
+            (Some(n), _) => {
+                t += &format!("next measurement: {} of mode {} ({:.1} sd apart)\n", n.quantity, n.mode, n.separation_sd)
+            }
+            (None, false) => {
+                t += &format!(
+                    "next measurement: none of this kind (no omega or zeta of an unmeasured mode <= {} separates the \
+                     alternatives by {} sd; a measurement of another kind is needed)\n",
+                    crate::diagnose::next::MAX_MODE,
+                    crate::diagnose::next::MIN_SEPARATION_SD
+                )
+            }
+            (None, true) => {}
         }
         t
     };

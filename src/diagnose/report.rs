@@ -85,6 +85,8 @@ pub fn markdown(run: &DiagnosisRun, data: &MeasuredData, s: &DiagnoseSettings) -
         "seed": s.seed.unwrap_or(data.sampler.seed),
         "samples": s.samples,
         "mh_steps": s.mh_steps,
+        "next_max_mode": super::next::MAX_MODE,
+        "next_min_separation_sd": super::next::MIN_SEPARATION_SD,
     });
     render_embedded("diagnose.md.tera", TEMPLATE, &ctx)
 }
