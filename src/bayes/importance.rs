@@ -89,73 +89,113 @@ pub fn importance_log_evidence(
     draws: usize,
     seed: u64,
 ) -> Result<ImportanceEvidence, BayesError> {
-    let d = center.len();
-    let k = population.len();
-    if posterior.dim() != d || k < d + 2 || population.iter().any(|p| p.len() != d) {
-        return Err(BayesError::ImportancePopulation {
-            center: d,
-            posterior: posterior.dim(),
-            population: k,
-            needed: d + 2,
-        });
-    }
-    let pop_cov = sample_covariance(population);
-    let t_cov = match covariance {
-        Some(c) => DMatrix::from_fn(d, d, |i, j| c[i][j]),
-        None => pop_cov.clone(),
-    };
-    let not_pd = |which: &'static str, m: &DMatrix<f64>| BayesError::ImportanceCovariance {
-        which,
-        min_eigenvalue: m.clone().symmetric_eigenvalues().iter().copied().fold(f64::INFINITY, f64::min),
-    };
-    let t = Component::new(t_cov.clone()).ok_or_else(|| not_pd("t component", &t_cov))?;
-    let h = (4.0 / ((d as f64 + 2.0) * k as f64)).powf(1.0 / (d as f64 + 4.0));
-    let kde_cov = pop_cov * (h * h);
-    let kde = Component::new(kde_cov.clone()).ok_or_else(|| not_pd("kernel", &kde_cov))?;
+    let proposal = MixtureProposal::new(posterior.dim(), center, covariance, population)?;
+    evidence_from_log_weights(&proposal.log_weights(posterior, 0..draws, seed))
+}
 
-    let df = d as f64;
-    // ln of the t_ν density's normalising constant, less ½ ln det Σ*
-    let t_norm = ln_gamma(0.5 * (T_DOF + df))
-        - ln_gamma(0.5 * T_DOF)
-        - 0.5 * df * (T_DOF * std::f64::consts::PI).ln()
-        - t.half_log_det;
-    let g_norm = -0.5 * df * (2.0 * std::f64::consts::PI).ln() - kde.half_log_det - (k as f64).ln();
-    let chi2 = ChiSquared::new(T_DOF).expect("T_DOF > 0");
-    // kernel centres whitened once (y_k = L⁻¹θ_k), so each kernel costs d
-    // flops per draw: |L⁻¹(x − θ_k)|² = |L⁻¹x − y_k|²
-    let whiten = |x: &[f64]| &kde.l_inv * DVector::from_column_slice(x);
-    let centres: Vec<DVector<f64>> = population.iter().map(|p| whiten(p)).collect();
-    let log_q = |x: &[f64]| {
-        let lt = t_norm - 0.5 * (T_DOF + df) * (1.0 + t.mahalanobis2(x, center) / T_DOF).ln();
-        let y = whiten(x);
-        let lk: Vec<f64> = centres
+/// The defensive mixture of the module doc: ½ multivariate t_ν at `center`
+/// plus ½ Gaussian kernels on the population. Draw i is a function of
+/// (seed, i) alone, so the log weights of draws 0..n are those of 0..m
+/// followed by those of m..n: an estimate can be extended without redrawing
+/// ([`MixtureProposal::log_weights`]).
+pub struct MixtureProposal<'a> {
+    center: &'a [f64],
+    population: &'a [Vec<f64>],
+    t: Component,
+    kde: Component,
+    /// ln of the t_ν density's normalising constant, less ½ ln det Σ*
+    t_norm: f64,
+    g_norm: f64,
+    /// kernel centres whitened once (y_k = L⁻¹θ_k), so each kernel costs d
+    /// flops per draw: |L⁻¹(x − θ_k)|² = |L⁻¹x − y_k|²
+    centres: Vec<DVector<f64>>,
+    chi2: ChiSquared<f64>,
+}
+
+impl<'a> MixtureProposal<'a> {
+    /// The mixture for a `dim`-parameter posterior (arguments as
+    /// [`importance_log_evidence`]'s).
+    pub fn new(
+        dim: usize,
+        center: &'a [f64],
+        covariance: Option<&[Vec<f64>]>,
+        population: &'a [Vec<f64>],
+    ) -> Result<Self, BayesError> {
+        let d = center.len();
+        let k = population.len();
+        if dim != d || k < d + 2 || population.iter().any(|p| p.len() != d) {
+            return Err(BayesError::ImportancePopulation { center: d, posterior: dim, population: k, needed: d + 2 });
+        }
+        let pop_cov = sample_covariance(population);
+        let t_cov = match covariance {
+            Some(c) => DMatrix::from_fn(d, d, |i, j| c[i][j]),
+            None => pop_cov.clone(),
+        };
+        let not_pd = |which: &'static str, m: &DMatrix<f64>| BayesError::ImportanceCovariance {
+            which,
+            min_eigenvalue: m.clone().symmetric_eigenvalues().iter().copied().fold(f64::INFINITY, f64::min),
+        };
+        let t = Component::new(t_cov.clone()).ok_or_else(|| not_pd("t component", &t_cov))?;
+        let h = (4.0 / ((d as f64 + 2.0) * k as f64)).powf(1.0 / (d as f64 + 4.0));
+        let kde_cov = pop_cov * (h * h);
+        let kde = Component::new(kde_cov.clone()).ok_or_else(|| not_pd("kernel", &kde_cov))?;
+        let df = d as f64;
+        let t_norm = ln_gamma(0.5 * (T_DOF + df))
+            - ln_gamma(0.5 * T_DOF)
+            - 0.5 * df * (T_DOF * std::f64::consts::PI).ln()
+            - t.half_log_det;
+        let g_norm = -0.5 * df * (2.0 * std::f64::consts::PI).ln() - kde.half_log_det - (k as f64).ln();
+        let centres = population.iter().map(|p| &kde.l_inv * DVector::from_column_slice(p)).collect();
+        let chi2 = ChiSquared::new(T_DOF).expect("T_DOF > 0");
+        Ok(Self { center, population, t, kde, t_norm, g_norm, centres, chi2 })
+    }
+
+    /// ln q(x) of the mixture.
+    fn log_q(&self, x: &[f64]) -> f64 {
+        let df = x.len() as f64;
+        let lt = self.t_norm - 0.5 * (T_DOF + df) * (1.0 + self.t.mahalanobis2(x, self.center) / T_DOF).ln();
+        let y = &self.kde.l_inv * DVector::from_column_slice(x);
+        let lk: Vec<f64> = self
+            .centres
             .iter()
-            .map(|c| g_norm - 0.5 * y.iter().zip(c.iter()).map(|(a, b)| (a - b) * (a - b)).sum::<f64>())
+            .map(|c| self.g_norm - 0.5 * y.iter().zip(c.iter()).map(|(a, b)| (a - b) * (a - b)).sum::<f64>())
             .collect();
         log_sum_exp(&[lt - std::f64::consts::LN_2, log_sum_exp(&lk) - std::f64::consts::LN_2])
-    };
-    let log_w: Vec<f64> = (0..draws)
-        .into_par_iter()
-        .map(|i| {
-            let mut rng = stream(seed, Purpose::ImportanceDraw, [i as u64, 0]);
-            let z = DVector::from_iterator(d, (0..d).map(|_| rng.sample::<f64, _>(StandardNormal)));
-            let x: Vec<f64> = if rng.gen::<f64>() < 0.5 {
-                let scale = (T_DOF / chi2.sample(&mut rng)).sqrt();
-                let y = &t.l * z * scale;
-                center.iter().zip(y.iter()).map(|(c, y)| c + y).collect()
-            } else {
-                let base = &population[rng.gen_range(0..k)];
-                let y = &kde.l * z;
-                base.iter().zip(y.iter()).map(|(c, y)| c + y).collect()
-            };
-            let lp = posterior.log_posterior(&x);
-            if lp.is_finite() {
-                lp - log_q(&x)
-            } else {
-                f64::NEG_INFINITY
-            }
-        })
-        .collect();
+    }
+
+    /// ln π(x) − ln q(x) of draws `range` (−∞ where the posterior is not
+    /// finite), draw i from its own stream (seed, i).
+    pub fn log_weights(&self, posterior: &dyn Posterior, range: std::ops::Range<usize>, seed: u64) -> Vec<f64> {
+        let (d, k) = (self.center.len(), self.population.len());
+        range
+            .into_par_iter()
+            .map(|i| {
+                let mut rng = stream(seed, Purpose::ImportanceDraw, [i as u64, 0]);
+                let z = DVector::from_iterator(d, (0..d).map(|_| rng.sample::<f64, _>(StandardNormal)));
+                let x: Vec<f64> = if rng.gen::<f64>() < 0.5 {
+                    let scale = (T_DOF / self.chi2.sample(&mut rng)).sqrt();
+                    let y = &self.t.l * z * scale;
+                    self.center.iter().zip(y.iter()).map(|(c, y)| c + y).collect()
+                } else {
+                    let base = &self.population[rng.gen_range(0..k)];
+                    let y = &self.kde.l * z;
+                    base.iter().zip(y.iter()).map(|(c, y)| c + y).collect()
+                };
+                let lp = posterior.log_posterior(&x);
+                if lp.is_finite() {
+                    lp - self.log_q(&x)
+                } else {
+                    f64::NEG_INFINITY
+                }
+            })
+            .collect()
+    }
+}
+
+/// ln Ẑ = ln mean(w), its delta-method se and the Kish ESS of importance
+/// log weights (an error when none is finite).
+pub fn evidence_from_log_weights(log_w: &[f64]) -> Result<ImportanceEvidence, BayesError> {
+    let draws = log_w.len();
     let max = log_w.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     if !max.is_finite() {
         return Err(BayesError::ImportanceNoFiniteDraw { draws });
@@ -261,6 +301,12 @@ mod tests {
         // determinism: the same seed gives the same bits
         let again = importance_log_evidence(&g, &vec![0.0; d], Some(&cov), &pop, 4000, 11).unwrap();
         assert_eq!(r.log_evidence.to_bits(), again.log_evidence.to_bits());
+        // an estimate extended by draws 1500..4000 is the 4000-draw estimate, bitwise
+        let center = vec![0.0; d];
+        let q = MixtureProposal::new(d, &center, Some(&cov), &pop).unwrap();
+        let mut log_w = q.log_weights(&g, 0..1500, 11);
+        log_w.extend(q.log_weights(&g, 1500..4000, 11));
+        assert_eq!(evidence_from_log_weights(&log_w).unwrap(), r);
     }
 
     #[test]

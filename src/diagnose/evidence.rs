@@ -40,7 +40,7 @@
 
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
-use crate::bayes::importance::{importance_log_evidence, ImportanceEvidence};
+use crate::bayes::importance::{evidence_from_log_weights, ImportanceEvidence, MixtureProposal};
 use crate::bayes::laplace::{laplace_log_evidence_with_step, LaplaceEvidence};
 use crate::bayes::map::{map_estimate, MapResult};
 use crate::bayes::posterior::Counted;
@@ -161,21 +161,18 @@ fn importance_at(
     seed: u64,
     stream: [u64; 2],
 ) -> Option<ImportanceEvidence> {
-    let estimate = |draws: usize| {
-        importance_log_evidence(
-            counted,
-            map,
-            laplace.map(|l| l.covariance.as_slice()),
-            population,
-            draws,
-            child_seed(seed, Purpose::ImportanceDraw, stream),
-        )
-        .ok()
-    };
+    let proposal =
+        MixtureProposal::new(counted.dim(), map, laplace.map(|l| l.covariance.as_slice()), population).ok()?;
+    let seed = child_seed(seed, Purpose::ImportanceDraw, stream);
     let base = IMPORTANCE_DRAWS_PER_SAMPLE * s.samples;
-    let first = estimate(base)?;
+    let mut log_w = proposal.log_weights(counted, 0..base, seed);
+    let first = evidence_from_log_weights(&log_w).ok()?;
     match importance_draws_for(&first, base) {
-        Some(more) => estimate(more).or(Some(first)),
+        // draws base..more extend the first batch (draw i depends on i alone)
+        Some(more) => {
+            log_w.extend(proposal.log_weights(counted, base..more, seed));
+            evidence_from_log_weights(&log_w).ok().or(Some(first))
+        }
         None => Some(first),
     }
 }
