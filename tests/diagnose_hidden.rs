@@ -4,8 +4,9 @@
 //! `-- --nocapture` for the per-case lines and the confusion matrix.
 //!
 //! 41 cases: 5 clean, 4 per single cause (24), 8 pairs, 4 foreign
-//! (`synthetic::Foreign::ModeCoupling`: one mode in an avoided crossing with
-//! a lossy resonance outside the beam). Every effect alone moves some
+//! (`synthetic::Foreign`, alternating: `ModeCoupling`, one mode in an
+//! avoided crossing with a lossy resonance outside the beam, and
+//! `LocalDefect`, EI lowered over 1–3 elements). Every effect alone moves some
 //! observable ≥ `synthetic::MIN_SHIFT_SIGMA` σ against the best base fit
 //! (the generator grows it until it does); a foreign effect also against the
 //! best fit of every catalogue model of one or two causes.

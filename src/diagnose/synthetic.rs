@@ -41,12 +41,15 @@ pub const ZETA_REL_SD: f64 = 0.03;
 /// The generator grows it until no catalogue model of at most two causes
 /// fits the noise-free data: see [`generate_hidden`].
 ///
-/// Two other candidates were tried and dropped because the catalogue fits
-/// them (the generator could not make either unfittable within its cap):
+/// Three other candidates were tried and dropped because the catalogue fits
+/// them (the generator could not make any unfittable within its cap):
 /// a hysteretic loss factor (ζ raised alike on every mode: two relaxations
 /// and viscous damping reproduce a flat ζ over the 1.5 decades of 6 modes
-/// up to η = 0.2) and a uniform coating (every frequency × 1/√(1 + ε):
-/// e0a and an axial compression together make a near-uniform drop).
+/// up to η = 0.2), a uniform coating (every frequency × 1/√(1 + ε):
+/// e0a and an axial compression together make a near-uniform drop) and a
+/// linear taper d(x) = d₀(1 + t(x/L − ½)) up to t = 1 (EI ∝ d⁴, ρA ∝ d²;
+/// on a simply supported beam its effect is even in t and smooth in n,
+/// four seeds of four gave up, 2026-11-25).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Foreign {
     /// An avoided crossing of one beam mode with a lossy resonance outside
@@ -54,6 +57,12 @@ pub enum Foreign {
     /// by 2–8 %): that mode alone shifts and borrows damping, which no
     /// smooth-in-n class reproduces.
     ModeCoupling,
+    /// A local bending-stiffness defect (a vacancy cluster, a kink): EI
+    /// lowered by a fraction ε over 1–3 adjacent elements (0.4–1.2 nm) at a
+    /// random place. To first order it lowers ω_n like a point mass does
+    /// (both ∝ sin²(nπx/L) on a simply supported beam), but averaged over
+    /// its length, which a point mass is not once half a wavelength spans it.
+    LocalDefect,
 }
 
 /// Damping ratio of the external resonance in [`Foreign::ModeCoupling`]
@@ -62,11 +71,12 @@ pub enum Foreign {
 pub const CLAMP_MODE_ZETA: f64 = 0.05;
 
 impl Foreign {
-    pub const ALL: [Foreign; 1] = [Foreign::ModeCoupling];
+    pub const ALL: [Foreign; 2] = [Foreign::ModeCoupling, Foreign::LocalDefect];
 
     pub fn name(self) -> &'static str {
         match self {
             Foreign::ModeCoupling => "mode-coupling",
+            Foreign::LocalDefect => "local-defect",
         }
     }
 }
@@ -153,6 +163,8 @@ fn magnitude_range(effect: Effect) -> (f64, f64) {
         // coupling g (fraction of the geometric mean of the two squared frequencies);
         // beyond 0.1 the two resonances hybridize and "the beam mode" loses its meaning
         Effect::Foreign(Foreign::ModeCoupling) => (0.005, 0.1),
+        // ε, the fraction of EI lost; 0.9 leaves a tenth of the section's stiffness
+        Effect::Foreign(Foreign::LocalDefect) => (0.05, 0.9),
     }
 }
 
@@ -178,6 +190,12 @@ fn draw_shape(effect: Effect, clean: &[Mode], length_nm: f64, rng: &mut ChaCha8R
             let mode = rng.gen_range(2..=clean.len()) as f64;
             let sign = if rng.gen_range(0..2) == 0 { 1.0 } else { -1.0 };
             [mode, sign * rng.gen_range(0.02..0.08)]
+        }
+        // [first element, width in elements (1–3)]
+        Effect::Foreign(Foreign::LocalDefect) => {
+            let width = rng.gen_range(1..=3usize);
+            let elements = nominal_beam().elements;
+            [rng.gen_range(0..=elements - width) as f64, width as f64]
         }
         _ => [0.0, 0.0],
     }
@@ -286,23 +304,100 @@ fn with_effect(base: &Truth, effect: Effect, shape: [f64; 2], mag: f64, s: &Nomi
                 shear_coefficient: 1.0 / mag,
             })
         }
-        Effect::Foreign(f @ Foreign::ModeCoupling) => t.modal.push((f, shape, mag)),
+        Effect::Foreign(f) => t.modal.push((f, shape, mag)),
     }
     t
 }
 
-/// The first `n_modes` modes of `truth`: the beam's, then its modal effects.
+/// The first `n_modes` modes of `truth`: the beam's (through
+/// [`section_modes`] when a section effect is present), then its modal effects.
 fn predict(truth: &Truth, n_modes: usize) -> Result<Vec<Mode>, beam::BeamError> {
-    let mut modes = beam::modal(&truth.beam, n_modes)?.modes;
-    for &(effect, shape, mag) in &truth.modal {
-        match effect {
-            Foreign::ModeCoupling => {
-                let m = &mut modes[shape[0] as usize - 1];
-                set_pole(m, coupled_pole(m.pole, shape[1], mag));
+    let elements = truth.beam.elements;
+    let mut section = vec![1.0; elements];
+    for &(_, shape, mag) in truth.modal.iter().filter(|(f, ..)| *f == Foreign::LocalDefect) {
+        for (e, ei) in section.iter_mut().enumerate() {
+            if (shape[0]..shape[0] + shape[1]).contains(&(e as f64)) {
+                *ei *= 1.0 - mag;
             }
         }
     }
+    let mut modes = if truth.modal.iter().any(|(f, ..)| *f == Foreign::LocalDefect) {
+        section_modes(&truth.beam, &section, n_modes)?
+    } else {
+        beam::modal(&truth.beam, n_modes)?.modes
+    };
+    for &(effect, shape, mag) in &truth.modal {
+        if effect == Foreign::ModeCoupling {
+            let m = &mut modes[shape[0] as usize - 1];
+            set_pole(m, coupled_pole(m.pole, shape[1], mag));
+        }
+    }
     Ok(modes)
+}
+
+/// The first `n_modes` modes of a beam whose element e has bending stiffness
+/// EI·`section[e]`: Hermite elements (A4–A6) with those factors (mass and
+/// Eringen's operator on the inertia unchanged), every element relaxing
+/// alike (eq. 8).
+/// The product has no non-uniform section, so this is the generator's own
+/// truth, not a model the diagnosis could use. Only the base truth's
+/// mechanisms are allowed (nonlocality and internal variables): the pencil
+/// then decouples, each undamped eigenpair λ_j of (K̃, M̃) (dense Cholesky +
+/// symmetric eigensolver; 40 DOFs) giving the family s̃² + λ_j G(s̃) = 0 of
+/// `beam::family`, the relaxation factor G being the same in every element.
+fn section_modes(beam: &BeamSpec, section: &[f64], n_modes: usize) -> Result<Vec<Mode>, beam::BeamError> {
+    use crate::beam::{element, family, model};
+    let plain = beam.viscous_damping_n_s_m2 == 0.0
+        && beam.support_rotational_stiffness_n_m_rad == 0.0
+        && beam.axial_force_n == 0.0
+        && beam.point_mass.is_none()
+        && beam.shear_deformation.is_none();
+    if !plain || section.len() != beam.elements {
+        return Err(beam::BeamError::Numerical("a section effect combines with the base truth only".into()));
+    }
+    let mesh = model::UnitMesh::new(beam.elements, beam.support);
+    let scaling = model::Scaling::new(beam);
+    let e2 = scaling.e_tilde * scaling.e_tilde;
+    let h = 1.0 / beam.elements as f64;
+    let (ke, me, se) = (element::curvature_integral(h), element::mass_integral(h), element::slope_integral(h));
+    let n = mesh.n();
+    let (mut k, mut m) = (nalgebra::DMatrix::<f64>::zeros(n, n), nalgebra::DMatrix::<f64>::zeros(n, n));
+    for (e, &ei) in section.iter().enumerate() {
+        for a in 0..4 {
+            let Some(i) = mesh.dof_map[2 * e + a] else { continue };
+            for b in 0..4 {
+                let Some(j) = mesh.dof_map[2 * e + b] else { continue };
+                k[(i, j)] += ei * ke[a][b];
+                m[(i, j)] += me[a][b] + e2 * se[a][b];
+            }
+        }
+    }
+    let l = m.cholesky().ok_or_else(|| beam::BeamError::Numerical("section mass not positive definite".into()))?;
+    let linv = l.l().try_inverse().ok_or_else(|| beam::BeamError::Numerical("singular Cholesky factor".into()))?;
+    let a = &linv * k * linv.transpose();
+    let sym = (&a + a.transpose()) * 0.5;
+    let mut lambda: Vec<f64> = nalgebra::SymmetricEigen::new(sym).eigenvalues.iter().copied().collect();
+    lambda.sort_by(f64::total_cmp);
+    let ivs: Vec<(f64, f64)> = beam
+        .internal_variables
+        .iter()
+        .filter(|iv| iv.delta > 0.0)
+        .map(|iv| (iv.delta, iv.omega_rad_s / scaling.omega_ref))
+        .collect();
+    lambda
+        .iter()
+        .take(n_modes)
+        .enumerate()
+        .map(|(r, &lam)| {
+            let roots = family::family_roots(0.0, lam, 0.0, &ivs)?;
+            let s = roots
+                .iter()
+                .find(|s| s.im > 0.0)
+                .ok_or_else(|| beam::BeamError::Numerical(format!("mode {} is overdamped", r + 1)))?;
+            let pole = s * scaling.omega_ref;
+            Ok(Mode { mode: r + 1, omega_rad_s: pole.norm(), zeta: -pole.re / pole.norm(), pole })
+        })
+        .collect()
 }
 
 fn set_pole(m: &mut Mode, s: Complex64) {
@@ -361,17 +456,17 @@ fn base_fit_max_z(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -
     let iv = truth.internal_variables[0];
     let mut starts = vec![vec![truth.nonlocal_e0a_nm, iv.delta, iv.omega_rad_s]];
     starts.extend((0..128).map(|_| post.sample_prior(&mut rng)));
-    fit_max_z(&post, starts, &[0.05, 0.05, 0.05e12])
+    fit_max_z(&post, starts, &[0.05, 0.05, 0.05e12], 3)
 }
 
 /// Screens `starts` by log posterior, runs Nelder–Mead (600 iterations,
-/// simplex `sd`) from the best 3 and returns [`max_z`] at the best result.
-fn fit_max_z(post: &super::ClassPosterior, starts: Vec<Vec<f64>>, sd: &[f64]) -> f64 {
+/// simplex `sd`) from the best `restarts` and returns [`max_z`] at the best result.
+fn fit_max_z(post: &super::ClassPosterior, starts: Vec<Vec<f64>>, sd: &[f64], restarts: usize) -> f64 {
     let mut scored: Vec<(f64, Vec<f64>)> = starts.into_iter().map(|u| (post.log_posterior(&u), u)).collect();
     scored.sort_by(|a, b| b.0.total_cmp(&a.0));
     let best = scored
         .iter()
-        .take(3)
+        .take(restarts)
         .map(|(_, u)| map_estimate(post, u, sd, 600))
         .max_by(|a, b| a.log_posterior.total_cmp(&b.log_posterior))
         .expect("starts");
@@ -385,6 +480,18 @@ fn max_z(post: &super::ClassPosterior, theta: &[f64]) -> f64 {
     obs.observed().iter().zip(obs.sd()).zip(&fit).map(|((y, sd), f)| ((y - f) / sd).abs()).fold(0.0, f64::max)
 }
 
+/// Points screened per catalogue model in [`catalogue_fits`], and the
+/// Nelder–Mead runs from the best of them. A local search can miss a
+/// narrow basin: local-defect seed 404 passes as unfittable, yet the
+/// diagnosis fits it with attached mass + shear deformation (a mass of
+/// 0.69 ρAL 0.50 nm from a support, κ on its prior bound 0.3, e0a = 0.37 nm;
+/// largest residual 2.3 σ on the noisy data). 256 points and 8 runs
+/// (2026-11-25) did not find that fit either and doubled the generation
+/// time, so the suite's seeds are checked by the diagnosis itself: a case
+/// the catalogue fits fails the open-world test instead of passing it.
+const CATALOGUE_STARTS: usize = 64;
+const CATALOGUE_RESTARTS: usize = 3;
+
 /// The catalogue models a foreign effect must defeat: every single cause and every pair.
 fn catalogue_models() -> Vec<Model> {
     ModelClass::CAUSES.iter().map(|&a| Model::with(&[a])).chain(Model::pairs()).collect()
@@ -394,13 +501,14 @@ fn catalogue_models() -> Vec<Model> {
 /// its largest standardized residual below [`MIN_SHIFT_SIGMA`] at its best
 /// fit? Models are tried cheapest first (decoupled damping classes, then
 /// the coupled ones; measured cost per evaluation at prior draws 3 µs to
-/// 1 ms) and the answer is the first that fits. Each fit screens 64 points
-/// (16 with the base coordinates at the truth's, the rest prior draws) and
-/// runs Nelder–Mead (600 iterations) from the best 3, simplex 5 % of each
-/// prior's width (0.05 in ln x for log-uniform priors). A local optimizer
-/// can miss a better fit, which would make a foreign case look unfittable
-/// when it is not; the diagnosis's own TMCMC then finds the fit, and the
-/// open-world test fails on that case rather than passing by it.
+/// 1 ms) and the answer is the first that fits. Each fit screens
+/// [`CATALOGUE_STARTS`] points (a quarter with the base coordinates at the
+/// truth's, the rest prior draws) and runs Nelder–Mead (600 iterations)
+/// from the best [`CATALOGUE_RESTARTS`], simplex 5 % of each prior's width
+/// (0.05 in ln x for log-uniform priors). A local optimizer can miss a
+/// better fit, which would make a foreign case look unfittable when it is
+/// not; the diagnosis's own TMCMC then finds the fit, and the open-world
+/// test fails on that case rather than passing by it.
 fn catalogue_fits(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -> bool {
     let iv = truth.internal_variables[0];
     let base_truth = [truth.nonlocal_e0a_nm, iv.delta, iv.omega_rad_s];
@@ -435,16 +543,16 @@ fn catalogue_fits(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -
             })
             .collect();
         let mut rng = stream(seed, Purpose::SyntheticBaseFit, [1 + *k as u64, 0]);
-        let starts = (0..64)
+        let starts = (0..CATALOGUE_STARTS)
             .map(|i| {
                 let mut u = post.sample_prior(&mut rng);
-                if i < 16 {
+                if i < CATALOGUE_STARTS / 4 {
                     u[..3].copy_from_slice(&base_truth);
                 }
                 u
             })
             .collect();
-        fit_max_z(&post, starts, &sd) < MIN_SHIFT_SIGMA
+        fit_max_z(&post, starts, &sd, CATALOGUE_RESTARTS) < MIN_SHIFT_SIGMA
     })
 }
 
@@ -464,4 +572,48 @@ fn finish(seed: u64, truth: BeamSpec, y0: Vec<Mode>, hidden: Hidden, z: f64, rng
         sampler: Some(DramSettings { seed, ..DramSettings::default() }),
     };
     SyntheticCase { file, hidden, truth_beam: truth, base_fit_max_z: z }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A truth of the generator's kind (nonlocal, one internal variable).
+    fn base_truth() -> BeamSpec {
+        let mut beam = nominal_beam();
+        beam.nonlocal_e0a_nm = 1.0;
+        beam.internal_variables = vec![InternalVariable { delta: 0.45, omega_rad_s: 3e11 }];
+        beam
+    }
+
+    /// A uniform section reproduces the product's solver: both solve the same
+    /// decoupled pencil, so they differ only by eigensolver rounding (dense
+    /// Cholesky route: ~κ(M̃)·ε relative on λ, κ ≈ 1e3 for 20 elements, so
+    /// ≤ 1e-12 on ω; ζ is a ratio of pole parts of the same size).
+    #[test]
+    fn uniform_section_reproduces_the_beam_solver() {
+        let beam = base_truth();
+        let ours = section_modes(&beam, &vec![1.0; beam.elements], 6).unwrap();
+        let theirs = beam::modal(&beam, 6).unwrap().modes;
+        for (a, b) in ours.iter().zip(&theirs) {
+            assert!((a.omega_rad_s / b.omega_rad_s - 1.0).abs() < 1e-10, "{a:?} vs {b:?}");
+            assert!((a.zeta / b.zeta - 1.0).abs() < 1e-9, "{a:?} vs {b:?}");
+        }
+    }
+
+    /// A defect and its mirror image about midspan give the same modes on a
+    /// simply supported beam (the uniform mesh mirrors too: equal to
+    /// rounding), and a defect lowers every frequency (less stiffness, same
+    /// mass: Rayleigh's quotient) by more than the 0.3 % noise at ε = 0.5.
+    #[test]
+    fn a_defect_softens_and_mirrors() {
+        let beam = base_truth();
+        let defect = |first: f64| Truth { beam: beam.clone(), modal: vec![(Foreign::LocalDefect, [first, 2.0], 0.5)] };
+        let clean = beam::modal(&beam, 6).unwrap().modes;
+        let (left, right) = (predict(&defect(3.0), 6).unwrap(), predict(&defect(15.0), 6).unwrap());
+        for ((a, b), c) in left.iter().zip(&right).zip(&clean) {
+            assert!((a.omega_rad_s / b.omega_rad_s - 1.0).abs() < 1e-10, "{a:?} vs {b:?}");
+            assert!(a.omega_rad_s < c.omega_rad_s * (1.0 - OMEGA_REL_SD), "{a:?} vs {c:?}");
+        }
+    }
 }
