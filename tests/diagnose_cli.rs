@@ -4,7 +4,9 @@ use std::path::Path;
 use std::process::Command;
 
 use nanobeam::calibration::MeasuredData;
-use nanobeam::diagnose::{diagnose, diagnose_run, report, synthetic, Alternative, DiagnoseError, DiagnoseSettings};
+use nanobeam::diagnose::{
+    diagnose, diagnose_run, report, synthetic, Alternative, BoundHit, DiagnoseError, DiagnoseSettings,
+};
 
 /// `nanobeam diagnose` at its default settings; returns the exit code and stderr.
 fn run_cli(input: &Path, out: &Path, json: bool) -> (i32, String) {
@@ -110,6 +112,7 @@ fn report_directory_is_written_and_json_is_shaped() {
         "log_bayes_factor",
         "probability",
         "posterior",
+        "map_on_prior_bound",
     ] {
         assert!(c.get(key).is_some(), "candidate.{key} missing");
     }
@@ -132,6 +135,13 @@ fn report_directory_is_written_and_json_is_shaped() {
     assert!(text.contains("| viscous-damping | 0.5 |"), "{text}");
     assert!(text.contains("**Next measurement:** none of this kind"), "{text}");
     assert!(text.contains("unmeasured mode up to 8 separates"), "{text}");
+    // a MAP on its prior bound in the assessed model: the report says so
+    let d = &mut run.diagnosis;
+    let assessed = d.gain.extension.clone();
+    let c = d.candidates.iter_mut().find(|c| c.extension == assessed).expect("the assessed model is a candidate");
+    c.map_on_prior_bound.push(BoundHit { parameter: "shear_coefficient".into(), map: 0.3000016, bound: 0.3 });
+    let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
+    assert!(text.contains("`shear_coefficient` = 0.3000016 on its prior bound 0.3"), "{text}");
 }
 
 #[test]

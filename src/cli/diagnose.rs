@@ -105,6 +105,14 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
             }
             (None, true) => {}
         }
+        let assessed = d.candidates.iter().find(|c| c.extension == d.gain.extension);
+        for h in assessed.map_or(&[][..], |c| &c.map_on_prior_bound) {
+            t += &format!(
+                "on a prior bound: {} = {} (bound {}) in {}: it fits only at the edge of its class's range, so the \
+                 effect may lie outside the catalogue\n",
+                h.parameter, h.map, h.bound, d.gain.extension
+            );
+        }
         t
     };
     write_out(out, &text)

@@ -49,6 +49,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::bayes::importance::ImportanceEvidence;
+use crate::bayes::prior::Prior;
 use crate::bayes::rng::{child_seed, Purpose};
 use crate::bayes::transform::Reparameterized;
 use crate::bayes::{BayesError, Posterior};
@@ -202,6 +203,59 @@ pub struct Candidate {
     /// Forward-model solves spent on this model (TMCMC, MAP, Laplace, importance draws).
     pub forward_evaluations: u64,
     pub posterior: BTreeMap<String, Summary>,
+    /// Parameters whose MAP lies on a bound of their prior's range ([`on_prior_bound`]).
+    pub map_on_prior_bound: Vec<BoundHit>,
+}
+
+/// A parameter whose MAP lies on a bound of its prior range.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct BoundHit {
+    pub parameter: String,
+    /// The MAP value and the bound, in the parameter's physical units.
+    pub map: f64,
+    pub bound: f64,
+}
+
+/// How close to a bound of a uniform or log-uniform prior (as a fraction of
+/// the prior's width in sampling coordinates) a MAP counts as on it: 0.1 %.
+/// Nelder–Mead pressed against a bound ends within its simplex tolerance of
+/// it (local-defect case 404: κ = 0.3000016 on the bound 0.3, 2e-6 of the
+/// width), while an interior optimum this close to a bound needs a
+/// posterior sd of the same 0.1 % order sitting right at the edge.
+pub const ON_BOUND_FRACTION: f64 = 1e-3;
+
+/// The parameters of `r`'s model whose MAP is on a bound of its prior
+/// range. A cause that earned its place with a parameter pinned at the edge
+/// of its physical range fits only by asking for more than the class
+/// allows: a sign that the effect lies outside the catalogue (or that the
+/// prior range is too narrow). The report says so; the verdict is not changed.
+pub fn on_prior_bound(r: &ModelRun) -> Vec<BoundHit> {
+    bound_hits(&r.posterior.inner().parameters().params, r.posterior.log_scale(), &r.map)
+}
+
+/// The parameters whose value `map` (sampling coordinates: ln x where
+/// `log_scale`) lies within [`ON_BOUND_FRACTION`] of a bound of a uniform
+/// or log-uniform prior.
+fn bound_hits(params: &[crate::calibration::Parameter], log_scale: &[bool], map: &[f64]) -> Vec<BoundHit> {
+    params
+        .iter()
+        .zip(log_scale)
+        .zip(map)
+        .filter_map(|((p, &log), &u)| {
+            if !matches!(p.prior, Prior::Uniform { .. } | Prior::LogUniform { .. }) {
+                return None;
+            }
+            let (lo, hi) = p.prior.support();
+            let t = |x: f64| if log { x.ln() } else { x };
+            let tol = ON_BOUND_FRACTION * (t(hi) - t(lo));
+            let phys = if log { u.exp() } else { u };
+            [lo, hi].into_iter().find(|&b| (u - t(b)).abs() <= tol).map(|bound| BoundHit {
+                parameter: p.name.clone(),
+                map: phys,
+                bound,
+            })
+        })
+        .collect()
 }
 
 /// Two relaxations closer than this in |ln(Ωᵢ/Ωⱼ)| are one (see
@@ -746,6 +800,7 @@ fn candidate(r: &ModelRun, z_base: f64, probability: f64) -> Candidate {
         probability,
         forward_evaluations: r.forward_evaluations,
         posterior: summaries(r),
+        map_on_prior_bound: on_prior_bound(r),
     }
 }
 
@@ -785,4 +840,36 @@ fn summaries(r: &ModelRun) -> BTreeMap<String, Summary> {
 /// The observations of `modes` as the file lists them (for the report).
 pub(crate) fn mode_list(modes: &[ModeObservation]) -> String {
     modes.iter().map(|m| m.mode.to_string()).collect::<Vec<_>>().join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::calibration::{Parameter, Target};
+
+    fn param(name: &str, prior: Prior) -> Parameter {
+        Parameter { name: name.into(), target: Target::from_name(name).unwrap(), prior, proposal_sd: 0.01 }
+    }
+
+    /// On a bound within 0.1 % of the prior's width (in ln x for a
+    /// log-uniform prior), at either end; interior values and priors without
+    /// a bounded range are not flagged.
+    #[test]
+    fn bound_hits_flag_maps_on_the_edge_of_a_prior_range() {
+        let params = [
+            param("shear_coefficient", Prior::Uniform { lower: 0.3, upper: 1.0 }),
+            param("support_rotational_stiffness_n_m_rad", Prior::LogUniform { lower: 1e-2, upper: 1e2 }),
+            param("point_mass_x_nm", Prior::Uniform { lower: 0.0, upper: 4.0 }),
+            param("nonlocal_e0a_nm", Prior::Normal { mean: 1.0, sd: 0.1 }),
+        ];
+        let log = [false, true, false, false];
+        // case 404's κ; ln k 1e-4 below ln 1e2 (width ln 1e4 = 9.2, so 1.1e-5 of it); x at 2 nm; e0a far out
+        let hits = bound_hits(&params, &log, &[0.3000016, 1e2f64.ln() - 1e-4, 2.0, 5.0]);
+        assert_eq!(hits.len(), 2);
+        assert_eq!((hits[0].parameter.as_str(), hits[0].bound), ("shear_coefficient", 0.3));
+        assert!((hits[1].map / 1e2 - 1.0).abs() < 2e-4 && hits[1].bound == 1e2);
+        // 0.2 % of the width inside: not on the bound
+        assert!(bound_hits(&params[..1], &log[..1], &[0.3 + 0.002 * 0.7]).is_empty());
+        assert_eq!(bound_hits(&params[2..3], &log[2..3], &[0.003]).len(), 1);
+    }
 }
