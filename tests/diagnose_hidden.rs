@@ -176,10 +176,15 @@ fn tally(cases: Vec<(u64, Hidden)>) -> Tally {
         let got = verdict(d);
         *confusion.entry((truth.clone(), got.clone())).or_default() += 1;
         println!(
-            "seed {seed:3} truth {truth:45} verdict {got:45} base-fit max z {z:6.1} lnB {:7.2} partial {:?} alternatives {:?} {secs:.1} s",
+            "seed {seed:3} truth {truth:45} verdict {got:45} base-fit max z {z:6.1} lnB {:7.2} partial {:?} alternatives {:?} on prior bound {:?} {secs:.1} s",
             d.gain.log_bayes_factor,
             d.best_partial_explanation,
-            d.alternatives.iter().map(|a| &a.extension).collect::<Vec<_>>()
+            d.alternatives.iter().map(|a| &a.extension).collect::<Vec<_>>(),
+            d.candidates
+                .iter()
+                .filter(|c| c.extension == d.gain.extension)
+                .flat_map(|c| c.map_on_prior_bound.iter().map(|h| &h.parameter))
+                .collect::<Vec<_>>()
         );
         match (hidden.foreign, hidden.causes.len()) {
             (Some(_), _) => {
