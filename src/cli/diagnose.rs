@@ -108,8 +108,8 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
         let assessed = d.candidates.iter().find(|c| c.extension == d.gain.extension);
         for h in assessed.map_or(&[][..], |c| &c.map_on_prior_bound) {
             t += &format!(
-                "on a prior bound: {} = {} (bound {}) in {}: it fits only at the edge of its class's range, so the \
-                 effect may lie outside the catalogue\n",
+                "on a prior bound: {} = {} (bound {}) in {}: the data ask for more of this effect than its class \
+                 allows, so the effect may lie outside the catalogue\n",
                 h.parameter, h.map, h.bound, d.gain.extension
             );
         }
