@@ -312,19 +312,20 @@ fn with_effect(base: &Truth, effect: Effect, shape: [f64; 2], mag: f64, s: &Nomi
 /// The first `n_modes` modes of `truth`: the beam's (through
 /// [`section_modes`] when a section effect is present), then its modal effects.
 fn predict(truth: &Truth, n_modes: usize) -> Result<Vec<Mode>, beam::BeamError> {
-    let elements = truth.beam.elements;
-    let mut section = vec![1.0; elements];
-    for &(_, shape, mag) in truth.modal.iter().filter(|(f, ..)| *f == Foreign::LocalDefect) {
-        for (e, ei) in section.iter_mut().enumerate() {
-            if (shape[0]..shape[0] + shape[1]).contains(&(e as f64)) {
-                *ei *= 1.0 - mag;
+    let defects: Vec<(&[f64; 2], f64)> =
+        truth.modal.iter().filter(|(f, ..)| *f == Foreign::LocalDefect).map(|(_, shape, mag)| (shape, *mag)).collect();
+    let mut modes = if defects.is_empty() {
+        beam::modal(&truth.beam, n_modes)?.modes
+    } else {
+        let mut section = vec![1.0; truth.beam.elements];
+        for (shape, mag) in defects {
+            for (e, ei) in section.iter_mut().enumerate() {
+                if (shape[0]..shape[0] + shape[1]).contains(&(e as f64)) {
+                    *ei *= 1.0 - mag;
+                }
             }
         }
-    }
-    let mut modes = if truth.modal.iter().any(|(f, ..)| *f == Foreign::LocalDefect) {
         section_modes(&truth.beam, &section, n_modes)?
-    } else {
-        beam::modal(&truth.beam, n_modes)?.modes
     };
     for &(effect, shape, mag) in &truth.modal {
         if effect == Foreign::ModeCoupling {
