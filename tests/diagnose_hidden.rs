@@ -3,7 +3,8 @@
 //! class models, diagnosed without the truth at quick settings. Run with
 //! `-- --nocapture` for the per-case lines and the confusion matrix.
 //!
-//! 41 cases: 5 clean, 4 per single cause (24), 8 pairs, 4 foreign
+//! 73 cases: 5 clean, 4 per single cause (24), 40 pairs (5 of each of the
+//! 8 kinds in `PAIRS`), 4 foreign
 //! (`synthetic::Foreign`, alternating: `ModeCoupling`, one mode in an
 //! avoided crossing with a lossy resonance outside the beam, and
 //! `LocalDefect`, EI lowered over 1–3 elements). Every effect alone moves some
@@ -12,7 +13,7 @@
 //! best fit of every catalogue model of one or two causes.
 //!
 //! Targets (the issue's): single causes ≥ 95 % right (23 of 24), both causes
-//! of a pair named in ≥ 80 % of pairs (7 of 8), foreign effects
+//! of a pair named in ≥ 80 % of pairs (32 of 40), foreign effects
 //! `unexplained` in 100 %, no false alarm on clean data. These are counts on
 //! fixed seeds, not rates estimated with an error: the test fails on any
 //! seed that falls below them.
@@ -52,10 +53,15 @@ fn closed_cases() -> Vec<(u64, Hidden)> {
     cases
 }
 
-/// The open-world part: 8 pairs and 4 foreign effects.
+/// How many pairs the open world draws: 5 of each kind. Eight (one of
+/// each) said 6/8 on 2026-11-24; the next 32 seeds said 16/32, so eight
+/// pairs estimate the rate too coarsely to hold a target to.
+const N_PAIRS: u64 = 40;
+
+/// The open-world part: 40 pairs (seed 300 + i draws `PAIRS[i % 8]`) and 4 foreign effects.
 fn open_cases() -> Vec<(u64, Hidden)> {
     let mut cases: Vec<(u64, Hidden)> =
-        PAIRS.iter().enumerate().map(|(i, p)| (300 + i as u64, Hidden::causes(p))).collect();
+        (0..N_PAIRS).map(|i| (300 + i, Hidden::causes(&PAIRS[(i % 8) as usize]))).collect();
     let n = Foreign::ALL.len() as u64;
     cases.extend((0..4).map(|i| (400 + i, Hidden::foreign(Foreign::ALL[(i % n) as usize]))));
     cases
@@ -111,15 +117,15 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
 
 /// Both causes of a pair named in ≥ 80 % of pairs; foreign effects `unexplained` in 100 %.
 #[test]
-#[ignore = "pair target not met: measured 2026-11-25 (12 cases, 1109 s beside the closed world on 2 cores; \
-            364 s alone before the local-defect cases, whose generation and large misfits take longest): pairs both \
-            named 6/8 (target 7/8), none of them wrong without the true pair listed as an alternative, foreign \
-            effects unexplained 4/4 (2 mode couplings, 2 local defects). Misses: \
-            support-rotational-stiffness+attached-mass named attached-mass+extra-relaxation, the true pair an \
-            alternative 0.19 nats behind (a spring and a tension or relaxation both move mode n smoothly in n); \
-            extra-relaxation+attached-mass named support-rotational-stiffness+attached-mass, the true pair an \
-            alternative 0.73 nats behind (importance-sampled evidence, se <= 0.08), with next_measurement between \
-            the two (omega of mode 8, 1.7 sd apart): the data prefer the spring pair slightly"]
+#[ignore = "pair target not met. Measured 2026-11-25 on 40 pairs (seeds 300-339, 5 of each kind; 44 diagnoses, \
+            about 20 min alone on 2 cores): both causes named 23/40 (target 32/40), foreign effects unexplained 4/4. \
+            Of the 17 misses, 13 have the true pair within 3 nats of the verdict (an alternative): 4 name one cause \
+            whose pair with the other does not gain ln B >= 3, 9 a confusable pair (a spring, a tension and a \
+            relaxation move mode n smoothly in n; a mass and shear). 2 are wrong with the true pair 5.3-5.8 nats \
+            behind (310 axial-force+attached-mass named viscous-damping, 315 extra-relaxation+attached-mass named \
+            support-rotational-stiffness). 2 are unexplained because the true pair's posterior was sampled on a \
+            wrong mode (327: the truth's log-likelihood lies 12.6 nats above the MAP found; 339). The first 8 \
+            seeds alone had said 6/8"]
 fn pairs_are_named_and_foreign_effects_are_unexplained() {
     let t = tally(open_cases());
     assert_eq!(t.pairs_confidently_wrong, 0, "a pair named wrongly without the truth as an alternative");

@@ -127,10 +127,31 @@ impl Model {
         Model::Extended(c)
     }
 
-    /// The 15 models of two different causes, in the order of [`ModelClass::CAUSES`].
-    pub fn pairs() -> Vec<Model> {
-        const C: [ModelClass; 6] = ModelClass::CAUSES;
-        C.iter().enumerate().flat_map(|(i, &a)| C[i + 1..].iter().map(move |&b| Model::with(&[a, b]))).collect()
+    /// Every model of at most `k` causes, by number of causes, then in the
+    /// order of [`ModelClass::CAUSES`] (the base first; 22 models at k = 2).
+    pub fn up_to(k: usize) -> Vec<Model> {
+        let mut models = vec![Model::BASE];
+        let mut level = vec![Model::BASE];
+        for _ in 0..k.min(ModelClass::CAUSES.len()) {
+            // extend each model only by causes after its last, so each set appears once
+            level = level
+                .iter()
+                .flat_map(|m| {
+                    let from = m
+                        .causes()
+                        .last()
+                        .map_or(0, |l| ModelClass::CAUSES.iter().position(|c| c == l).unwrap_or(0) + 1);
+                    ModelClass::CAUSES[from..].iter().map(move |&c| Model::with(&[m.causes(), &[c]].concat()))
+                })
+                .collect();
+            models.extend(level.iter().cloned());
+        }
+        models
+    }
+
+    /// This model without `cause` (the model itself when it lacks it).
+    pub fn without(&self, cause: ModelClass) -> Model {
+        Model::with(&self.causes().iter().copied().filter(|&c| c != cause).collect::<Vec<_>>())
     }
 
     /// The causes this model adds to the base (empty for the base and the baseline).
@@ -301,6 +322,24 @@ fn add_extension(params: &mut Vec<Parameter>, class: ModelClass, beam: &BeamSpec
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `up_to(k)` lists every set of at most k causes once: C(6, 0) + … + C(6, k).
+    #[test]
+    fn up_to_lists_every_set_of_causes_once() {
+        for (k, n) in [(0, 1), (1, 7), (2, 22), (3, 42), (6, 64)] {
+            let models = Model::up_to(k);
+            assert_eq!(models.len(), n, "k = {k}");
+            assert_eq!(models[0], Model::BASE);
+            let mut distinct = models.clone();
+            distinct.sort();
+            distinct.dedup();
+            assert_eq!(distinct.len(), n, "k = {k}: a model listed twice");
+            assert!(models.windows(2).all(|w| w[0].causes().len() <= w[1].causes().len()));
+        }
+        let pair = Model::with(&[ModelClass::AxialForce, ModelClass::AttachedMass]);
+        assert_eq!(pair.without(ModelClass::AxialForce), Model::with(&[ModelClass::AttachedMass]));
+        assert_eq!(pair.without(ModelClass::ShearDeformation), pair);
+    }
 
     /// `parameter_count` is what `add_extension` appends, for every class.
     #[test]

@@ -495,7 +495,7 @@ const CATALOGUE_RESTARTS: usize = 3;
 
 /// The catalogue models a foreign effect must defeat: every single cause and every pair.
 fn catalogue_models() -> Vec<Model> {
-    ModelClass::CAUSES.iter().map(|&a| Model::with(&[a])).chain(Model::pairs()).collect()
+    Model::up_to(2).into_iter().filter(|m| *m != Model::BASE).collect()
 }
 
 /// Does some model of [`catalogue_models`] fit noise-free `y0`, i.e. leave
