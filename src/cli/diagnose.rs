@@ -38,8 +38,10 @@ pub struct DiagnoseArgs {
 /// since they named at least as many causes right as the longer runs: on 13
 /// independent 5-mode files, 11/13 against 10/13 (every miss a support spring
 /// taken for an axial force or the reverse, the truth listed as an
-/// alternative, at both settings), in at most 27 s against 78 s (issue 13,
-/// item 8: ≤ 30 s).
+/// alternative, at both settings), in at most 27 s against 78 s, measured
+/// with the forward search. Comparing every pair (2026-11-25) keeps the
+/// same 13 verdicts at these settings in 26.9–31.3 s (issue 13, item 8:
+/// ≤ 30 s).
 pub fn settings(args: &DiagnoseArgs) -> DiagnoseSettings {
     let mut settings = if args.thorough { DiagnoseSettings::default() } else { DiagnoseSettings::quick() };
     if let Some(samples) = args.samples {
