@@ -133,15 +133,16 @@ impl Model {
         let mut models = vec![Model::BASE];
         let mut level = vec![Model::BASE];
         for _ in 0..k.min(ModelClass::CAUSES.len()) {
-            // extend each model only by causes after its last, so each set appears once
+            // extend each model only by causes after its last (causes are kept
+            // sorted, in the order of CAUSES), so each set appears once
             level = level
                 .iter()
                 .flat_map(|m| {
-                    let from = m
-                        .causes()
-                        .last()
-                        .map_or(0, |l| ModelClass::CAUSES.iter().position(|c| c == l).unwrap_or(0) + 1);
-                    ModelClass::CAUSES[from..].iter().map(move |&c| Model::with(&[m.causes(), &[c]].concat()))
+                    let last = m.causes().last().copied();
+                    ModelClass::CAUSES
+                        .into_iter()
+                        .filter(move |&c| last.is_none_or(|l| c > l))
+                        .map(move |c| Model::with(&[m.causes(), &[c]].concat()))
                 })
                 .collect();
             models.extend(level.iter().cloned());
@@ -326,6 +327,8 @@ mod tests {
     /// `up_to(k)` lists every set of at most k causes once: C(6, 0) + … + C(6, k).
     #[test]
     fn up_to_lists_every_set_of_causes_once() {
+        // `up_to` and `Model::with` rely on CAUSES being in the enum's order
+        assert!(ModelClass::CAUSES.windows(2).all(|w| w[0] < w[1]));
         for (k, n) in [(0, 1), (1, 7), (2, 22), (3, 42), (6, 64)] {
             let models = Model::up_to(k);
             assert_eq!(models.len(), n, "k = {k}");
