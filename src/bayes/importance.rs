@@ -166,21 +166,10 @@ impl<'a> MixtureProposal<'a> {
     /// ln π(x) − ln q(x) of draws `range` (−∞ where the posterior is not
     /// finite), draw i from its own stream (seed, i).
     pub fn log_weights(&self, posterior: &dyn Posterior, range: std::ops::Range<usize>, seed: u64) -> Vec<f64> {
-        let (d, k) = (self.center.len(), self.population.len());
         range
             .into_par_iter()
             .map(|i| {
-                let mut rng = stream(seed, Purpose::ImportanceDraw, [i as u64, 0]);
-                let z = DVector::from_iterator(d, (0..d).map(|_| rng.sample::<f64, _>(StandardNormal)));
-                let x: Vec<f64> = if rng.gen::<f64>() < 0.5 {
-                    let scale = (T_DOF / self.chi2.sample(&mut rng)).sqrt();
-                    let y = &self.t.l * z * scale;
-                    self.center.iter().zip(y.iter()).map(|(c, y)| c + y).collect()
-                } else {
-                    let base = &self.population[rng.gen_range(0..k)];
-                    let y = &self.kde.l * z;
-                    base.iter().zip(y.iter()).map(|(c, y)| c + y).collect()
-                };
+                let x = self.draw(i, seed);
                 let lp = posterior.log_posterior(&x);
                 if lp.is_finite() {
                     lp - self.log_q(&x)
@@ -189,6 +178,51 @@ impl<'a> MixtureProposal<'a> {
                 }
             })
             .collect()
+    }
+}
+
+impl MixtureProposal<'_> {
+    /// Draw `i` of the proposal, from its own stream (seed, ImportanceDraw, [i, 0]).
+    pub fn draw(&self, i: usize, seed: u64) -> Vec<f64> {
+        let (d, k) = (self.center.len(), self.population.len());
+        let mut rng = stream(seed, Purpose::ImportanceDraw, [i as u64, 0]);
+        let z = DVector::from_iterator(d, (0..d).map(|_| rng.sample::<f64, _>(StandardNormal)));
+        if rng.gen::<f64>() < 0.5 {
+            let scale = (T_DOF / self.chi2.sample(&mut rng)).sqrt();
+            let y = &self.t.l * z * scale;
+            self.center.iter().zip(y.iter()).map(|(c, y)| c + y).collect()
+        } else {
+            let base = &self.population[rng.gen_range(0..k)];
+            let y = &self.kde.l * z;
+            base.iter().zip(y.iter()).map(|(c, y)| c + y).collect()
+        }
+    }
+
+    /// `m` posterior draws resampled from draws 0..log_w.len() of this
+    /// proposal by their importance weights (systematic resampling, one
+    /// uniform from `(seed, ImportanceResample, [0, 0])`): sampling–importance
+    /// resampling, consistent as the draws grow (Rubin 1988); with Kish ESS
+    /// n_e the resample carries about n_e distinct draws, so `m` ≤ n_e is
+    /// what it can support. Empty when no weight is finite.
+    pub fn resample(&self, log_w: &[f64], m: usize, seed: u64) -> Vec<Vec<f64>> {
+        let max = log_w.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if !max.is_finite() || m == 0 {
+            return vec![];
+        }
+        let w: Vec<f64> = log_w.iter().map(|l| (l - max).exp()).collect();
+        let total: f64 = w.iter().sum();
+        let u0: f64 = stream(seed, Purpose::ImportanceResample, [0, 0]).gen::<f64>();
+        let mut picks = Vec::with_capacity(m);
+        let (mut i, mut cum) = (0usize, w[0] / total);
+        for j in 0..m {
+            let u = (u0 + j as f64) / m as f64;
+            while cum < u && i + 1 < w.len() {
+                i += 1;
+                cum += w[i] / total;
+            }
+            picks.push(i);
+        }
+        picks.into_par_iter().map(|i| self.draw(i, seed)).collect()
     }
 }
 

@@ -85,7 +85,20 @@ pub fn multi_start_optimum(
     seed: u64,
     run: u64,
 ) -> Vec<MapResult> {
-    let mut rng = stream(seed, Purpose::MultiStart, [run, 0]);
+    let rng = stream(seed, Purpose::MultiStart, [run, 0]);
+    multi_start_from(post, scales, n_points, keep, rng, 2000)
+}
+
+/// [`multi_start_optimum`] with the prior points drawn from `rng` and at
+/// most `max_iters` Nelder–Mead iterations per polish.
+pub fn multi_start_from(
+    post: &dyn Posterior,
+    scales: &[f64],
+    n_points: usize,
+    keep: usize,
+    mut rng: rand_chacha::ChaCha8Rng,
+    max_iters: u64,
+) -> Vec<MapResult> {
     let candidates: Vec<Vec<f64>> = (0..n_points).map(|_| post.sample_prior(&mut rng)).collect();
     let mut scored: Vec<(f64, Vec<f64>)> = candidates.into_par_iter().map(|t| (post.log_posterior(&t), t)).collect();
     scored.retain(|(lp, _)| lp.is_finite());
@@ -94,9 +107,9 @@ pub fn multi_start_optimum(
     let mut optima: Vec<MapResult> = scored
         .into_par_iter()
         .map(|(_, t)| {
-            let first = map_estimate(post, &t, scales, 2000);
+            let first = map_estimate(post, &t, scales, max_iters);
             let small: Vec<f64> = scales.iter().map(|s| s * 0.1).collect();
-            map_estimate(post, &first.theta, &small, 2000)
+            map_estimate(post, &first.theta, &small, max_iters)
         })
         .collect();
     optima.sort_by(|a, b| b.log_posterior.total_cmp(&a.log_posterior));

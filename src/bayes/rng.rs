@@ -45,6 +45,10 @@ pub enum Purpose {
     EvidenceReplicate = 13,
     /// Draw `[i, 0]` of an importance-sampling evidence (`bayes::importance`).
     ImportanceDraw = 14,
+    /// The uniform of a systematic resample of importance draws `[0, 0]` (`bayes::importance`).
+    ImportanceResample = 15,
+    /// Prior points screened by a diagnosed model's global MAP search `[0, 0]` (`diagnose::evidence`).
+    GlobalMapSearch = 16,
 }
 
 /// The stream keyed by `(seed, purpose, index)`.

@@ -758,8 +758,7 @@ fn candidate(r: &ModelRun, z_base: f64, probability: f64) -> Candidate {
 pub(crate) fn predictive(run: &ModelRun, obs: &[Observable], max_mode: usize) -> Draws {
     let post = &run.posterior;
     let rows: Vec<Option<(Vec<f64>, f64)>> = run
-        .tmcmc
-        .samples
+        .draws
         .par_iter()
         .map(|u| {
             let x = post.to_inner(u);
@@ -774,7 +773,7 @@ pub(crate) fn predictive(run: &ModelRun, obs: &[Observable], max_mode: usize) ->
 
 /// Mean, sd and central 95 % interval of every parameter in physical units.
 fn summaries(r: &ModelRun) -> BTreeMap<String, Summary> {
-    let phys: Vec<Vec<f64>> = r.tmcmc.samples.iter().map(|u| r.posterior.to_inner(u)).collect();
+    let phys: Vec<Vec<f64>> = r.draws.iter().map(|u| r.posterior.to_inner(u)).collect();
     r.posterior
         .names()
         .into_iter()

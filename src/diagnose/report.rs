@@ -120,7 +120,7 @@ pub fn figures(run: &DiagnosisRun) -> Result<Vec<(String, String)>, ReportError>
     if let Some(r) = assessed.and_then(|m| run.run_of(&m)) {
         let names = crate::bayes::Posterior::names(&r.posterior);
         for (k, name) in names.iter().enumerate() {
-            let values: Vec<f64> = r.tmcmc.samples.iter().map(|u| r.posterior.to_inner(u)[k]).collect();
+            let values: Vec<f64> = r.draws.iter().map(|u| r.posterior.to_inner(u)[k]).collect();
             let svg = histogram(&HistogramPlot {
                 title: format!("Posterior of {name} under {}", d.gain.extension),
                 x_label: name.clone(),
