@@ -179,9 +179,7 @@ impl<'a> MixtureProposal<'a> {
             })
             .collect()
     }
-}
 
-impl MixtureProposal<'_> {
     /// Draw `i` of the proposal, from its own stream (seed, ImportanceDraw, [i, 0]).
     pub fn draw(&self, i: usize, seed: u64) -> Vec<f64> {
         let (d, k) = (self.center.len(), self.population.len());

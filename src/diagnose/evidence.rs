@@ -135,8 +135,7 @@ pub fn run_model(
     let counted = Counted::new(&posterior);
     let t = tmcmc(&counted, &tmcmc_config(d, s, seed))?;
     let map = map_from_best(&counted, &t, s)?;
-    let global = multimodal_by_construction(&posterior).then(|| global_map(&counted, &t, s, seed)).flatten();
-    let map = match global {
+    let map = match global_map(&posterior, &counted, &t, s, seed) {
         Some(g) if g.log_posterior > map.log_posterior => g,
         _ => map,
     };
@@ -278,7 +277,16 @@ pub const GLOBAL_SEARCH_KEEP: usize = 8;
 /// (log-likelihood −104.9 there against −108.8 at the truth); case 339
 /// (two relaxations + a mass, 4 modes): TMCMC's best sample −126.2, the
 /// global mode −103.2.
-fn global_map(counted: &dyn Posterior, t: &TmcmcResult, s: &DiagnoseSettings, seed: u64) -> Option<MapResult> {
+fn global_map(
+    posterior: &ClassPosterior,
+    counted: &dyn Posterior,
+    t: &TmcmcResult,
+    s: &DiagnoseSettings,
+    seed: u64,
+) -> Option<MapResult> {
+    if !multimodal_by_construction(posterior) {
+        return None;
+    }
     let sd = sample_sd(&t.samples, counted.dim());
     let rng = crate::bayes::rng::stream(seed, Purpose::GlobalMapSearch, [0, 0]);
     multi_start_from(counted, &sd, GLOBAL_SEARCH_POINTS, GLOBAL_SEARCH_KEEP, rng, s.map_iters).into_iter().next()
