@@ -96,7 +96,8 @@ fn report_directory_is_written_and_json_is_shaped() {
         assert!(!name.ends_with(".svg") || linked.contains(&name.as_str()), "{name} not shown in report.md");
     }
     assert!(linked.iter().any(|f| f.starts_with("posterior-")), "no posterior figure: {linked:?}");
-    for key in ["causes", "explained", "alternatives", "next_measurement", "best_partial_explanation"] {
+    for key in ["causes", "decided_causes", "explained", "alternatives", "next_measurement", "best_partial_explanation"]
+    {
         assert!(v.get(key).is_some(), "{key} missing");
     }
     let c = &v["candidates"][0];

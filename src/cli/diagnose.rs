@@ -91,6 +91,13 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
             d.gain.rms_z_before,
             d.gain.rms_z_after,
         );
+        if d.causes.len() > d.decided_causes.len() {
+            let decided = if d.decided_causes.is_empty() { "none".to_string() } else { d.decided_causes.join(", ") };
+            t += &format!(
+                "decided causes: {decided} (of {}; an alternative within the margin lacks each of the others)\n",
+                d.causes.join(", ")
+            );
+        }
         for a in &d.alternatives {
             t += &format!("alternative: {} (ln B gap {:.2})\n", a.extension, a.log_bayes_factor_gap);
         }
