@@ -40,9 +40,10 @@ pub struct DiagnoseArgs {
 /// taken for an axial force or the reverse, the truth listed as an
 /// alternative, at both settings), in at most 27 s against 78 s, measured
 /// with the forward search. Comparing every pair (2026-11-25) keeps the
-/// same 13 verdicts at these settings in 26.9–31.3 s; the global MAP
-/// search (2026-11-26) takes four 5-mode hidden cases from 30.7–32.7 s to
-/// 33.8–35.5 s (issue 13, item 8: ≤ 30 s).
+/// same 13 verdicts at these settings in 26.9–31.3 s. With the global MAP
+/// search (2026-11-26) four 5-mode hidden cases (123, 307, 310, 314) take
+/// 27.0–29.5 s with the release build (issue 13, item 8: ≤ 30 s); the dev
+/// profile, without LTO, takes 36.6 s on 307.
 pub fn settings(args: &DiagnoseArgs) -> DiagnoseSettings {
     let mut settings = if args.thorough { DiagnoseSettings::default() } else { DiagnoseSettings::quick() };
     if let Some(samples) = args.samples {
