@@ -739,8 +739,8 @@ impl Decision {
 /// single cause with a rival single leaves none). A superset of the selected
 /// model (the selection plus a cause the Occam factor weighed against)
 /// removes nothing. On the 73-case hidden suite of 2026-11-26 (its logged
-/// verdicts and alternatives) the decided causes were all true causes in
-/// 72 cases; the exception, case 310 (tension + mass, viscous damping
+/// verdicts and alternatives) no decided cause was false in 72 cases (26
+/// of them decided none); the exception, case 310 (tension + mass, viscous damping
 /// preferred by 5.8 nats with both evidences reliable), is a wrong name no
 /// margin of this size would have flagged.
 pub fn decided_causes(causes: &[String], alternatives: &[Alternative]) -> Vec<String> {
