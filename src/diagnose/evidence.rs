@@ -148,10 +148,10 @@ pub fn run_model(
     // mass at a node) has a small Laplace evidence, and Laplace alone is off
     // on any non-Gaussian posterior.
     let shortfall = map.log_posterior - best_sample(&t, &posterior)?.1;
-    let missed_peak = shortfall > missed_peak_nats(d, s.samples)
-        && log_evidence_laplace.is_some_and(|l| l - t.log_evidence > LAPLACE_DISAGREEMENT_NATS);
-    let log_evidence_runs = vec![t.log_evidence];
     let population_missed = shortfall > missed_peak_nats(d, s.samples);
+    let missed_peak =
+        population_missed && log_evidence_laplace.is_some_and(|l| l - t.log_evidence > LAPLACE_DISAGREEMENT_NATS);
+    let log_evidence_runs = vec![t.log_evidence];
     let (importance, resampled) =
         importance_at(&counted, &map.theta, laplace.as_ref(), &t.samples, s, seed, [0, 0], population_missed);
     let (log_evidence, log_evidence_se) = chosen(&t, importance.as_ref());
