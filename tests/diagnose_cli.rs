@@ -130,10 +130,16 @@ fn report_directory_is_written_and_json_is_shaped() {
     );
     // alternatives with no modal measurement to separate them: the report says so
     let d = &mut run.diagnosis;
-    d.alternatives.push(Alternative { extension: "viscous-damping".into(), log_bayes_factor_gap: 0.5 });
+    d.alternatives.clear();
+    d.alternatives.push(Alternative { extension: "viscous-damping".into(), log_bayes_factor_gap: 0.5, misfits: true });
     d.next_measurement = None;
     let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
-    assert!(text.contains("| viscous-damping | 0.5 |"), "{text}");
+    assert!(text.contains("| viscous-damping | 0.5 | no: the misfit test rejects it |"), "{text}");
+    assert!(text.contains("**Next measurement:** none needed: every alternative misfits."), "{text}");
+    let d = &mut run.diagnosis;
+    d.alternatives[0].misfits = false;
+    let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
+    assert!(text.contains("| viscous-damping | 0.5 | yes |"), "{text}");
     assert!(text.contains("**Next measurement:** none of this kind"), "{text}");
     assert!(text.contains("unmeasured mode up to 8 separates"), "{text}");
     // a MAP on its prior bound in the assessed model: the report says so

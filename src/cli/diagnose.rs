@@ -95,14 +95,16 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
         if d.causes.len() > d.decided_causes.len() {
             let decided = if d.decided_causes.is_empty() { "none".to_string() } else { d.decided_causes.join(", ") };
             t += &format!(
-                "decided causes: {decided} (of {}; an alternative within the margin lacks each of the others)\n",
+                "decided causes: {decided} (of {}; an alternative within the margin that fits lacks each of the others)\n",
                 d.causes.join(", ")
             );
         }
         for a in &d.alternatives {
-            t += &format!("alternative: {} (ln B gap {:.2})\n", a.extension, a.log_bayes_factor_gap);
+            let fit = if a.misfits { "; misfits, so no explanation" } else { "" };
+            t += &format!("alternative: {} (ln B gap {:.2}{fit})\n", a.extension, a.log_bayes_factor_gap);
         }
-        match (&d.next_measurement, d.alternatives.is_empty()) {
+        let fitting = d.alternatives.iter().filter(|a| !a.misfits).count();
+        match (&d.next_measurement, fitting == 0) {
             (Some(n), _) => {
                 t += &format!("next measurement: {} of mode {} ({:.1} sd apart)\n", n.quantity, n.mode, n.separation_sd)
             }
@@ -113,6 +115,9 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
                     crate::diagnose::next::MAX_MODE,
                     crate::diagnose::next::MIN_SEPARATION_SD
                 )
+            }
+            (None, true) if !d.alternatives.is_empty() => {
+                t += "next measurement: none needed (every alternative misfits)\n"
             }
             (None, true) => {}
         }
