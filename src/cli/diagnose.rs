@@ -106,12 +106,15 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
         let fitting = d.alternatives.iter().filter(|a| !a.misfits).count();
         match (&d.next_measurement, fitting == 0) {
             (Some(n), _) => {
-                t += &format!("next measurement: {} of mode {} ({:.1} sd apart)\n", n.quantity, n.mode, n.separation_sd)
+                t += &format!(
+                    "next measurement: {} of mode {} ({:.1} sd apart under {} and {})\n",
+                    n.quantity, n.mode, n.separation_sd, n.between[0], n.between[1]
+                )
             }
             (None, false) => {
                 t += &format!(
-                    "next measurement: none of this kind (no omega or zeta of an unmeasured mode <= {} separates the \
-                     alternatives by {} sd; a measurement of another kind is needed)\n",
+                    "next measurement: none of this kind (no omega or zeta of an unmeasured mode <= {} separates any \
+                     alternative that fits by {} sd; a measurement of another kind is needed)\n",
                     crate::diagnose::next::MAX_MODE,
                     crate::diagnose::next::MIN_SEPARATION_SD
                 )

@@ -32,14 +32,15 @@
 //!    `held_out_modes`, the joint predictive log score and 95 % coverage of
 //!    both models on the held-out modes.
 //! 5. **Undecided.** Models within [`DiagnoseSettings::alternative_margin`]
-//!    nats of the selected one are listed as alternatives, with the unmeasured
-//!    observable whose predictions under the selected model and the closest
-//!    rival (an alternative that is not the selected causes plus more; else
-//!    the closest alternative) differ most ([`next::next_measurement`]).
-//!    Each alternative is put to the misfit test too: one that fails it is
-//!    listed but is no explanation. The named causes that every alternative
-//!    that fits contains too are the decided ones ([`decided_causes`]); the
-//!    others are a best guess.
+//!    nats of the selected one are listed as alternatives. Each is put to the
+//!    misfit test too: one that fails it is listed but is no explanation.
+//!    The next measurement is the unmeasured observable whose predictions
+//!    under the selected model and an alternative that fits differ most
+//!    ([`next::next_measurement`]); the alternative is the closest rival (one
+//!    that is not the selected causes plus more; then the nested ones) that
+//!    some such observable separates by [`next::MIN_SEPARATION_SD`]. The
+//!    named causes that every alternative that fits contains too are the
+//!    decided ones ([`decided_causes`]); the others are a best guess.
 
 pub mod classes;
 pub mod evidence;
@@ -661,22 +662,27 @@ impl Decision {
                 .collect()
         };
         alternatives.sort_by(|a, b| a.log_bayes_factor_gap.total_cmp(&b.log_bayes_factor_gap));
-        // a rival explanation (not the selected causes plus more) first: a
-        // nested model within the margin only says "perhaps X as well", which
-        // its Occam factor already weighed; which cause it is comes first.
-        // An alternative that misfits is already rejected by the data.
-        let rival = |a: &&Alternative| {
+        // The alternatives a measurement could rule out, in the order asked:
+        // the rival explanations (not the selected causes plus more) first,
+        // closest first: a nested model within the margin only says "perhaps
+        // X as well", which its Occam factor already weighed; which cause it
+        // is comes first. An alternative that misfits is already rejected by
+        // the data. The suggestion separates the selection from the first of
+        // them some unmeasured ω or ζ separates by MIN_SEPARATION_SD: when the
+        // closest rival cannot be separated so (a spring and a tension both
+        // move mode n smoothly in n), a farther one often can (hidden pair
+        // 307: spring + mass against relaxation + mass), and ruling it out is
+        // still a decision the data could not make.
+        let nested = |a: &&Alternative| {
             let m = Model::from_name(&a.extension).expect("names of visited models parse");
-            !selected.causes().iter().all(|c| m.causes().contains(c))
+            selected.causes().iter().all(|c| m.causes().contains(c))
         };
-        let fitting: Vec<&Alternative> = alternatives.iter().filter(|a| !a.misfits).collect();
-        let next_measurement = match fitting.iter().copied().find(rival).or(fitting.first().copied()) {
-            Some(a) => {
-                let other = search.visited.iter().find(|m| m.name() == a.extension).expect("visited");
-                next::next_measurement(problem.data, run(selected), run(other))
-            }
-            None => None,
-        };
+        let fitting = alternatives.iter().filter(|a| !a.misfits);
+        let asked = fitting.clone().filter(|a| !nested(a)).chain(fitting.filter(nested));
+        let next_measurement = asked.into_iter().find_map(|a| {
+            let other = search.visited.iter().find(|m| m.name() == a.extension).expect("visited");
+            next::next_measurement(problem.data, run(selected), run(other))
+        });
 
         let decided_causes = if explained { decided_causes(&causes, &alternatives) } else { vec![] };
         let gain = Gain {
