@@ -144,8 +144,8 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
             closest rival, on all 40 pairs; then this rule on the 21 pairs with alternatives but no suggestion \
             there, since the others' suggestions are the same under both rules by construction): 15 pairs had a suggested measurement (mode 5-8); measuring that mode on the \
             truth took both-named to 28/40 (305, 317, 331 resolved; 307, 311, 318, 328, 334, 336 still missed, \
-            but 307, 318 and 336 went from no decided cause to a true one; no right answer unsettled; 320, 323, \
-            325, 335 went from one decided cause to two). The other misses had no suggestion: no omega or zeta up \
+            but 307, 318, 328 and 336 went from no decided cause to a true one; no right answer unsettled; 320 \
+            and 325 went from one decided cause to two, 323 and 335 from none to two). The other misses had no suggestion: no omega or zeta up \
             to mode 8 separates the selection from any alternative that fits by 1 sd. Decided causes: none false \
             in 72 of the 73 cases, 310's viscous-damping the exception (the same with misfitting alternatives counted)"]
 fn pairs_are_named_and_foreign_effects_are_unexplained() {
