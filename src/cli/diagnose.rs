@@ -42,7 +42,8 @@ pub struct DiagnoseArgs {
 /// with the forward search. Comparing every pair (2026-11-25) keeps the
 /// same 13 verdicts at these settings in 26.9–31.3 s. With the global MAP
 /// search (2026-11-26) four 5-mode hidden cases (123, 307, 310, 314) take
-/// 27.0–29.5 s with the release build (issue 13, item 8: ≤ 30 s); the dev
+/// 25.1–29.5 s with the release build in two sessions (issue 13, item 8:
+/// ≤ 30 s); the dev
 /// profile, without LTO, takes 36.6 s on 307.
 pub fn settings(args: &DiagnoseArgs) -> DiagnoseSettings {
     let mut settings = if args.thorough { DiagnoseSettings::default() } else { DiagnoseSettings::quick() };
