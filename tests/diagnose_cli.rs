@@ -136,10 +136,12 @@ fn report_directory_is_written_and_json_is_shaped() {
     let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
     assert!(text.contains("| viscous-damping | 0.5 | no: the misfit test rejects it |"), "{text}");
     assert!(text.contains("**Next measurement:** none needed: every alternative misfits."), "{text}");
+    assert!(text.contains("An alternative that misfits is no explanation"), "{text}");
     let d = &mut run.diagnosis;
     d.alternatives[0].misfits = false;
     let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
     assert!(text.contains("| viscous-damping | 0.5 | yes |"), "{text}");
+    assert!(!text.contains("An alternative that misfits is no explanation"), "{text}");
     assert!(text.contains("**Next measurement:** none of this kind"), "{text}");
     assert!(text.contains("unmeasured mode up to 8 separates"), "{text}");
     // a MAP on its prior bound in the assessed model: the report says so

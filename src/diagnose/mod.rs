@@ -758,11 +758,13 @@ impl Decision {
 /// one; a single cause with a rival single leaves none). A superset of the
 /// selected model (the selection plus a cause the Occam factor weighed
 /// against) removes nothing, and neither does an alternative that misfits
-/// (the data reject it). On the 73-case hidden suite of 2026-11-26 (its logged
-/// verdicts and alternatives) no decided cause was false in 72 cases (26
-/// of them decided none); the exception, case 310 (tension + mass, viscous damping
-/// preferred by 5.8 nats with both evidences reliable), is a wrong name no
-/// margin of this size would have flagged.
+/// (the data reject it). On the 73-case hidden suite of 2026-11-26 no
+/// decided cause was false in 72 cases (26 of them decided none, computed
+/// from the logged verdicts and alternatives before misfitting alternatives
+/// were screened; 25 with them screened, at 9bd7092); the exception, case
+/// 310 (tension + mass, viscous damping preferred by 5.8 nats with both
+/// evidences reliable), is a wrong name no margin of this size would have
+/// flagged.
 pub fn decided_causes(causes: &[String], alternatives: &[Alternative]) -> Vec<String> {
     let models: Vec<Model> = alternatives
         .iter()
