@@ -679,10 +679,8 @@ impl Decision {
         };
         let fitting = alternatives.iter().filter(|a| !a.misfits);
         let asked = fitting.clone().filter(|a| !nested(a)).chain(fitting.filter(nested));
-        let next_measurement = asked.into_iter().find_map(|a| {
-            let other = search.visited.iter().find(|m| m.name() == a.extension).expect("visited");
-            next::next_measurement(problem.data, run(selected), run(other))
-        });
+        let rivals = asked.map(|a| run(search.visited.iter().find(|m| m.name() == a.extension).expect("visited")));
+        let next_measurement = next::next_measurement(problem.data, run(selected), rivals);
 
         let decided_causes = if explained { decided_causes(&causes, &alternatives) } else { vec![] };
         let gain = Gain {

@@ -41,8 +41,14 @@ pub struct NextMeasurement {
     pub separation_sd: f64,
 }
 
-/// The best unmeasured observable to separate `a` from `b`, if any is predicted by both.
-pub fn next_measurement(data: &MeasuredData, a: &ModelRun, b: &ModelRun) -> Option<NextMeasurement> {
+/// The best unmeasured observable to separate `a` from the first of
+/// `rivals` (in their order) that some observable predicted by both
+/// separates by [`MIN_SEPARATION_SD`]; `a`'s predictive draws are computed once.
+pub fn next_measurement<'r>(
+    data: &MeasuredData,
+    a: &ModelRun,
+    rivals: impl IntoIterator<Item = &'r ModelRun>,
+) -> Option<NextMeasurement> {
     let measured: Vec<usize> = data.modes.iter().chain(&data.held_out_modes).map(|m| m.mode).collect();
     let rel = |f: fn(&crate::calibration::ModeObservation) -> f64| {
         let mut r: Vec<f64> = data.modes.iter().map(f).collect();
@@ -61,31 +67,36 @@ pub fn next_measurement(data: &MeasuredData, a: &ModelRun, b: &ModelRun) -> Opti
         return None;
     }
     let da = super::predictive(a, &candidates, MAX_MODE);
-    let db = super::predictive(b, &candidates, MAX_MODE);
-    if da.predictions.is_empty() || db.predictions.is_empty() {
+    if da.predictions.is_empty() {
         return None;
     }
-    candidates
-        .iter()
-        .enumerate()
-        .map(|(j, o)| {
-            let (ma, va) = mean_var(da.predictions.iter().map(|p| p[j]));
-            let (mb, vb) = mean_var(db.predictions.iter().map(|p| p[j]));
-            let rel = if o.quantity == Quantity::Omega { rel_omega } else { rel_zeta };
-            let sd = rel * 0.5 * (ma.abs() + mb.abs());
-            let separation = (ma - mb).abs() / (sd * sd + 0.5 * (va + vb)).sqrt();
-            NextMeasurement {
-                mode: o.mode,
-                quantity: o.quantity.name(),
-                between: [a.model.name(), b.model.name()],
-                predicted: [ma, mb],
-                measurement_sd: sd,
-                separation_sd: separation,
-            }
-        })
-        .filter(|n| n.separation_sd.is_finite())
-        .max_by(|x, y| x.separation_sd.total_cmp(&y.separation_sd))
-        .filter(|n| n.separation_sd >= MIN_SEPARATION_SD)
+    rivals.into_iter().find_map(|b| {
+        let db = super::predictive(b, &candidates, MAX_MODE);
+        if db.predictions.is_empty() {
+            return None;
+        }
+        candidates
+            .iter()
+            .enumerate()
+            .map(|(j, o)| {
+                let (ma, va) = mean_var(da.predictions.iter().map(|p| p[j]));
+                let (mb, vb) = mean_var(db.predictions.iter().map(|p| p[j]));
+                let rel = if o.quantity == Quantity::Omega { rel_omega } else { rel_zeta };
+                let sd = rel * 0.5 * (ma.abs() + mb.abs());
+                let separation = (ma - mb).abs() / (sd * sd + 0.5 * (va + vb)).sqrt();
+                NextMeasurement {
+                    mode: o.mode,
+                    quantity: o.quantity.name(),
+                    between: [a.model.name(), b.model.name()],
+                    predicted: [ma, mb],
+                    measurement_sd: sd,
+                    separation_sd: separation,
+                }
+            })
+            .filter(|n| n.separation_sd.is_finite())
+            .max_by(|x, y| x.separation_sd.total_cmp(&y.separation_sd))
+            .filter(|n| n.separation_sd >= MIN_SEPARATION_SD)
+    })
 }
 
 fn mean_var(x: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
