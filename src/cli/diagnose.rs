@@ -76,6 +76,12 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
     for r in &run.runs {
         eprintln!("  {:<48} {:>8} evaluations {:>7.1} s", r.model.name(), r.forward_evaluations, r.elapsed_s);
     }
+    let per_model: u64 = run.runs.iter().map(|r| r.forward_evaluations).sum();
+    eprintln!(
+        "  {:<48} {:>8} evaluations",
+        "predictive draws (checks, gain, next)",
+        run.diagnosis.forward_evaluations - per_model
+    );
     if let Some(dir) = &args.out {
         report::write_report(dir, &run, &data, &settings)?;
     }

@@ -50,6 +50,8 @@ pub mod report;
 pub mod synthetic;
 
 use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 
 use rayon::prelude::*;
 use serde::Serialize;
@@ -358,7 +360,9 @@ pub struct Diagnosis {
     pub base: Candidate,
     pub baseline: Candidate,
     pub thresholds: Thresholds,
-    /// Forward-model solves of the whole diagnosis: every model visited and the baseline.
+    /// Forward-model solves of the whole diagnosis: every model visited and
+    /// the baseline, and the posterior predictive draws of the misfit tests,
+    /// the gain and the next measurement.
     pub forward_evaluations: u64,
 }
 
@@ -387,6 +391,14 @@ struct Problem<'a> {
     settings: &'a DiagnoseSettings,
     scales: NominalScales,
     seed: u64,
+    /// Forward solves of the posterior predictive draws (the misfit tests,
+    /// the gain, the next measurement): one modal solve per posterior draw
+    /// and model, counted into the diagnosis's `forward_evaluations`.
+    predictive_solves: AtomicU64,
+    /// Each model's misfit verdict ([`misfits`]) by name, computed once: the
+    /// search's fallback and the alternatives' screening can ask for the same
+    /// model, at one predictive solve per posterior draw each time.
+    misfit_verdicts: Mutex<BTreeMap<String, bool>>,
 }
 
 /// The posterior of `model` given the fitted `modes` of a beam whose known part is `beam`.
@@ -468,7 +480,14 @@ pub fn diagnose_run(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<
     let scales = NominalScales::of(&data.beam, n_modes).map_err(|e| {
         InputError::new("modes", format!("highest mode {n_modes}"), format!("modes the beam model can compute ({e})"))
     })?;
-    let problem = Problem { data, settings, scales, seed: settings.seed.unwrap_or(data.sampler.seed) };
+    let problem = Problem {
+        data,
+        settings,
+        scales,
+        seed: settings.seed.unwrap_or(data.sampler.seed),
+        predictive_solves: AtomicU64::new(0),
+        misfit_verdicts: Mutex::new(BTreeMap::new()),
+    };
 
     let mut runs = problem.run(vec![Model::BASE, Model::Baseline])?;
     let search = search(&problem, &mut runs)?;
@@ -557,11 +576,19 @@ fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Search, Diagnos
     Ok(Search { path, visited: models })
 }
 
-/// Does `run`'s model fail the misfit test on the fitted data?
+/// Does `run`'s model fail the misfit test on the fitted data? (Once per model: [`Problem::misfit_verdicts`].)
 fn misfits(problem: &Problem, run: &ModelRun) -> bool {
-    let checks = fitted_checks(run, problem.data);
+    let name = run.model.name();
+    if let Some(&v) = problem.misfit_verdicts.lock().expect("no panic holds the lock").get(&name) {
+        return v;
+    }
+    let fitted = observables(&problem.data.modes);
+    let draws = predictive(run, &fitted, problem.data.max_mode(), &problem.predictive_solves);
+    let checks = ppc::check_fitted(&fitted, &draws);
     let per_test = ppc::sidak_level(problem.settings.family_alpha, checks.len());
-    checks.iter().any(|c| c.ppp < per_test)
+    let v = checks.iter().any(|c| c.ppp < per_test);
+    problem.misfit_verdicts.lock().expect("no panic holds the lock").insert(name, v);
+    v
 }
 
 /// ln Z of `m` among `runs` (−∞ when it has not run).
@@ -573,7 +600,7 @@ fn log_evidence_of(runs: &[ModelRun], m: &Model) -> f64 {
 /// fitted observable of `data` under `run`'s posterior.
 pub fn fitted_checks(run: &ModelRun, data: &MeasuredData) -> Vec<Check> {
     let fitted = observables(&data.modes);
-    ppc::check_fitted(&fitted, &predictive(run, &fitted, data.max_mode()))
+    ppc::check_fitted(&fitted, &predictive(run, &fitted, data.max_mode(), &AtomicU64::new(0)))
 }
 
 /// The checks and the verdict (module doc, step 3).
@@ -606,8 +633,8 @@ impl Decision {
         };
         let max_mode = problem.data.max_mode();
         Self {
-            draws_base: predictive(run(&Model::BASE), &all, max_mode),
-            draws_selected: predictive(run(&assessed), &all, max_mode),
+            draws_base: predictive(run(&Model::BASE), &all, max_mode, &problem.predictive_solves),
+            draws_selected: predictive(run(&assessed), &all, max_mode, &problem.predictive_solves),
             selected: assessed,
             fitted,
             held,
@@ -680,7 +707,7 @@ impl Decision {
         let fitting = alternatives.iter().filter(|a| !a.misfits);
         let asked = fitting.clone().filter(|a| !nested(a)).chain(fitting.filter(nested));
         let rivals = asked.map(|a| run(search.visited.iter().find(|m| m.name() == a.extension).expect("visited")));
-        let next_measurement = next::next_measurement(problem.data, run(selected), rivals);
+        let next_measurement = next::next_measurement(problem.data, run(selected), rivals, &problem.predictive_solves);
 
         let decided_causes = if explained { decided_causes(&causes, &alternatives) } else { vec![] };
         let gain = Gain {
@@ -711,7 +738,8 @@ impl Decision {
                 log_bayes_factor: s.log_bayes_factor_threshold,
                 alternative_margin: s.alternative_margin,
             },
-            forward_evaluations: runs.iter().map(|r| r.forward_evaluations).sum(),
+            forward_evaluations: runs.iter().map(|r| r.forward_evaluations).sum::<u64>()
+                + problem.predictive_solves.load(Ordering::Relaxed),
         })
     }
 
@@ -811,7 +839,9 @@ fn candidate(r: &ModelRun, z_base: f64, probability: f64) -> Candidate {
 }
 
 /// Predictions of `obs` at every posterior sample (failed samples dropped), and β² per sample.
-pub(crate) fn predictive(run: &ModelRun, obs: &[Observable], max_mode: usize) -> Draws {
+/// One modal solve per posterior draw of `run`, added to `solves`.
+pub(crate) fn predictive(run: &ModelRun, obs: &[Observable], max_mode: usize, solves: &AtomicU64) -> Draws {
+    solves.fetch_add(run.draws.len() as u64, Ordering::Relaxed);
     let post = &run.posterior;
     let rows: Vec<Option<(Vec<f64>, f64)>> = run
         .draws

@@ -10,6 +10,8 @@
 //! combined sds between the two predictions. Measuring the observable with the
 //! largest separation is the most informative single addition to the data.
 
+use std::sync::atomic::AtomicU64;
+
 use serde::Serialize;
 
 use crate::calibration::{MeasuredData, Observable, Quantity};
@@ -43,11 +45,13 @@ pub struct NextMeasurement {
 
 /// The best unmeasured observable to separate `a` from the first of
 /// `rivals` (in their order) that some observable predicted by both
-/// separates by [`MIN_SEPARATION_SD`]; `a`'s predictive draws are computed once.
+/// separates by [`MIN_SEPARATION_SD`]; `a`'s predictive draws are computed
+/// once. The forward solves of the predictive draws are added to `solves`.
 pub fn next_measurement<'r>(
     data: &MeasuredData,
     a: &ModelRun,
     rivals: impl IntoIterator<Item = &'r ModelRun>,
+    solves: &AtomicU64,
 ) -> Option<NextMeasurement> {
     let measured: Vec<usize> = data.modes.iter().chain(&data.held_out_modes).map(|m| m.mode).collect();
     let rel = |f: fn(&crate::calibration::ModeObservation) -> f64| {
@@ -66,12 +70,12 @@ pub fn next_measurement<'r>(
     if candidates.is_empty() {
         return None;
     }
-    let da = super::predictive(a, &candidates, MAX_MODE);
+    let da = super::predictive(a, &candidates, MAX_MODE, solves);
     if da.predictions.is_empty() {
         return None;
     }
     rivals.into_iter().find_map(|b| {
-        let db = super::predictive(b, &candidates, MAX_MODE);
+        let db = super::predictive(b, &candidates, MAX_MODE, solves);
         if db.predictions.is_empty() {
             return None;
         }
