@@ -53,17 +53,48 @@ pub fn frf_each(
     omega_rad_s: impl IntoIterator<Item = f64>,
     mut sink: impl FnMut(f64, Complex64) -> Result<(), BeamError>,
 ) -> Result<(), BeamError> {
+    solve_each(beam, input_x_nm, &[("output_x_nm", output_x_nm)], omega_rad_s, |w, h| sink(w, h[0]))
+}
+
+/// Receptances (m/N) at several output points: `[ω][point]`, one LU per ω
+/// for all points (an operating deflection shape at each ω).
+pub fn frf_points(
+    beam: &BeamSpec,
+    input_x_nm: f64,
+    output_x_nm: &[f64],
+    omega_rad_s: &[f64],
+) -> Result<Vec<Vec<Complex64>>, BeamError> {
+    let names: Vec<String> = (0..output_x_nm.len()).map(|i| format!("output_x_nm[{i}]")).collect();
+    let outputs: Vec<(&str, f64)> = names.iter().map(String::as_str).zip(output_x_nm.iter().copied()).collect();
+    let mut out = Vec::with_capacity(omega_rad_s.len());
+    solve_each(beam, input_x_nm, &outputs, omega_rad_s.iter().copied(), |_, h| {
+        out.push(h.to_vec());
+        Ok(())
+    })?;
+    Ok(out)
+}
+
+/// One banded LU of T(iω) per ω; `sink(ω, [H at each output])`.
+fn solve_each(
+    beam: &BeamSpec,
+    input_x_nm: f64,
+    outputs: &[(&str, f64)],
+    omega_rad_s: impl IntoIterator<Item = f64>,
+    mut sink: impl FnMut(f64, &[Complex64]) -> Result<(), BeamError>,
+) -> Result<(), BeamError> {
     beam.validate()?;
     let xi = check_position("input_x_nm", input_x_nm, beam.length_nm)?;
-    let xo = check_position("output_x_nm", output_x_nm, beam.length_nm)?;
+    let xos =
+        outputs.iter().map(|&(name, x)| check_position(name, x, beam.length_nm)).collect::<Result<Vec<f64>, _>>()?;
     let mesh = UnitMesh::for_beam(beam);
+    let outs: Vec<Vec<f64>> = xos.into_iter().map(|xo| mesh.shape_vector(xo)).collect();
     let model = ScaledModel::new(beam, &mesh);
     let max_w = MAX_OMEGA_TILDE * model.omega_ref;
     let load = mesh.load_vector(xi, model.e_tilde);
-    let out = mesh.shape_vector(xo);
     let n = model.n();
     let undamped = model.c == 0.0 && model.ivs.is_empty();
     let mut rhs = vec![Complex64::new(0.0, 0.0); n];
+    let mut hs = vec![Complex64::new(0.0, 0.0); outs.len()];
     for (i, w) in omega_rad_s.into_iter().enumerate() {
         if !(w.is_finite() && w >= 0.0 && w <= max_w) {
             return Err(InputError::new(
@@ -87,11 +118,14 @@ pub fn frf_each(
             *r = Complex64::new(p, 0.0);
         }
         lu.solve(&mut rhs);
-        let h: Complex64 = out.iter().zip(&rhs).map(|(&o, &x)| o * x).sum();
-        if !h.is_finite() {
-            return Err(BeamError::numerical(format!("non-finite receptance at ω = {} rad/s", fmt_num(w))));
+        for (h, out) in hs.iter_mut().zip(&outs) {
+            let v: Complex64 = out.iter().zip(&rhs).map(|(&o, &x)| o * x).sum();
+            if !v.is_finite() {
+                return Err(BeamError::numerical(format!("non-finite receptance at ω = {} rad/s", fmt_num(w))));
+            }
+            *h = v * model.compliance;
         }
-        sink(w, h * model.compliance)?;
+        sink(w, &hs)?;
     }
     Ok(())
 }

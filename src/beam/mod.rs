@@ -23,7 +23,7 @@ mod state_space;
 mod time_response;
 
 pub use error::BeamError;
-pub use frf::{frf, frf_each, max_frequency_rad_s, MAX_OMEGA_TILDE};
+pub use frf::{frf, frf_each, frf_points, max_frequency_rad_s, MAX_OMEGA_TILDE};
 pub use modal::{
     modal, modal_observables, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode, SolverPath,
 };

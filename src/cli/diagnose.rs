@@ -124,7 +124,22 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
                      alternative that fits by {} sd; a measurement of another kind is needed)\n",
                     crate::diagnose::next::MAX_MODE,
                     crate::diagnose::next::MIN_SEPARATION_SD
-                )
+                );
+                if let Some(m) = &d.shape_measurement {
+                    t += &format!(
+                        "mode-shape measurement: scan mode {} at its resonance (drive at {:.2} nm); at x = {:.2} nm \
+                         the amplitude relative to the largest is {:.4} under {} and {:.4} under {}; measured to \
+                         +-{:.4} it decides\n",
+                        m.mode,
+                        m.drive_x_nm,
+                        m.position_x_nm,
+                        m.predicted_relative_amplitude[0],
+                        m.between[0],
+                        m.predicted_relative_amplitude[1],
+                        m.between[1],
+                        m.decisive_measurement_sd
+                    );
+                }
             }
             (None, true) if !d.alternatives.is_empty() => {
                 t += "next measurement: none needed (every alternative misfits)\n"

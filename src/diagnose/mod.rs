@@ -38,7 +38,9 @@
 //!    under the selected model and an alternative that fits differ most
 //!    ([`next::next_measurement`]); the alternative is the closest rival (one
 //!    that is not the selected causes plus more; then the nested ones) that
-//!    some such observable separates by [`next::MIN_SEPARATION_SD`]. The
+//!    some such observable separates by [`next::MIN_SEPARATION_SD`]; when
+//!    none does, the scan of a measured mode's shape that would
+//!    ([`next::shape_measurement`]). The
 //!    named causes that every alternative that fits contains too are the
 //!    decided ones ([`decided_causes`]); the others are a best guess.
 
@@ -357,6 +359,10 @@ pub struct Diagnosis {
     pub gain: Gain,
     pub alternatives: Vec<Alternative>,
     pub next_measurement: Option<next::NextMeasurement>,
+    /// When no ω or ζ separates the selection from an alternative that fits:
+    /// the scan of a measured mode's shape that would (`null` otherwise, or
+    /// when no shape separates them either).
+    pub shape_measurement: Option<next::ShapeMeasurement>,
     pub base: Candidate,
     pub baseline: Candidate,
     pub thresholds: Thresholds,
@@ -706,8 +712,21 @@ impl Decision {
         };
         let fitting = alternatives.iter().filter(|a| !a.misfits);
         let asked = fitting.clone().filter(|a| !nested(a)).chain(fitting.filter(nested));
-        let rivals = asked.map(|a| run(search.visited.iter().find(|m| m.name() == a.extension).expect("visited")));
-        let next_measurement = next::next_measurement(problem.data, run(selected), rivals, &problem.predictive_solves);
+        let rivals: Vec<&ModelRun> =
+            asked.map(|a| run(search.visited.iter().find(|m| m.name() == a.extension).expect("visited"))).collect();
+        let solves = &problem.predictive_solves;
+        let next_measurement = next::next_measurement(problem.data, run(selected), rivals.iter().copied(), solves);
+        // no ω or ζ decides: a mode shape may (next.rs, module doc)
+        let shape_measurement = match next_measurement {
+            None => next::shape_measurement(
+                problem.data,
+                run(selected),
+                rivals.iter().copied(),
+                s.log_bayes_factor_threshold,
+                solves,
+            ),
+            Some(_) => None,
+        };
 
         let decided_causes = if explained { decided_causes(&causes, &alternatives) } else { vec![] };
         let gain = Gain {
@@ -730,6 +749,7 @@ impl Decision {
             gain,
             alternatives,
             next_measurement,
+            shape_measurement,
             base: candidate(run(&Model::BASE), prob(run(&Model::BASE))),
             baseline: candidate(baseline_run, 1.0 / (1.0 + (-lb).exp())),
             thresholds: Thresholds {

@@ -9,11 +9,29 @@
 //! The separation is |m_a − m_b| / √(σ_q² + (v_a + v_b)/2): the number of
 //! combined sds between the two predictions. Measuring the observable with the
 //! largest separation is the most informative single addition to the data.
+//!
+//! When no ω or ζ separates them, a measurement of another kind may: the
+//! shape of a measured mode ([`shape_measurement`]). A support spring and an
+//! axial force both shift mode n's ω² by ∝ 1/n² relative at leading order,
+//! so no modal table tells them apart, but the tension leaves a simply
+//! supported beam's mode shapes exactly sinusoidal while the spring bends
+//! them near the supports (hidden case 110, a tension: mode 4's amplitude at
+//! 0.7 L is 0.6183 of the largest on the scan under the tension, 0.5886 under
+//! the spring, the truth's 0.6183; case 308, relaxation + spring: at 0.3 L,
+//! 0.617 under relaxation + tension against 0.588 under the truth's pair). The observable is what a scan of the readout
+//! point along the beam at the mode's resonance gives: the amplitude |H(ω_n;
+//! x_drive, x)| ([`crate::beam::frf_points`]) relative to the largest on the
+//! scan grid. Its measurement sd depends on the instrument, which the data
+//! do not say, so the suggestion gives the largest sd at which the
+//! measurement still decides (moves ln B by the decision threshold).
 
 use std::sync::atomic::AtomicU64;
 
 use serde::Serialize;
 
+use rayon::prelude::*;
+
+use crate::beam::{frf_points, modal};
 use crate::calibration::{MeasuredData, Observable, Quantity};
 
 use super::evidence::ModelRun;
@@ -101,6 +119,119 @@ pub fn next_measurement<'r>(
             .max_by(|x, y| x.separation_sd.total_cmp(&y.separation_sd))
             .filter(|n| n.separation_sd >= MIN_SEPARATION_SD)
     })
+}
+
+/// Points of the readout scan: x = k·L/[`SHAPE_GRID`], k = 1 … SHAPE_GRID − 1
+/// (0.4 nm apart on the paper's 8 nm tube).
+pub const SHAPE_GRID: usize = 20;
+
+/// Drive point of the predicted scans as a fraction of L: 39/40, near the end
+/// x = L that is pinned or free for every support but clamped–clamped, off
+/// the scan grid; a uniform beam has no node of a mode ≤ [`MAX_MODE`] there
+/// (the normalisation by the largest amplitude removes the drive's own
+/// amplitude, so only a node would matter).
+pub const SHAPE_DRIVE_FRACTION: f64 = 39.0 / 40.0;
+
+/// A mode-shape measurement that would separate two models no ω or ζ
+/// separates (module doc).
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct ShapeMeasurement {
+    /// The mode whose resonance the scan is taken at (a measured one).
+    pub mode: usize,
+    /// The readout point where the two predictions differ most usefully.
+    pub position_x_nm: f64,
+    /// The drive point the predictions assume.
+    pub drive_x_nm: f64,
+    /// The two models it would separate (selected first).
+    pub between: [String; 2],
+    /// Predictive means of the amplitude at `position_x_nm` relative to the
+    /// largest on the scan grid (dimensionless), under the two models.
+    pub predicted_relative_amplitude: [f64; 2],
+    /// Their posterior predictive sds.
+    pub predictive_sd: [f64; 2],
+    /// The largest measurement sd of the relative amplitude at which the
+    /// measurement is expected to move ln B between the two by the decision
+    /// threshold T: Δ²/(2(σ² + v̄)) ≥ T, so σ = √(Δ²/(2T) − v̄), v̄ the mean
+    /// predictive variance.
+    pub decisive_measurement_sd: f64,
+}
+
+/// The mode shape that best separates `a` from the first of `rivals` (in
+/// their order) for which some measured mode's scan point gives a positive
+/// decisive sd ([`ShapeMeasurement::decisive_measurement_sd`], threshold
+/// `decisive_nats`): the point with the largest such sd. Forward solves (a
+/// modal solve and one FRF factorisation per mode, per posterior draw) are
+/// added to `solves`.
+pub fn shape_measurement<'r>(
+    data: &MeasuredData,
+    a: &ModelRun,
+    rivals: impl IntoIterator<Item = &'r ModelRun>,
+    decisive_nats: f64,
+    solves: &AtomicU64,
+) -> Option<ShapeMeasurement> {
+    let modes = data.max_mode().min(MAX_MODE);
+    let length_nm = data.beam.length_nm;
+    let xs: Vec<f64> = (1..SHAPE_GRID).map(|k| k as f64 * length_nm / SHAPE_GRID as f64).collect();
+    let drive = SHAPE_DRIVE_FRACTION * length_nm;
+    let da = shape_draws(a, modes, drive, &xs, solves);
+    if da.is_empty() {
+        return None;
+    }
+    rivals.into_iter().find_map(|b| {
+        let db = shape_draws(b, modes, drive, &xs, solves);
+        if db.is_empty() {
+            return None;
+        }
+        (0..modes * xs.len())
+            .map(|j| {
+                let (ma, va) = mean_var(da.iter().map(|p| p[j]));
+                let (mb, vb) = mean_var(db.iter().map(|p| p[j]));
+                let sd2 = (ma - mb).powi(2) / (2.0 * decisive_nats) - 0.5 * (va + vb);
+                (j, ma, va, mb, vb, sd2)
+            })
+            .filter(|t| t.5 > 0.0 && t.5.is_finite())
+            .max_by(|x, y| x.5.total_cmp(&y.5))
+            .map(|(j, ma, va, mb, vb, sd2)| ShapeMeasurement {
+                mode: j / xs.len() + 1,
+                position_x_nm: xs[j % xs.len()],
+                drive_x_nm: drive,
+                between: [a.model.name(), b.model.name()],
+                predicted_relative_amplitude: [ma, mb],
+                predictive_sd: [va.sqrt(), vb.sqrt()],
+                decisive_measurement_sd: sd2.sqrt(),
+            })
+    })
+}
+
+/// Per posterior draw of `run` (in order; draws whose model cannot be
+/// solved, or has an overdamped mode ≤ `modes`, are left out): the scan
+/// amplitudes |H(ω_n; drive, x_k)| / max_k |H(ω_n; drive, x_k)|, mode-major.
+fn shape_draws(run: &ModelRun, modes: usize, drive_nm: f64, xs: &[f64], solves: &AtomicU64) -> Vec<Vec<f64>> {
+    solves.fetch_add((run.draws.len() * (1 + modes)) as u64, std::sync::atomic::Ordering::Relaxed);
+    let post = &run.posterior;
+    let rows: Vec<Option<Vec<f64>>> = run
+        .draws
+        .par_iter()
+        .map(|u| {
+            let beam = post.inner().beam_at(&post.to_inner(u));
+            let found = modal(&beam, modes).ok()?.modes;
+            let omegas: Vec<f64> = (1..=modes)
+                .map(|n| found.iter().find(|m| m.mode == n).map(|m| m.omega_rad_s))
+                .collect::<Option<_>>()?;
+            let h = frf_points(&beam, drive_nm, xs, &omegas).ok()?;
+            let mut row = Vec::with_capacity(modes * xs.len());
+            for scan in &h {
+                let amp: Vec<f64> = scan.iter().map(|z| z.norm()).collect();
+                let peak = amp.iter().copied().fold(0.0, f64::max);
+                if !(peak > 0.0 && peak.is_finite()) {
+                    return None;
+                }
+                row.extend(amp.iter().map(|v| v / peak));
+            }
+            Some(row)
+        })
+        .collect();
+    rows.into_iter().flatten().collect()
 }
 
 fn mean_var(x: impl Iterator<Item = f64> + Clone) -> (f64, f64) {

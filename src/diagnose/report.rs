@@ -87,6 +87,7 @@ pub fn markdown(run: &DiagnosisRun, data: &MeasuredData, s: &DiagnoseSettings) -
         "mh_steps": s.mh_steps,
         "next_max_mode": super::next::MAX_MODE,
         "next_min_separation_sd": super::next::MIN_SEPARATION_SD,
+        "shape_grid": super::next::SHAPE_GRID,
     });
     render_embedded("diagnose.md.tera", TEMPLATE, &ctx)
 }
