@@ -18,10 +18,10 @@
 //! them near the supports (hidden case 110, a tension: mode 4's amplitude at
 //! 0.7 L is 0.6183 of the largest on the scan under the tension, 0.5886 under
 //! the spring, the truth's 0.6183; case 308, relaxation + spring: at 0.3 L,
-//! 0.617 under relaxation + tension against 0.588 under the truth's pair). The observable is what a scan of the readout
-//! point along the beam at the mode's resonance gives: the amplitude |H(ω_n;
-//! x_drive, x)| ([`crate::beam::frf_points`]) relative to the largest on the
-//! scan grid. Its measurement sd depends on the instrument, which the data
+//! 0.6166 under relaxation + tension, 0.5880 under the truth's pair, the
+//! truth's 0.5890). The observable is what a scan of the readout point along
+//! the beam at the mode's resonance gives: the amplitude |H(ω_n; x_drive, x)|
+//! ([`crate::beam::frf_points`]) relative to the largest on the scan grid. Its measurement sd depends on the instrument, which the data
 //! do not say, so the suggestion gives the largest sd at which the
 //! measurement still decides (moves ln B by the decision threshold).
 
@@ -136,9 +136,10 @@ pub const SHAPE_DRIVE_FRACTION: f64 = 39.0 / 40.0;
 /// fraction of the peak amplitude: a tenth of a per cent. A stated
 /// assumption, not a derived bound: a scan of a nanotube's deflection is not
 /// expected to resolve less, and below it differences reach numerical noise
-/// (hidden case 310: viscous damping against damping + a vanishing spring,
-/// the best point decisive at 1e-10). Hidden cases 319 and 324 asked for
-/// 1e-4 and 3e-4 and get no suggestion.
+/// (hidden case 310, viscous damping against viscous damping + a spring:
+/// without the floor the suggestion was the point of largest amplitude,
+/// 1.0000 under both by definition, decisive at an sd printed as 0.0000).
+/// Hidden cases 319 and 324 asked for 1e-4 and 3e-4 and get no suggestion.
 pub const MIN_SHAPE_SD: f64 = 1e-3;
 
 /// A mode-shape measurement that would separate two models no ω or ζ
