@@ -142,7 +142,10 @@ fn first_pair_is_named_and_first_foreign_effect_is_unexplained() {
             (2026-11-25, part of it beside a CI build), more than the suite's budget; CI runs the first seed of each \
             cause and two clean ones. Measured 2026-11-26 with the global MAP search (both parts at once, 2571 s): \
             singles 23/24 (support-rotational-stiffness seed 114 named axial-force, the true cause an alternative), \
-            clean 5/5; the same on 2026-11-26 at 9bd7092 (alternatives put to the misfit test)"]
+            clean 5/5; the same on 2026-11-26 at 9bd7092 (alternatives put to the misfit test) and at bc443a3, \
+            where 3 singles got a mode-shape suggestion, all three between the truth and a rival (104, 110, 114): \
+            one keyed draw at half the decisive sd decided for the truth in 104 and 114, not in 110 (-1.3, a draw \
+            of about -2.5 sd; its noise-free ln B was 9.8), so the check is now the expected ln B (not re-run)"]
 fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
     let t = tally(closed_cases(), Follow::No);
     assert_eq!(
@@ -171,7 +174,12 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
             but 307, 318, 328 and 336 went from no decided cause to a true one; no right answer unsettled; 320 \
             and 325 went from one decided cause to two, 323 and 335 from none to two). The other misses had no suggestion: no omega or zeta up \
             to mode 8 separates the selection from any alternative that fits by 1 sd. Decided causes: none false \
-            in 72 of the 73 cases, 310's viscous-damping the exception (the same with misfitting alternatives counted)"]
+            in 72 of the 73 cases, 310's viscous-damping the exception (the same with misfitting alternatives counted). \
+            Mode-shape advice (bc443a3, 2026-11-26, 4173 s for both parts beside a CI run): 13 pairs and foreign \
+            cases got a shape suggestion, 12 with the truth's model one of the two; one keyed draw at half the \
+            decisive sd decided for the truth in 10. The two that did not are spring + mass truths named right \
+            (321: -0.9; 337: -11.3, the truth's scan nearer the mass + tension prediction: the advice misleads \
+            there); the check is now the expected ln B, not re-run"]
 fn pairs_are_named_and_foreign_effects_are_unexplained() {
     let t = tally(open_cases(), Follow::SuggestedMode);
     assert_eq!(
@@ -215,29 +223,29 @@ struct Tally {
     shape_suggested: usize,
     /// Those whose two models include the truth's ([`shape_check`]).
     shape_checkable: usize,
-    /// Those where the truth's scan, measured at half the decisive sd,
-    /// favours the truth's model by the decision threshold.
+    /// Those where the truth's scan, measured at half the decisive sd, is
+    /// expected to favour the truth's model by the decision threshold.
     shape_decides_for_truth: usize,
 }
 
 /// The mode-shape advice checked on the truth: when one of the two models
-/// the suggestion separates is the truth's, its scan at the suggested point
+/// the suggestion separates is the truth's, the expected ln B of the truth's
+/// model over the other when the truth's scan at the suggested point
 /// ([`ShapeMeasurement::value_of`]) is measured with half the decisive sd
-/// (one keyed normal draw) and ln B of the truth's model over the other is
-/// returned (`None` when neither is the truth's). At half the decisive sd
-/// its expectation is ≈ 4× the threshold when the truth sits at its model's
-/// prediction (`tests/diagnose_next.rs`).
-fn shape_check(case: &SyntheticCase, m: &ShapeMeasurement, seed: u64) -> Option<f64> {
+/// ([`ShapeMeasurement::expected_log_bayes_factor`]; `None` when neither is
+/// the truth's). When the truth sits at its model's prediction this is ≈ 4×
+/// the threshold. Why the expectation and not one keyed draw: a draw is
+/// N(mean, ≈ 5²) in ln B there, so one case in ~25 falls below the threshold
+/// by chance (seed 110: −1.3 at a draw of ≈ −2.5 sd, measured 2026-11-26),
+/// which says nothing about the advice.
+fn shape_check(case: &SyntheticCase, m: &ShapeMeasurement) -> Option<f64> {
     let truth = Model::with(&case.hidden.causes);
     let first = Model::from_name(&m.between[0]) == Some(truth.clone());
     let second = Model::from_name(&m.between[1]) == Some(truth);
     if !(first || second) {
         return None;
     }
-    let t = m.value_of(&case.truth_beam)?;
-    let sigma = 0.5 * m.decisive_measurement_sd;
-    let e: f64 = StandardNormal.sample(&mut stream(seed, Purpose::SyntheticCase, [3, 0]));
-    let ln_b = m.log_bayes_factor(t + e * sigma, sigma);
+    let ln_b = m.expected_log_bayes_factor(m.value_of(&case.truth_beam)?, 0.5 * m.decisive_measurement_sd);
     Some(if first { ln_b } else { -ln_b })
 }
 
@@ -316,7 +324,7 @@ fn tally(cases: Vec<(u64, Hidden)>, follow: Follow) -> Tally {
                 }
                 _ => None,
             };
-            let shape = d.shape_measurement.as_ref().and_then(|m| shape_check(&case, m, seed));
+            let shape = d.shape_measurement.as_ref().and_then(|m| shape_check(&case, m));
             (seed, hidden, case.base_fit_max_z, d, t.elapsed().as_secs_f64(), after, shape)
         })
         .collect();
@@ -340,8 +348,8 @@ fn tally(cases: Vec<(u64, Hidden)>, follow: Follow) -> Tally {
         );
         if let Some(m) = &d.shape_measurement {
             println!(
-                "    shape: mode {} at {:.2} nm, {} {:.4} against {} {:.4}, decisive sd {:.4}; ln B for the truth \
-                 at half that sd: {}",
+                "    shape: mode {} at {:.2} nm, {} {:.4} against {} {:.4}, decisive sd {:.4}; expected ln B for \
+                 the truth at half that sd: {}",
                 m.mode,
                 m.position_x_nm,
                 m.between[0],

@@ -188,6 +188,19 @@ impl ShapeMeasurement {
         let [sa, sb] = self.predictive_sd;
         log_density(ma, sa) - log_density(mb, sb)
     }
+
+    /// The expectation of [`Self::log_bayes_factor`] over measurements
+    /// y ~ N(`value`, `sd`²) of a beam whose true relative amplitude is
+    /// `value`: E[(y − m)²] = (value − m)² + sd², so no random draw decides it.
+    pub fn expected_log_bayes_factor(&self, value: f64, sd: f64) -> f64 {
+        let expected_log_density = |m: f64, s: f64| {
+            let v = s * s + sd * sd;
+            -0.5 * ((value - m).powi(2) + sd * sd) / v - 0.5 * v.ln()
+        };
+        let [ma, mb] = self.predicted_relative_amplitude;
+        let [sa, sb] = self.predictive_sd;
+        expected_log_density(ma, sa) - expected_log_density(mb, sb)
+    }
 }
 
 /// The mode shape that best separates `a` from the first of `rivals` (in
