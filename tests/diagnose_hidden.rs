@@ -178,8 +178,12 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
             Mode-shape advice (bc443a3, 2026-11-26, 4173 s for both parts beside a CI run): 13 pairs and foreign \
             cases got a shape suggestion, 12 with the truth's model one of the two; one keyed draw at half the \
             decisive sd decided for the truth in 10. The two that did not are spring + mass truths named right \
-            (321: -0.9; 337: -11.3, the truth's scan nearer the mass + tension prediction: the advice misleads \
-            there); the check is now the expected ln B, not re-run"]
+            (321: -0.9; 337: -11.3, the truth's scan nearer the mass + tension prediction: the advice misled \
+            there, because the folded mass position predicted a mass on the left only while both truths' masses \
+            sit on the right). With the mirror image in the predictive (2026-11-27, the 20 pairs with a mass, \
+            914 s): 6 shape suggestions (309, 313, 315, 326, 329, 337), the truth's model one of the two in 5, \
+            expected ln B for the truth at half the decisive sd 6.3-14.3 in all 5 (337 now mode 1 at 0.8 nm); \
+            302 and 321 no longer get one; verdicts as before"]
 fn pairs_are_named_and_foreign_effects_are_unexplained() {
     let t = tally(open_cases(), Follow::SuggestedMode);
     assert_eq!(

@@ -34,6 +34,13 @@ impl Support {
             Support::ClampedPinned => "clamped-pinned",
         }
     }
+
+    /// Whether the support at x = L is that at x = 0 (simply supported,
+    /// clamped–clamped): then a beam and its mirror image about midspan have
+    /// the same modes.
+    pub fn mirrors_itself(self) -> bool {
+        matches!(self, Support::SimplySupported | Support::ClampedClamped)
+    }
 }
 
 /// One internal variable of the relaxation kernel, eq. (8):

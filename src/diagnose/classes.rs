@@ -35,7 +35,7 @@
 //! evidence is invariant under this change of variables.
 
 use crate::bayes::prior::Prior;
-use crate::beam::{BeamError, BeamSpec, Support};
+use crate::beam::{BeamError, BeamSpec};
 use crate::calibration::{Parameter, ParameterSet, Target};
 
 /// One candidate cause: an extension of the base model.
@@ -267,10 +267,20 @@ pub fn model_parameters(model: &Model, base: &ParameterSet, beam: &BeamSpec, s: 
 /// the prior density doubles), the sampler no longer has to cross between
 /// the two peaks, and the reported position is the canonical (left) one.
 fn mass_position_upper_nm(beam: &BeamSpec) -> f64 {
-    match beam.support {
-        Support::SimplySupported | Support::ClampedClamped => 0.5 * beam.length_nm,
-        Support::ClampedFree | Support::ClampedPinned => beam.length_nm,
+    if beam.support.mirrors_itself() {
+        0.5 * beam.length_nm
+    } else {
+        beam.length_nm
     }
+}
+
+/// Whether `model`'s mass position prior on `beam` is folded onto the left
+/// half ([`mass_position_upper_nm`]). Then every posterior draw stands for
+/// itself and its mirror image, with equal weight, and a prediction that
+/// is not mirror-symmetric (a mode shape read at one point) must average
+/// over both: the folded posterior alone predicts only the left-mass half.
+pub fn folds_mass_position(model: &Model, beam: &BeamSpec) -> bool {
+    model.causes().contains(&ModelClass::AttachedMass) && beam.support.mirrors_itself()
 }
 
 /// Appends the parameters of one cause, with the priors of the module doc.
