@@ -145,7 +145,9 @@ fn first_pair_is_named_and_first_foreign_effect_is_unexplained() {
             clean 5/5; the same on 2026-11-26 at 9bd7092 (alternatives put to the misfit test) and at bc443a3, \
             where 3 singles got a mode-shape suggestion, all three between the truth and a rival (104, 110, 114): \
             one keyed draw at half the decisive sd decided for the truth in 104 and 114, not in 110 (-1.3, a draw \
-            of about -2.5 sd; its noise-free ln B was 9.8), so the check is now the expected ln B (not re-run)"]
+            of about -2.5 sd; its noise-free ln B was 9.8), so the check is now the expected ln B: 10.4, 9.7 and 13.0 \
+            for 104, 110 and 114; the whole closed world re-run 2026-11-27 at 8f4a5fd (mirror-image scan predictive, 751 s \
+            in two subsets): singles 23/24 (114 again), clean 5/5, no other shape suggestion"]
 fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
     let t = tally(closed_cases(), Follow::No);
     assert_eq!(
@@ -183,7 +185,9 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
             sit on the right). With the mirror image in the predictive (2026-11-27, the 20 pairs with a mass, \
             914 s): 6 shape suggestions (309, 313, 315, 326, 329, 337), the truth's model one of the two in 5, \
             expected ln B for the truth at half the decisive sd 6.3-14.3 in all 5 (337 now mode 1 at 0.8 nm); \
-            302 and 321 no longer get one; verdicts as before"]
+            302 and 321 no longer get one; verdicts as before. The other 20 pairs and the 4 foreign effects re-run \
+            then too (931 s): 13/20 named, after the suggested mode 13/20, foreign 4/4, the same 5 shape \
+            suggestions (300, 303, 308, 316, 332) each deciding for the truth (expected ln B 8.8-40.3)"]
 fn pairs_are_named_and_foreign_effects_are_unexplained() {
     let t = tally(open_cases(), Follow::SuggestedMode);
     assert_eq!(

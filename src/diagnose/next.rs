@@ -155,7 +155,9 @@ pub struct ShapeMeasurement {
     /// The two models it would separate (selected first).
     pub between: [String; 2],
     /// Predictive means of the amplitude at `position_x_nm` relative to the
-    /// largest on the scan grid (dimensionless), under the two models.
+    /// largest on the scan grid (dimensionless), under the two models (a
+    /// model with a folded mass position over each draw and its mirror
+    /// image, see `shape_draws`).
     pub predicted_relative_amplitude: [f64; 2],
     /// Their posterior predictive sds.
     pub predictive_sd: [f64; 2],
