@@ -114,6 +114,7 @@ fn report_directory_is_written_and_json_is_shaped() {
         "probability",
         "posterior",
         "map_on_prior_bound",
+        "point_mass_x_mirror_ambiguous",
     ] {
         assert!(c.get(key).is_some(), "candidate.{key} missing");
     }
@@ -151,6 +152,14 @@ fn report_directory_is_written_and_json_is_shaped() {
     c.map_on_prior_bound.push(BoundHit { parameter: "shear_coefficient".into(), map: 0.3000016, bound: 0.3 });
     let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
     assert!(text.contains("`shear_coefficient` = 0.3000016 on its prior bound 0.3"), "{text}");
+    // this case's assessed model has no mass; with a folded mass position the
+    // report says the position is known only up to its mirror image
+    assert!(!text.contains("mirror image about midspan"), "{text}");
+    let d = &mut run.diagnosis;
+    let c = d.candidates.iter_mut().find(|c| c.extension == assessed).expect("the assessed model is a candidate");
+    c.point_mass_x_mirror_ambiguous = true;
+    let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
+    assert!(text.contains("a mass at 8 nm − x fits the data equally well"), "{text}");
 }
 
 #[test]

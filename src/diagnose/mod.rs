@@ -216,6 +216,12 @@ pub struct Candidate {
     /// Cause parameters whose MAP lies on the stronger-effect bound of their
     /// prior range ([`on_prior_bound`]).
     pub map_on_prior_bound: Vec<BoundHit>,
+    /// The model has a point mass on supports that mirror each other, so the
+    /// modes fix its position only up to the mirror image about midspan: the
+    /// prior on `point_mass_x_nm` is folded onto the left half
+    /// ([`classes::folds_mass_position`]) and a mass at L − x fits the data
+    /// equally well.
+    pub point_mass_x_mirror_ambiguous: bool,
 }
 
 /// A parameter whose MAP lies on a bound of its prior range.
@@ -673,7 +679,7 @@ impl Decision {
         let z_max = search.visited.iter().map(|m| run(m).log_evidence).fold(f64::NEG_INFINITY, f64::max);
         let norm: f64 = search.visited.iter().map(|m| (run(m).log_evidence - z_max).exp()).sum();
         let prob = |r: &ModelRun| (r.log_evidence - z_max).exp() / norm;
-        let candidate = |r: &ModelRun, p: f64| candidate(r, z_base, p);
+        let candidate = |r: &ModelRun, p: f64| candidate(r, z_base, p, &problem.data.beam);
         let candidates: Vec<Candidate> =
             search.visited.iter().skip(1).map(|m| candidate(run(m), prob(run(m)))).collect();
         let baseline_run = run(&Model::Baseline);
@@ -838,7 +844,7 @@ impl Model {
     }
 }
 
-fn candidate(r: &ModelRun, z_base: f64, probability: f64) -> Candidate {
+fn candidate(r: &ModelRun, z_base: f64, probability: f64, beam: &crate::beam::BeamSpec) -> Candidate {
     let z = r.log_evidence;
     Candidate {
         extension: r.model.name(),
@@ -855,6 +861,7 @@ fn candidate(r: &ModelRun, z_base: f64, probability: f64) -> Candidate {
         forward_evaluations: r.forward_evaluations,
         posterior: summaries(r),
         map_on_prior_bound: on_prior_bound(r),
+        point_mass_x_mirror_ambiguous: classes::folds_mass_position(&r.model, beam),
     }
 }
 

@@ -88,6 +88,7 @@ pub fn markdown(run: &DiagnosisRun, data: &MeasuredData, s: &DiagnoseSettings) -
         "next_max_mode": super::next::MAX_MODE,
         "next_min_separation_sd": super::next::MIN_SEPARATION_SD,
         "shape_grid": super::next::SHAPE_GRID,
+        "mass_mirror_length_nm": assessed.point_mass_x_mirror_ambiguous.then_some(data.beam.length_nm),
     });
     render_embedded("diagnose.md.tera", TEMPLATE, &ctx)
 }
