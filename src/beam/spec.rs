@@ -362,6 +362,18 @@ impl BeamSpec {
         (2 * (self.elements + 1)).saturating_sub(fixed)
     }
 
+    /// The beam reflected about midspan, x → L − x: its point mass moved to
+    /// the mirror position, the only feature of a beam that is not the same
+    /// all along it (a new such feature must be reflected here too). With
+    /// supports that [`Support::mirrors_itself`] it has the same modes.
+    pub fn mirror_image(&self) -> BeamSpec {
+        let mut m = self.clone();
+        if let Some(p) = m.point_mass.as_mut() {
+            p.x_nm = self.length_nm - p.x_nm;
+        }
+        m
+    }
+
     /// Cross-section area in m².
     pub fn area_m2(&self) -> f64 {
         let d = self.diameter_nm * 1e-9;

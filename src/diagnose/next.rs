@@ -178,22 +178,12 @@ impl ShapeMeasurement {
         resonance_scan(beam, self.mode, self.drive_x_nm, &xs).map(|s| s[(self.mode - 1) * xs.len() + k])
     }
 
-    /// ln B of the first model over the second given a measured relative
-    /// amplitude `y` with sd `sd`: the ratio of the two Gaussian predictives
-    /// N(y; m_k, s_k² + sd²) (the approximation the suggestion's decisive sd assumes).
-    pub fn log_bayes_factor(&self, y: f64, sd: f64) -> f64 {
-        let log_density = |m: f64, s: f64| {
-            let v = s * s + sd * sd;
-            -0.5 * (y - m).powi(2) / v - 0.5 * v.ln()
-        };
-        let [ma, mb] = self.predicted_relative_amplitude;
-        let [sa, sb] = self.predictive_sd;
-        log_density(ma, sa) - log_density(mb, sb)
-    }
-
-    /// The expectation of [`Self::log_bayes_factor`] over measurements
-    /// y ~ N(`value`, `sd`²) of a beam whose true relative amplitude is
-    /// `value`: E[(y − m)²] = (value − m)² + sd², so no random draw decides it.
+    /// The expected ln B of the first model over the second when a beam whose
+    /// true relative amplitude is `value` is measured with sd `sd`: ln B of a
+    /// reading y is the ratio of the two Gaussian predictives N(y; m_k, s_k² +
+    /// sd²) (the approximation the decisive sd assumes), and over y ~
+    /// N(`value`, `sd`²), E[(y − m)²] = (value − m)² + sd², so no random draw
+    /// decides it.
     pub fn expected_log_bayes_factor(&self, value: f64, sd: f64) -> f64 {
         let expected_log_density = |m: f64, s: f64| {
             let v = s * s + sd * sd;
@@ -284,22 +274,12 @@ fn shape_draws(
             let beam = post.inner().beam_at(&post.to_inner(u));
             let mut scans = vec![resonance_scan(&beam, modes, drive_nm, xs)];
             if images == 2 {
-                scans.push(resonance_scan(&mirror_image(&beam), modes, drive_nm, xs));
+                scans.push(resonance_scan(&beam.mirror_image(), modes, drive_nm, xs));
             }
             scans
         })
         .collect();
     rows.into_iter().flatten().flatten().collect()
-}
-
-/// `beam` with its point mass moved to the mirror position x → L − x (the
-/// only feature of a model that is not the same at both ends).
-fn mirror_image(beam: &BeamSpec) -> BeamSpec {
-    let mut m = beam.clone();
-    if let Some(p) = m.point_mass.as_mut() {
-        p.x_nm = beam.length_nm - p.x_nm;
-    }
-    m
 }
 
 /// The scan points of a beam of length `length_nm`: x = k·L/[`SHAPE_GRID`], k = 1 … SHAPE_GRID − 1.
@@ -352,7 +332,7 @@ mod tests {
         beam.internal_variables = vec![InternalVariable { delta: 0.05, omega_rad_s: 1e12 }];
         let mass_kg = 0.1 * beam.density_kg_m3 * beam.area_m2() * beam.length_nm * 1e-9;
         beam.point_mass = Some(PointMass { mass_kg, x_nm: 0.3 * beam.length_nm });
-        let mirror = mirror_image(&beam);
+        let mirror = beam.mirror_image();
         assert!((mirror.point_mass.unwrap().x_nm - 0.7 * beam.length_nm).abs() < 1e-12);
         let (a, b) = (modal(&beam, 5).unwrap().modes, modal(&mirror, 5).unwrap().modes);
         for (p, q) in a.iter().zip(&b) {
