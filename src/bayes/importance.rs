@@ -2,7 +2,7 @@
 //! on an annealed (TMCMC) evidence whose final population may have missed
 //! part of the posterior mass.
 //!
-//!   Z = ∫ π(θ) L(θ) dθ = E_q[w],  w(θ) = π(θ) L(θ) / q(θ),
+//!   `Z = ∫ π(θ) L(θ) dθ = E_q[w]`,  `w(θ) = π(θ) L(θ) / q(θ)`,
 //!   Ẑ = (1/n) Σ w(θ_i),  θ_i ~ q  (unbiased for any q > 0 where πL > 0),
 //!
 //! with the delta-method standard error se(ln Ẑ) = sd(w)/(√n · mean w) and

@@ -4,7 +4,7 @@
 //! In SI the rotation-DOF entries are ~le² ≈ 1e-19 times the translation
 //! entries and normwise eigensolvers lose the low modes. We therefore work in
 //! the dimensionless coordinate x̃ = x/L (so h̃ = 1/elements, ẽ = e0a/L), with the
-//! DOFs (w [m], θ̃ = dw/dx̃) and the dimensionless time t̃ = ω_ref t,
+//! DOFs (w in m, θ̃ = dw/dx̃) and the dimensionless time t̃ = ω_ref t,
 //! ω_ref = √(EI/ρA)/L². Energies then read
 //! ½EI∫w''² dx = (EI/L³)·½ qᵀK̃q,  ½ρA∫ẇ² dx = (EI/L³)·½ q̇ᵀM̃q̇ (dots in t̃), with
 //! K̃ = Σ∫N''N''ᵀ dx̃, M̃ = Σ(∫NNᵀ + ẽ²∫N'N'ᵀ) dx̃ (A4, A6), and the extensions

@@ -261,7 +261,7 @@ fn global() -> &'static Mutex<HashMap<Key, Entry>> {
 }
 
 /// The interpolants of one Euler–Bernoulli mesh seen by one solver: a local
-/// index [mode − 1][piece] in front of the process-wide cache.
+/// index `[mode − 1][piece]` in front of the process-wide cache.
 #[derive(Debug, Default, Clone)]
 pub struct SpectrumTable {
     local: Vec<[Option<Entry>; PIECES]>,

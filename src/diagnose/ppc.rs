@@ -8,8 +8,8 @@
 //! stated 1 % family-wise level was really ≈ 2e-4 and a bias had to reach
 //! 6–9 σ to be caught half the time. The fitted check therefore standardizes
 //! by the residual's own sd:
-//!   h_j = Var_post[ŷ_j] / (σ_j² E[β²]),  z_j = (y_j − E_post[ŷ_j]) / (σ_j √(E[β²]) √(1 − h_j)),
-//!   p_j = 2Φ(−|z_j|).
+//!   `h_j = Var_post[ŷ_j] / (σ_j² E[β²])`,  `z_j = (y_j − E_post[ŷ_j]) / (σ_j √(E[β²]) √(1 − h_j))`,
+//!   `p_j = 2Φ(−|z_j|)`.
 //! For a model linear in its parameters with a Gaussian posterior this is
 //! exact (the posterior variance of the fitted value is σ²h, the hat matrix's
 //! diagonal); at 0.3 % noise the beam model is linear to O(σ) over the
@@ -17,7 +17,7 @@
 //! h. An observable with h_j > [`max_leverage`]`(S)` is fitted by the
 //! parameters almost exactly, and its 1 − h_j is not known well enough from
 //! S posterior draws to standardize by: it is tested conservatively,
-//! z_j = (y_j − E_post[ŷ_j]) / (σ_j √(E[β²])). Under the model the residual's
+//! `z_j = (y_j − E_post[ŷ_j]) / (σ_j √(E[β²]))`. Under the model the residual's
 //! sd σ_j√(1 − h_j) is at most the divisor, so this test's level is at most
 //! the stated one, and a model that misses such an observable by more than
 //! the threshold in σ is still caught. (Until 2026-11-25 these observables
@@ -31,7 +31,7 @@
 //! Its tail probabilities are computed in closed form per sample (Rao–Blackwell),
 //! so p-values far below 1/S are resolved:
 //! P(y_rep ≥ y) = (1/S) Σ_s Φ((ŷ_s − y)/(β_sσ)), ppp = 2·min(P(y_rep ≥ y), P(y_rep ≤ y)).
-//! The standardized residual is z = (y − E[y_rep]) / sd[y_rep].
+//! The standardized residual is `z = (y − E[y_rep]) / sd[y_rep]`.
 //!
 //! Many observables are tested at once, so the decision "misfit detected"
 //! uses the Šidák per-test level α = 1 − (1 − α_FW)^(1/J) for a family-wise
@@ -68,7 +68,7 @@ pub struct Check {
     pub z: f64,
     /// Two-sided p-value (leverage-corrected for fitted observables).
     pub ppp: f64,
-    /// h = Var_post[ŷ]/(σ²E[β²]) (fitted observables; 0 for held-out ones).
+    /// `h = Var_post[ŷ]/(σ²E[β²])` (fitted observables; 0 for held-out ones).
     pub leverage: f64,
 }
 

@@ -127,7 +127,7 @@ pub fn fmt_interval(lo: f64, hi: f64, sig: usize) -> String {
     format!("[{}, {}]", fmt_sig(lo, sig), fmt_sig(hi, sig))
 }
 
-/// Reusable buffers of [`push_lower_exp`] and [`push_int`].
+/// Reusable buffers of [`Self::push_lower_exp`] and [`Self::push_int`].
 pub struct NumberFormatter {
     float: zmij::Buffer,
     int: itoa::Buffer,

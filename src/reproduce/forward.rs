@@ -11,14 +11,14 @@ use crate::reproduce::reconstruction::{ghz_to_rad_s, Reconstruction};
 use crate::reproduce::results::{r6, Table2Row};
 use crate::reproduce::specs::Specs;
 
-/// A map over the grid, indexed [e0a][Ω].
+/// A map over the grid, indexed `[e0a][Ω]`.
 pub type Grid = Vec<Vec<f64>>;
 
 /// Table 2, the map grids and their files.
 pub struct ForwardOutcome {
     pub table2_rows: Vec<Table2Row>,
     pub table2_md: String,
-    /// maps[r] = (ratio grid [e0a][Ω], zeta grid) for mode r+1.
+    /// `maps[r]` = (ratio grid `[e0a][Ω]`, zeta grid) for mode r+1.
     pub maps: Vec<(Grid, Grid)>,
     pub e0a: Vec<f64>,
     pub omega: Vec<f64>,

@@ -13,7 +13,7 @@
 //! | function | figure |
 //! |---|---|
 //! | [`line_plot`] | named (x, y) series, log axes, band, grey realizations, reference lines |
-//! | [`heatmap`] | scalar field z(x, y) on a grid, colour bar |
+//! | [`heatmap()`] | scalar field z(x, y) on a grid, colour bar |
 //! | [`trace_plot`] | MCMC chains: draw index vs value, reference line |
 //! | [`histogram`] | marginal densities of sample groups, reference line |
 //! | [`pair_plot`] | d×d grid: histograms on the diagonal, scatter below |
