@@ -120,11 +120,21 @@ pub struct SyntheticCase {
     pub truth_beam: BeamSpec,
     /// max_j |y0_j − ŷ_j(θ̂_base)| / σ_j of the best base fit to the noise-free truth.
     pub base_fit_max_z: f64,
+    /// The observations before the noise is drawn (the truth's ω and ζ, the
+    /// same sds): the data's expectation. Its diagnosis says what the
+    /// effects' sizes support without the luck of one noise draw.
+    pub noise_free: Vec<ModeObservation>,
 }
 
 impl SyntheticCase {
     pub fn data(&self) -> MeasuredData {
         MeasuredData::from_file(self.file.clone()).expect("generated data are valid")
+    }
+
+    /// [`Self::data`] with the [`Self::noise_free`] observations.
+    pub fn noise_free_data(&self) -> MeasuredData {
+        let file = MeasuredFile { modes: self.noise_free.clone(), ..self.file.clone() };
+        MeasuredData::from_file(file).expect("generated data are valid")
     }
 }
 
@@ -558,7 +568,8 @@ fn catalogue_fits(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -
 }
 
 fn finish(seed: u64, truth: BeamSpec, y0: Vec<Mode>, hidden: Hidden, z: f64, rng: &mut ChaCha8Rng) -> SyntheticCase {
-    let mut modes = observations(&y0);
+    let noise_free = observations(&y0);
+    let mut modes = noise_free.clone();
     for m in &mut modes {
         let e1: f64 = StandardNormal.sample(rng);
         let e2: f64 = StandardNormal.sample(rng);
@@ -572,7 +583,7 @@ fn finish(seed: u64, truth: BeamSpec, y0: Vec<Mode>, hidden: Hidden, z: f64, rng
         parameters: None,
         sampler: Some(DramSettings { seed, ..DramSettings::default() }),
     };
-    SyntheticCase { file, hidden, truth_beam: truth, base_fit_max_z: z }
+    SyntheticCase { file, hidden, truth_beam: truth, base_fit_max_z: z, noise_free }
 }
 
 #[cfg(test)]
