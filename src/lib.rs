@@ -8,8 +8,8 @@
 // `!(x > 0.0)` is this crate's idiom for "not a positive number, NaN included":
 // the partial_cmp spelling clippy suggests hides exactly that intent.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
-// Public docs name the private helper that does the work (`[`global_map`]`,
-// `[`combine`]`) so a maintainer can follow them; those links resolve in
+// Public docs link the private helper that does the work (e.g. `global_map`,
+// `combine` in diagnose::evidence) so a maintainer can follow them; the links resolve in
 // `cargo doc --document-private-items`, the build this crate's docs are read in.
 #![allow(rustdoc::private_intra_doc_links)]
 

@@ -453,8 +453,9 @@ fn tally(cases: Vec<(u64, Hidden)>, follow: Follow, noise_free: NoiseFree) -> Ta
                             .join(", ")
                     );
                     t.pairs_noise_free += 1;
-                    t.pairs_noise_free_named += usize::from(pair_named(hidden, e));
-                    t.pairs_named_both_ways += usize::from(pair_named(hidden, e) && pair_named(hidden, d));
+                    let named_noise_free = pair_named(hidden, e);
+                    t.pairs_noise_free_named += usize::from(named_noise_free);
+                    t.pairs_named_both_ways += usize::from(named_noise_free && pair_named(hidden, d));
                 }
             }
         }
