@@ -52,7 +52,7 @@ fn min_p(replicate: u64, bias_sd: f64) -> (f64, usize, f64) {
     let scales = NominalScales::of(&data.beam, data.max_mode()).unwrap();
     let post = model_posterior(&Model::BASE, &data.parameters, &data.beam, &data.modes, &scales);
     let seed = child_seed(data.sampler.seed, Purpose::ModelClass, [0, 0]);
-    let run = run_model(Model::BASE, post, &DiagnoseSettings::quick(), seed).expect("base model runs");
+    let run = run_model(Model::BASE, post, &DiagnoseSettings::quick(), seed, &[]).expect("base model runs");
     let checks = fitted_checks(&run, &data);
     let p = checks.iter().map(|c| c.ppp).fold(1.0, f64::min);
     (p, checks.len(), checks[0].leverage)

@@ -100,6 +100,20 @@ pub fn multi_start_from(
     max_iters: u64,
 ) -> Vec<MapResult> {
     let candidates: Vec<Vec<f64>> = (0..n_points).map(|_| post.sample_prior(&mut rng)).collect();
+    polish_best(post, scales, candidates, keep, max_iters)
+}
+
+/// The `keep` best of `candidates` by log posterior (infeasible ones
+/// dropped), each polished by Nelder–Mead with simplex steps `scales`, then
+/// restarted once at a tenth of them; the optima sorted best first. Ties
+/// keep the candidates' order, so the result depends on it alone.
+pub fn polish_best(
+    post: &dyn Posterior,
+    scales: &[f64],
+    candidates: Vec<Vec<f64>>,
+    keep: usize,
+    max_iters: u64,
+) -> Vec<MapResult> {
     let mut scored: Vec<(f64, Vec<f64>)> = candidates.into_par_iter().map(|t| (post.log_posterior(&t), t)).collect();
     scored.retain(|(lp, _)| lp.is_finite());
     scored.sort_by(|a, b| b.0.total_cmp(&a.0));

@@ -49,6 +49,9 @@ pub enum Purpose {
     ImportanceResample = 15,
     /// Prior points screened by a diagnosed model's global MAP search `[0, 0]` (`diagnose::evidence`).
     GlobalMapSearch = 16,
+    /// Prior draws of the parameters a diagnosed model adds to its `[k, 0]`-th
+    /// sub-model, screened at that sub-model's MAP (`diagnose::evidence`).
+    NestedMapSearch = 17,
 }
 
 /// The stream keyed by `(seed, purpose, index)`.

@@ -10,7 +10,8 @@
 //!    level 1 − (1 − α_FW)^(1/J) (family-wise α_FW = 1 % over J observables).
 //! 2. **Search.** Every model of at most [`DiagnoseSettings::max_causes`]
 //!    causes (22 at the default two: the base, six singles, fifteen pairs)
-//!    gets its evidence ([`evidence`]), all in one parallel batch. A cause
+//!    gets its evidence ([`evidence`]), in one parallel batch per number of
+//!    causes (each MAP search also starts from its sub-models' MAPs). A cause
 //!    earns its place in a model when the model's ln B against the same
 //!    model without it is ≥ 3 ("strong" on the Kass–Raftery scale, B ≥ 20,
 //!    and more than ten times the TMCMC log-evidence spread between seeds,
@@ -432,15 +433,17 @@ impl Problem<'_> {
     }
 
     /// Evidence of every model in `models` (in parallel; each keyed by the
-    /// model's identity). A model whose first TMCMC run missed the peak, and
-    /// whose importance evidence is not reliable enough to stand in for it,
-    /// is replicated ([`evidence::replicate`]) when it is in contention: its
-    /// Laplace evidence within the alternative margin of the best evidence
-    /// of the batch. One far behind cannot change a decision and
+    /// model's identity), each MAP search also started from the MAPs of its
+    /// sub-models (one cause fewer) among the runs `done`
+    /// ([`evidence::run_model`]). A model whose first TMCMC run missed the
+    /// peak, and whose importance evidence is not reliable enough to stand
+    /// in for it, is replicated ([`evidence::replicate`]) when it is in
+    /// contention: its Laplace evidence within the alternative margin of the
+    /// best evidence of `done` and the batch. One far behind cannot change a decision and
     /// keeps its single run (flagged in the output by one entry in
     /// `log_evidence_runs`): on a foreign effect, where every pair is tried,
     /// replicating every flagged model took one case from 85 s to 690 s.
-    fn run(&self, models: Vec<Model>) -> Result<Vec<ModelRun>, DiagnoseError> {
+    fn run(&self, models: Vec<Model>, done: &[ModelRun]) -> Result<Vec<ModelRun>, DiagnoseError> {
         fn err(m: &Model) -> impl FnOnce(BayesError) -> DiagnoseError {
             let model = m.name();
             move |source| DiagnoseError::Evidence { model, source }
@@ -449,10 +452,12 @@ impl Problem<'_> {
             .into_par_iter()
             .map(|m| {
                 let seed = child_seed(self.seed, Purpose::ModelClass, [model_key(&m), 0]);
-                evidence::run_model(m.clone(), self.posterior(&m), self.settings, seed).map_err(err(&m))
+                let subs: Vec<&ModelRun> =
+                    m.causes().iter().filter_map(|&c| done.iter().find(|r| r.model == m.without(c))).collect();
+                evidence::run_model(m.clone(), self.posterior(&m), self.settings, seed, &subs).map_err(err(&m))
             })
             .collect::<Result<_, _>>()?;
-        let best = runs.iter().map(|r| r.log_evidence).fold(f64::NEG_INFINITY, f64::max);
+        let best = runs.iter().chain(done).map(|r| r.log_evidence).fold(f64::NEG_INFINITY, f64::max);
         let margin = self.settings.alternative_margin;
         runs.into_par_iter()
             .map(|r| match r.log_evidence_laplace {
@@ -501,7 +506,7 @@ pub fn diagnose_run(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<
         misfit_verdicts: Mutex::new(BTreeMap::new()),
     };
 
-    let mut runs = problem.run(vec![Model::BASE, Model::Baseline])?;
+    let mut runs = problem.run(vec![Model::BASE, Model::Baseline], &[])?;
     let search = search(&problem, &mut runs)?;
     let decide = Decision::new(&problem, &runs, &search);
     let diagnosis = decide.diagnosis(&problem, &runs, &search)?;
@@ -519,7 +524,7 @@ struct Search {
 }
 
 /// Evidence-based selection over every model of at most `max_causes`
-/// causes (module doc, step 2), all run in one batch:
+/// causes (module doc, step 2), run in one batch per number of causes:
 /// 1. a cause earns its place in a model when ln Z(model) − ln Z(model
 ///    without it) ≥ the threshold; only models whose every cause earns its
 ///    place are selectable (the base always is);
@@ -541,13 +546,17 @@ struct Search {
 /// the true pair fits 0.2 nats above it. All three: singles 23/24, pairs
 /// 23/40 (forward selection: 22/40). The cost is every pair's evidence (22
 /// models at two causes against the 10–17 the path visited), in one
-/// parallel batch that keeps both cores busy.
+/// parallel batch per number of causes, the singles first, so that each
+/// model's MAP search can start from its sub-models' MAPs.
 fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Search, DiagnoseError> {
     let threshold = problem.settings.log_bayes_factor_threshold;
     let margin = problem.settings.alternative_margin;
     let models = Model::up_to(problem.settings.max_causes);
-    let extended: Vec<Model> = models.iter().filter(|m| **m != Model::BASE).cloned().collect();
-    runs.extend(problem.run(extended)?);
+    for k in 1..=problem.settings.max_causes {
+        let batch: Vec<Model> = models.iter().filter(|m| m.causes().len() == k).cloned().collect();
+        let done = problem.run(batch, runs)?;
+        runs.extend(done);
+    }
     let runs: &[ModelRun] = runs;
     let z = |m: &Model| log_evidence_of(runs, m);
     let selectable = |m: &&Model| m.causes().iter().all(|&c| z(m) - z(&m.without(c)) >= threshold);
