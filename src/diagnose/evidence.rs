@@ -45,6 +45,7 @@
 //! importance evidence, "reliable" at ESS 651, was 15.7 nats low. So a
 //! posterior that is multimodal by construction (two relaxations, or a point
 //! mass) also gets a global MAP search from prior draws ([`global_map`]),
+//! every model a search from the MAPs of its sub-models ([`nested_map`]),
 //! the Laplace covariance is retried at finer steps when the population's
 //! scale steps out of a narrow mode ([`laplace_at`]), and when the
 //! population lies below the MAP by more than [`missed_peak_nats`] and the
@@ -268,8 +269,8 @@ fn posterior_draws(t: &TmcmcResult, resampled: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
 /// 4000/16 in 2 and 3 at twice the cost. It is not enough everywhere: on
 /// the noise-free data of case 339 (2026-11-27) the true model's best fit
 /// stays 21.3 nats of log-likelihood below the exact fit the truth
-/// attains, and 11.6 below it with 4000/16; the verdict there is
-/// `unexplained`, not a wrong name.
+/// attains, and 11.6 below it with 4000/16 (the verdict was `unexplained`);
+/// the search from the sub-models' MAPs ([`nested_map`]) reaches it.
 pub const GLOBAL_SEARCH_POINTS: usize = 2000;
 pub const GLOBAL_SEARCH_KEEP: usize = 8;
 
