@@ -44,8 +44,8 @@
 //! from its best sample both sat 16 nats below the global mode, and the
 //! importance evidence, "reliable" at ESS 651, was 15.7 nats low. So a
 //! posterior that is multimodal by construction (two relaxations, or a point
-//! mass) also gets a global MAP search from prior draws ([`global_map`]),
-//! every model a search from the MAPs of its sub-models ([`nested_map`]),
+//! mass) also gets a global MAP search from prior draws ([`global_map`])
+//! and a search from the MAPs of its sub-models ([`nested_map`]),
 //! the Laplace covariance is retried at finer steps when the population's
 //! scale steps out of a narrow mode ([`laplace_at`]), and when the
 //! population lies below the MAP by more than [`missed_peak_nats`] and the
@@ -126,8 +126,8 @@ fn tmcmc_config(d: usize, s: &DiagnoseSettings, seed: u64) -> TmcmcConfig {
 
 /// Runs TMCMC, the MAP and the Laplace evidence of `posterior` with the
 /// master seed `seed`. `sub_models` are runs of models with one cause fewer
-/// (any, or none): the MAP search also starts from each of their MAPs
-/// ([`nested_map`]).
+/// (any, or none): on a posterior multimodal by construction the MAP search
+/// also starts from each of their MAPs ([`nested_map`]).
 pub fn run_model(
     model: Model,
     posterior: ClassPosterior,
@@ -140,7 +140,9 @@ pub fn run_model(
     let counted = Counted::new(&posterior);
     let t = tmcmc(&counted, &tmcmc_config(d, s, seed))?;
     let mut map = map_from_best(&counted, &t, s)?;
-    for other in [global_map(&posterior, &counted, &t, s, seed), nested_map(&counted, &t, s, seed, sub_models)] {
+    let searches =
+        [global_map(&posterior, &counted, &t, s, seed), nested_map(&posterior, &counted, &t, s, seed, sub_models)];
+    for other in searches {
         match other {
             Some(m) if m.log_posterior > map.log_posterior => map = m,
             _ => {}
@@ -305,23 +307,32 @@ fn global_map(
 
 /// Prior draws of the added parameters screened per sub-model by the nested
 /// MAP search ([`nested_map`]), and how many of the best are polished: 500
-/// and 4, about 500 + 4 · 2 · `map_iters` = 2 500 solves per sub-model at
-/// quick settings, a twentieth of a TMCMC run. The added parameters number
-/// one or two, so 500 draws put about 22 per axis on a grid's worth of
-/// them. Measured on the noise-free data of hidden pair case 339
-/// (relaxation + mass, where the global search of [`global_map`] ends 21.3
-/// nats of log-likelihood below the exact fit): from the relaxation
-/// model's MAP the polished best reached log-likelihood −67.62 against the
-/// exact fit's −67.61, in 0.1 s.
+/// and 2. The added parameters number one or two, so 500 draws put about
+/// 22 per axis on a grid's worth of them. Measured on the noise-free data
+/// of hidden pair case 339 (relaxation + mass, where the global search of
+/// [`global_map`] ends 21.3 nats of log-likelihood below the exact fit):
+/// from the relaxation model's MAP the polished best reaches the exact fit
+/// with 4, 2 or 1 polished (`tests/diagnose_map_search.rs`). The cost is
+/// in the polishes (≈ 650 solves each) and in the Timoshenko models (solves
+/// 3–10× the others'): on the 5-mode hidden case 314 (2026-11-27, release
+/// build, 2 cores), with the search run for every model that has a
+/// sub-model, the whole diagnosis took 25.8 s without it (1.34 M solves),
+/// 27.7 s with 1 polished (1.38 M), 28.8–30.3 s with 2 (1.40 M) and 30.9 s
+/// with 4 (1.45 M), against the 30 s target. Run for the models multimodal
+/// by construction only, with 2 polished: 26.4 s (1.37 M).
 pub const NESTED_SEARCH_POINTS: usize = 500;
-pub const NESTED_SEARCH_KEEP: usize = 4;
+pub const NESTED_SEARCH_KEEP: usize = 2;
 
 /// The best MAP found from the MAPs of `sub_models` (models with one cause
 /// fewer): each sub-model's MAP fills the parameters the two models share
 /// (matched by name), [`NESTED_SEARCH_POINTS`] prior draws fill the ones
 /// this model adds (stream `(seed, NestedMapSearch, [k, 0])` for the k-th
 /// sub-model), and the [`NESTED_SEARCH_KEEP`] best are polished with
-/// simplex steps one population sd per axis. `None` without sub-models.
+/// simplex steps one population sd per axis. `None` without sub-models or
+/// when the posterior is not multimodal by construction
+/// ([`multimodal_by_construction`], as for [`global_map`]: the others'
+/// TMCMC populations were not seen to miss their peak, and the cost of
+/// searching them all is in [`NESTED_SEARCH_POINTS`]).
 ///
 /// Why: a model that adds a cause to a fitting sub-model usually peaks
 /// near that sub-model's MAP in the shared parameters, with the added ones
@@ -332,12 +343,16 @@ pub const NESTED_SEARCH_KEEP: usize = 4;
 /// global search's best 21.3 nats of log-likelihood below the exact fit,
 /// the nested search's 0.01).
 fn nested_map(
+    posterior: &ClassPosterior,
     counted: &dyn Posterior,
     t: &TmcmcResult,
     s: &DiagnoseSettings,
     seed: u64,
     sub_models: &[&ModelRun],
 ) -> Option<MapResult> {
+    if !multimodal_by_construction(posterior) {
+        return None;
+    }
     let names = counted.names();
     let sd = sample_sd(&t.samples, counted.dim());
     sub_models

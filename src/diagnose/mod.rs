@@ -11,7 +11,8 @@
 //! 2. **Search.** Every model of at most [`DiagnoseSettings::max_causes`]
 //!    causes (22 at the default two: the base, six singles, fifteen pairs)
 //!    gets its evidence ([`evidence`]), in one parallel batch per number of
-//!    causes (each MAP search also starts from its sub-models' MAPs). A cause
+//!    causes (a multimodal model's MAP search also starts from its
+//!    sub-models' MAPs). A cause
 //!    earns its place in a model when the model's ln B against the same
 //!    model without it is ≥ 3 ("strong" on the Kass–Raftery scale, B ≥ 20,
 //!    and more than ten times the TMCMC log-evidence spread between seeds,
@@ -433,8 +434,8 @@ impl Problem<'_> {
     }
 
     /// Evidence of every model in `models` (in parallel; each keyed by the
-    /// model's identity), each MAP search also started from the MAPs of its
-    /// sub-models (one cause fewer) among the runs `done`
+    /// model's identity); a multimodal model's MAP search also starts from
+    /// the MAPs of its sub-models (one cause fewer) among the runs `done`
     /// ([`evidence::run_model`]). A model whose first TMCMC run missed the
     /// peak, and whose importance evidence is not reliable enough to stand
     /// in for it, is replicated ([`evidence::replicate`]) when it is in
@@ -547,7 +548,7 @@ struct Search {
 /// 23/40 (forward selection: 22/40). The cost is every pair's evidence (22
 /// models at two causes against the 10–17 the path visited), in one
 /// parallel batch per number of causes, the singles first, so that each
-/// model's MAP search can start from its sub-models' MAPs.
+/// multimodal model's MAP search can start from its sub-models' MAPs.
 fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Search, DiagnoseError> {
     let threshold = problem.settings.log_bayes_factor_threshold;
     let margin = problem.settings.alternative_margin;
