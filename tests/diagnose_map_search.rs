@@ -14,7 +14,7 @@ use nanobeam::diagnose::{model_posterior, DiagnoseSettings, Model, ModelClass, N
 /// parameter), so the MAP maximises the likelihood, and on noise-free data
 /// the truth, inside the priors, fits every observable exactly: the MAP's
 /// log-likelihood is at least the exact fit's, less what a stopped simplex
-/// leaves (0.01 nats measured on this case). A missed mode falls short by
+/// leaves (0.03 nats measured with this test's seeds). A missed mode falls short by
 /// far more: with this test's seeds and no sub-model the MAP ends 8.8 nats
 /// below (the diagnosis's seeds: 21.3), measured 2026-11-27. One nat
 /// separates the two.

@@ -341,7 +341,7 @@ pub const NESTED_SEARCH_KEEP: usize = 2;
 /// draws. That is where TMCMC and the global search both miss the narrow
 /// mode of a relaxation + mass model (hidden case 339, noise-free: the
 /// global search's best 21.3 nats of log-likelihood below the exact fit,
-/// the nested search's 0.01).
+/// the nested search's 0.36 in the diagnosis and 0.03 with the test's seeds).
 fn nested_map(
     posterior: &ClassPosterior,
     counted: &dyn Posterior,
