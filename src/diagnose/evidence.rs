@@ -140,12 +140,15 @@ pub fn run_model(
     let counted = Counted::new(&posterior);
     let t = tmcmc(&counted, &tmcmc_config(d, s, seed))?;
     let mut map = map_from_best(&counted, &t, s)?;
-    let searches =
-        [global_map(&posterior, &counted, &t, s, seed), nested_map(&posterior, &counted, &t, s, seed, sub_models)];
-    for other in searches {
-        match other {
-            Some(m) if m.log_posterior > map.log_posterior => map = m,
-            _ => {}
+    // the searches that posteriors multimodal by construction get, with
+    // simplex steps one population sd per axis
+    if multimodal_by_construction(&posterior) {
+        let sd = sample_sd(&t.samples, d);
+        let searches = [global_map(&counted, &sd, s, seed), nested_map(&counted, &sd, s, seed, sub_models)];
+        for m in searches.into_iter().flatten() {
+            if m.log_posterior > map.log_posterior {
+                map = m;
+            }
         }
     }
     let laplace = laplace_at(&counted, &map.theta, &t);
@@ -278,9 +281,9 @@ pub const GLOBAL_SEARCH_KEEP: usize = 8;
 
 /// The best optimum of a multi-start Nelder–Mead search from the
 /// [`GLOBAL_SEARCH_KEEP`] best of [`GLOBAL_SEARCH_POINTS`] prior draws
-/// (stream `(seed, GlobalMapSearch, [0, 0])`), simplex steps one population
-/// sd per axis; `None` when the posterior is not multimodal by construction
-/// ([`multimodal_by_construction`]) or no prior draw has a finite posterior.
+/// (stream `(seed, GlobalMapSearch, [0, 0])`), simplex steps `sd`; `None`
+/// when no prior draw has a finite posterior. Run on the posteriors
+/// multimodal by construction only ([`multimodal_by_construction`]).
 ///
 /// Why, beside the MAP from the population's best sample: on a posterior
 /// with a narrow global mode that TMCMC's 400-sample annealing passes by,
@@ -290,19 +293,9 @@ pub const GLOBAL_SEARCH_KEEP: usize = 8;
 /// (log-likelihood −104.9 there against −108.8 at the truth); case 339
 /// (two relaxations + a mass, 4 modes): TMCMC's best sample −126.2, the
 /// global mode −103.2.
-fn global_map(
-    posterior: &ClassPosterior,
-    counted: &dyn Posterior,
-    t: &TmcmcResult,
-    s: &DiagnoseSettings,
-    seed: u64,
-) -> Option<MapResult> {
-    if !multimodal_by_construction(posterior) {
-        return None;
-    }
-    let sd = sample_sd(&t.samples, counted.dim());
+fn global_map(counted: &dyn Posterior, sd: &[f64], s: &DiagnoseSettings, seed: u64) -> Option<MapResult> {
     let rng = crate::bayes::rng::stream(seed, Purpose::GlobalMapSearch, [0, 0]);
-    multi_start_from(counted, &sd, GLOBAL_SEARCH_POINTS, GLOBAL_SEARCH_KEEP, rng, s.map_iters).into_iter().next()
+    multi_start_from(counted, sd, GLOBAL_SEARCH_POINTS, GLOBAL_SEARCH_KEEP, rng, s.map_iters).into_iter().next()
 }
 
 /// Prior draws of the added parameters screened per sub-model by the nested
@@ -328,11 +321,11 @@ pub const NESTED_SEARCH_KEEP: usize = 2;
 /// (matched by name), [`NESTED_SEARCH_POINTS`] prior draws fill the ones
 /// this model adds (stream `(seed, NestedMapSearch, [k, 0])` for the k-th
 /// sub-model), and the [`NESTED_SEARCH_KEEP`] best are polished with
-/// simplex steps one population sd per axis. `None` without sub-models or
-/// when the posterior is not multimodal by construction
-/// ([`multimodal_by_construction`], as for [`global_map`]: the others'
-/// TMCMC populations were not seen to miss their peak, and the cost of
-/// searching them all is in [`NESTED_SEARCH_POINTS`]).
+/// simplex steps `sd`. `None` without sub-models. Run, like [`global_map`],
+/// on the posteriors multimodal by construction only
+/// ([`multimodal_by_construction`]: the others' TMCMC populations were not
+/// seen to miss their peak, and the cost of searching them all is in
+/// [`NESTED_SEARCH_POINTS`]).
 ///
 /// Why: a model that adds a cause to a fitting sub-model usually peaks
 /// near that sub-model's MAP in the shared parameters, with the added ones
@@ -343,18 +336,13 @@ pub const NESTED_SEARCH_KEEP: usize = 2;
 /// global search's best 21.3 nats of log-likelihood below the exact fit,
 /// the nested search's 0.36 in the diagnosis and 0.03 with the test's seeds).
 fn nested_map(
-    posterior: &ClassPosterior,
     counted: &dyn Posterior,
-    t: &TmcmcResult,
+    sd: &[f64],
     s: &DiagnoseSettings,
     seed: u64,
     sub_models: &[&ModelRun],
 ) -> Option<MapResult> {
-    if !multimodal_by_construction(posterior) {
-        return None;
-    }
     let names = counted.names();
-    let sd = sample_sd(&t.samples, counted.dim());
     sub_models
         .iter()
         .enumerate()
@@ -369,7 +357,7 @@ fn nested_map(
                     shared.iter().zip(draw).map(|(fixed, x)| fixed.unwrap_or(x)).collect()
                 })
                 .collect();
-            polish_best(counted, &sd, starts, NESTED_SEARCH_KEEP, s.map_iters).into_iter().next()
+            polish_best(counted, sd, starts, NESTED_SEARCH_KEEP, s.map_iters).into_iter().next()
         })
         .max_by(|a, b| a.log_posterior.total_cmp(&b.log_posterior))
 }
