@@ -10,7 +10,9 @@
 //! `LocalDefect`, EI lowered over 1–3 elements). Every effect alone moves some
 //! observable ≥ `synthetic::MIN_SHIFT_SIGMA` σ against the best base fit
 //! (the generator grows it until it does); a foreign effect also against the
-//! best fit of every catalogue model of one or two causes.
+//! best fit of every catalogue model of one or two causes; each cause of a
+//! pair also against the best fit of the other cause's model (since
+//! 2026-11-27: the "base" of an effect in a pair is the model without it).
 //!
 //! Targets (the issue's): single causes ≥ 95 % right (23 of 24), both causes
 //! of a pair named in ≥ 80 % of pairs (32 of 40), foreign effects

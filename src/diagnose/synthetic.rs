@@ -13,7 +13,9 @@
 //! Nelder–Mead) and grows the magnitude ×1.5 (redrawing the effect's shape
 //! when a cap is reached) until true; a foreign effect grows further, until
 //! no catalogue model of one or two causes fits it either. The case then
-//! carries all its effects.
+//! carries all its effects, and in a case of several causes each is grown
+//! further until the model of the other causes cannot absorb it either
+//! ([`generate_hidden`]).
 
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -178,6 +180,17 @@ fn magnitude_range(effect: Effect) -> (f64, f64) {
     }
 }
 
+/// The growth cap of `effect` with `shape`: [`magnitude_range`]'s, but a
+/// compression is capped at half the buckling load (the class's prior).
+fn magnitude_cap(effect: Effect, shape: [f64; 2]) -> f64 {
+    let (_, cap) = magnitude_range(effect);
+    if effect == Effect::Cause(ModelClass::AxialForce) && shape[0] < 0.0 {
+        cap.min(0.5)
+    } else {
+        cap
+    }
+}
+
 /// One effect to hide.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Effect {
@@ -222,7 +235,9 @@ struct Truth {
 /// until the best base fit misses some observable by ≥ [`MIN_SHIFT_SIGMA`];
 /// a foreign effect further until the best fit of every catalogue model of
 /// one or two causes does too ([`catalogue_fits`]): the issue's "no
-/// class or pair of classes fits". The case then carries all its effects.
+/// class or pair of classes fits". Several causes are then grown until each
+/// is visible against the model of the others ([`each_cause_visible`]).
+/// The case carries all its effects.
 ///
 /// Panics when 50 truths in a row admit no such effect (a generator that
 /// cannot build the case it was asked for; never reached by the tests' seeds).
@@ -239,23 +254,87 @@ pub fn generate_hidden(seed: u64, hidden: &Hidden) -> SyntheticCase {
         let truth = Truth { beam, modal: vec![] };
         let Ok(clean) = predict(&truth, n_modes) else { continue };
         let scales = NominalScales::of(&truth.beam, n_modes).expect("nominal beam computes");
-        let mut combined = truth.clone();
-        let mut built = true;
-        for &effect in &effects {
-            let Some((shape, mag)) = visible_effect(seed, effect, &truth, &clean, &scales, &mut rng) else {
-                built = false;
-                break;
-            };
-            combined = with_effect(&combined, effect, shape, mag, &scales);
+        let sized: Option<Vec<Sized>> = effects
+            .iter()
+            .map(|&effect| {
+                visible_effect(seed, effect, &truth, &clean, &scales, &mut rng).map(|(shape, mag)| Sized {
+                    effect,
+                    shape,
+                    mag,
+                })
+            })
+            .collect();
+        let Some(mut sized) = sized else { continue };
+        if hidden.causes.len() >= 2 && hidden.foreign.is_none() {
+            let Some(grown) = each_cause_visible(seed, sized, &truth, n_modes, &scales) else { continue };
+            sized = grown;
         }
-        if !built {
-            continue;
-        }
+        let combined = with_all(&truth, &sized, &scales);
         let Ok(y0) = predict(&combined, n_modes) else { continue };
         let z = base_fit_max_z(&y0, &truth.beam, &scales, seed);
         return finish(seed, combined.beam, y0, hidden.clone(), z, &mut rng);
     }
     panic!("synthetic::generate_hidden: no truth of seed {seed} admits {}", hidden.label());
+}
+
+/// One effect of a case with its drawn shape and grown magnitude.
+#[derive(Debug, Clone, Copy)]
+struct Sized {
+    effect: Effect,
+    shape: [f64; 2],
+    mag: f64,
+}
+
+/// `truth` carrying every effect of `sized`.
+fn with_all(truth: &Truth, sized: &[Sized], s: &NominalScales) -> Truth {
+    sized.iter().fold(truth.clone(), |t, e| with_effect(&t, e.effect, e.shape, e.mag, s))
+}
+
+/// Growth rounds [`each_cause_visible`] allows before it gives the truth up.
+const MAX_SEPARATION_ROUNDS: usize = 12;
+
+/// Grows the causes of a several-cause case until each is visible against
+/// the others: for every cause, the best fit of the model of the *other*
+/// causes ([`model_fit_max_z`]) to the combined noise-free data misses some
+/// observable by ≥ [`MIN_SHIFT_SIGMA`]. It is the issue's "each effect
+/// moves some observable ≥ 5 σ against the best base fit" with the base of
+/// an effect in a pair being the model that has everything but it: a cause
+/// the other cause's parameters absorb to within 5 σ moves nothing the data
+/// can see. The first cause that fails grows ×1.5 and every cause is
+/// checked again; `None` when a cause reaches its cap or
+/// [`MAX_SEPARATION_ROUNDS`] pass (the truth is redrawn).
+///
+/// Rival models that share no cause with the truth are not checked: a rival
+/// pair that fits as well is a genuine ambiguity the diagnosis must report
+/// (alternatives, next measurement), not one the generator removes.
+fn each_cause_visible(
+    seed: u64,
+    mut sized: Vec<Sized>,
+    truth: &Truth,
+    n_modes: usize,
+    s: &NominalScales,
+) -> Option<Vec<Sized>> {
+    let causes: Vec<ModelClass> = sized
+        .iter()
+        .filter_map(|e| match e.effect {
+            Effect::Cause(c) => Some(c),
+            Effect::Foreign(_) => None,
+        })
+        .collect();
+    let truth_model = Model::with(&causes);
+    for _ in 0..MAX_SEPARATION_ROUNDS {
+        let y0 = predict(&with_all(truth, &sized, s), n_modes).ok()?;
+        let absorbed = sized.iter().position(|e| {
+            let Effect::Cause(c) = e.effect else { return false };
+            model_fit_max_z(&truth_model.without(c), &y0, &truth.beam, s, seed) < MIN_SHIFT_SIGMA
+        });
+        let Some(i) = absorbed else { return Some(sized) };
+        sized[i].mag *= 1.5;
+        if sized[i].mag > magnitude_cap(sized[i].effect, sized[i].shape) * (1.0 + 1e-12) {
+            return None;
+        }
+    }
+    None
 }
 
 /// (shape, magnitude) of `effect` on `truth` that the base model cannot
@@ -271,10 +350,9 @@ fn visible_effect(
     rng: &mut ChaCha8Rng,
 ) -> Option<([f64; 2], f64)> {
     for _ in 0..6 {
-        let (mut mag, cap) = magnitude_range(effect);
+        let (mut mag, _) = magnitude_range(effect);
         let shape = draw_shape(effect, clean, truth.beam.length_nm, rng);
-        // compression is capped at half the buckling load (the class prior)
-        let cap = if shape[0] < 0.0 { cap.min(0.5) } else { cap };
+        let cap = magnitude_cap(effect, shape);
         while mag <= cap * (1.0 + 1e-12) {
             let b = with_effect(truth, effect, shape, mag, scales);
             if let Ok(y0) = predict(&b, clean.len()) {
@@ -512,18 +590,11 @@ fn catalogue_models() -> Vec<Model> {
 /// its largest standardized residual below [`MIN_SHIFT_SIGMA`] at its best
 /// fit? Models are tried cheapest first (decoupled damping classes, then
 /// the coupled ones; measured cost per evaluation at prior draws 3 µs to
-/// 1 ms) and the answer is the first that fits. Each fit screens
-/// [`CATALOGUE_STARTS`] points (a quarter with the base coordinates at the
-/// truth's, the rest prior draws) and runs Nelder–Mead (600 iterations)
-/// from the best [`CATALOGUE_RESTARTS`], simplex 5 % of each prior's width
-/// (0.05 in ln x for log-uniform priors). A local optimizer can miss a
+/// 1 ms) and the answer is the first that fits ([`model_fit_max_z`]). A local optimizer can miss a
 /// better fit, which would make a foreign case look unfittable when it is
 /// not; the diagnosis's own TMCMC then finds the fit, and the open-world
 /// test fails on that case rather than passing by it.
 fn catalogue_fits(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -> bool {
-    let iv = truth.internal_variables[0];
-    let base_truth = [truth.nonlocal_e0a_nm, iv.delta, iv.omega_rad_s];
-    let obs = observations(y0);
     let mut models: Vec<(usize, Model)> = catalogue_models().into_iter().enumerate().collect();
     let cost = |m: &Model| {
         m.causes()
@@ -536,35 +607,47 @@ fn catalogue_fits(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -
             .sum::<usize>()
     };
     models.sort_by_key(|(k, m)| (cost(m), *k));
-    models.iter().any(|(k, model)| {
-        let params = model_parameters(model, &ParameterSet::paper_n1(), &nominal_beam(), s);
-        let post = model_posterior(model, &ParameterSet::paper_n1(), &nominal_beam(), &obs, s);
-        let sd: Vec<f64> = params
-            .set
-            .params
-            .iter()
-            .zip(&params.log_scale)
-            .map(|(p, &log)| {
-                let (lo, hi) = p.prior.support();
-                if log {
-                    0.05
-                } else {
-                    0.05 * (hi - lo)
-                }
-            })
-            .collect();
-        let mut rng = stream(seed, Purpose::SyntheticBaseFit, [1 + *k as u64, 0]);
-        let starts = (0..CATALOGUE_STARTS)
-            .map(|i| {
-                let mut u = post.sample_prior(&mut rng);
-                if i < CATALOGUE_STARTS / 4 {
-                    u[..3].copy_from_slice(&base_truth);
-                }
-                u
-            })
-            .collect();
-        fit_max_z(&post, starts, &sd, CATALOGUE_RESTARTS) < MIN_SHIFT_SIGMA
-    })
+    models.iter().any(|(_, model)| model_fit_max_z(model, y0, truth, s, seed) < MIN_SHIFT_SIGMA)
+}
+
+/// Largest standardized residual of `model`'s best fit to noise-free `y0`:
+/// [`CATALOGUE_STARTS`] points screened (a quarter with the base
+/// coordinates at the truth's, the rest prior draws), Nelder–Mead (600
+/// iterations) from the best [`CATALOGUE_RESTARTS`], simplex 5 % of each
+/// prior's width (0.05 in ln x for log-uniform priors). The random stream
+/// is keyed by the model's place in [`catalogue_models`], so a model's fit
+/// to the same data is the same wherever it is asked for.
+fn model_fit_max_z(model: &Model, y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -> f64 {
+    let iv = truth.internal_variables[0];
+    let base_truth = [truth.nonlocal_e0a_nm, iv.delta, iv.omega_rad_s];
+    let k = catalogue_models().iter().position(|m| m == model).expect("a catalogue model");
+    let params = model_parameters(model, &ParameterSet::paper_n1(), &nominal_beam(), s);
+    let post = model_posterior(model, &ParameterSet::paper_n1(), &nominal_beam(), &observations(y0), s);
+    let sd: Vec<f64> = params
+        .set
+        .params
+        .iter()
+        .zip(&params.log_scale)
+        .map(|(p, &log)| {
+            let (lo, hi) = p.prior.support();
+            if log {
+                0.05
+            } else {
+                0.05 * (hi - lo)
+            }
+        })
+        .collect();
+    let mut rng = stream(seed, Purpose::SyntheticBaseFit, [1 + k as u64, 0]);
+    let starts = (0..CATALOGUE_STARTS)
+        .map(|i| {
+            let mut u = post.sample_prior(&mut rng);
+            if i < CATALOGUE_STARTS / 4 {
+                u[..3].copy_from_slice(&base_truth);
+            }
+            u
+        })
+        .collect();
+    fit_max_z(&post, starts, &sd, CATALOGUE_RESTARTS)
 }
 
 fn finish(seed: u64, truth: BeamSpec, y0: Vec<Mode>, hidden: Hidden, z: f64, rng: &mut ChaCha8Rng) -> SyntheticCase {
@@ -617,6 +700,25 @@ mod tests {
     /// simply supported beam (the uniform mesh mirrors too: equal to
     /// rounding), and a defect lowers every frequency (less stiffness, same
     /// mass: Rayleigh's quotient) by more than the 0.3 % noise at ε = 0.5.
+    /// Each cause of a generated pair leaves the best fit of the model of
+    /// the other cause ≥ [`MIN_SHIFT_SIGMA`] away, on the case's own
+    /// noise-free data and the truth's own base coordinates. Pair seed 300
+    /// (relaxation + spring) needed the spring grown ×3.375 past its size
+    /// alone (2026-11-27), so this fails if the growth step is skipped.
+    #[test]
+    fn each_cause_of_a_pair_is_visible_against_the_other() {
+        use ModelClass::*;
+        let causes = [ExtraRelaxation, SupportRotationalStiffness];
+        let case = generate_hidden(300, &Hidden::causes(&causes));
+        let y0 = predict(&Truth { beam: case.truth_beam.clone(), modal: vec![] }, case.noise_free.len()).unwrap();
+        assert_eq!(observations(&y0), case.noise_free);
+        let s = NominalScales::of(&case.truth_beam, y0.len()).unwrap();
+        for c in causes {
+            let z = model_fit_max_z(&Model::with(&causes).without(c), &y0, &case.truth_beam, &s, 300);
+            assert!(z >= MIN_SHIFT_SIGMA, "{} absorbed by the other cause: {z:.2} sd", c.name());
+        }
+    }
+
     #[test]
     fn a_defect_softens_and_mirrors() {
         let beam = base_truth();
