@@ -302,7 +302,9 @@ const MAX_SEPARATION_ROUNDS: usize = 12;
 /// the other cause's parameters absorb to within 5 σ moves nothing the data
 /// can see. The first cause that fails grows ×1.5 and every cause is
 /// checked again; `None` when a cause reaches its cap or
-/// [`MAX_SEPARATION_ROUNDS`] pass (the truth is redrawn).
+/// [`MAX_SEPARATION_ROUNDS`] pass (the truth is redrawn). A local search
+/// that misses the other model's best fit leaves a cause looking visible
+/// when it is not: the case is then harder than the rule asks, never easier.
 ///
 /// Rival models that share no cause with the truth are not checked: a rival
 /// pair that fits as well is a genuine ambiguity the diagnosis must report
@@ -590,10 +592,10 @@ fn catalogue_models() -> Vec<Model> {
 /// its largest standardized residual below [`MIN_SHIFT_SIGMA`] at its best
 /// fit? Models are tried cheapest first (decoupled damping classes, then
 /// the coupled ones; measured cost per evaluation at prior draws 3 µs to
-/// 1 ms) and the answer is the first that fits ([`model_fit_max_z`]). A local optimizer can miss a
-/// better fit, which would make a foreign case look unfittable when it is
-/// not; the diagnosis's own TMCMC then finds the fit, and the open-world
-/// test fails on that case rather than passing by it.
+/// 1 ms) and the answer is the first that fits ([`model_fit_max_z`]). A
+/// local optimizer can miss a better fit, which would make a foreign case
+/// look unfittable when it is not; the diagnosis's own TMCMC then finds the
+/// fit, and the open-world test fails on that case rather than passing by it.
 fn catalogue_fits(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -> bool {
     let mut models: Vec<(usize, Model)> = catalogue_models().into_iter().enumerate().collect();
     let cost = |m: &Model| {
