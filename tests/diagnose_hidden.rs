@@ -184,7 +184,8 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
             fresh pair seeds (340-379, a scratch copy of this test, noise-free diagnoses skipped, 1294 s): both named \
             29/40 again, 29/40 after the suggested mode, none wrong without the truth as an alternative, 8 of the 11 \
             misses the spring/tension confusion; 379 (relaxation + mass) came out unexplained, its true pair 25 \
-            nats ahead but mode 5's zeta at z = -3.34 (ppp 8.3e-4 under the 1.0e-3 per-test bar); and 3 of 15 shape \
+            nats ahead but mode 5's zeta at z = -3.34 (ppp 8.3e-4 under the 1.0e-3 per-test bar; the noise draw \
+            itself put it 2.43 sd low, so a false alarm at the check's stated 1 % level); and 3 of 15 shape \
             suggestions (spring + mass against tension + mass near a support) favour the truth by an expected ln B \
             of only 0.7, 1.2 and 2.0, so this test's shape assertion would fail on those seeds. With the earlier \
             generator (each effect sized alone): re-measured 2026-11-27 at 6801c95 (MAP search from sub-models' \
