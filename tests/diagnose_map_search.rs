@@ -29,7 +29,8 @@ fn relaxation_and_mass_model_started_from_the_relaxation_model_reaches_the_exact
     let case = generate_hidden(339, &Hidden::causes(&causes));
     let data = case.noise_free_data();
     let scales = NominalScales::of(&data.beam, data.max_mode()).expect("the generated beam solves");
-    let posterior = |m: &Model| model_posterior(m, &data.parameters, &data.beam, &data.modes, &scales);
+    let posterior =
+        |m: &Model| model_posterior(m, &data.parameters, &data.beam, &data.modes, &data.mode_scans, &scales);
     let settings = DiagnoseSettings::quick();
 
     let sub = Model::with(&[ModelClass::ExtraRelaxation]);

@@ -50,7 +50,7 @@ fn min_p(replicate: u64, bias_sd: f64) -> (f64, usize, f64) {
     let mut data = case.data();
     data.modes[0].omega_rad_s += bias_sd * data.modes[0].omega_sd_rad_s;
     let scales = NominalScales::of(&data.beam, data.max_mode()).unwrap();
-    let post = model_posterior(&Model::BASE, &data.parameters, &data.beam, &data.modes, &scales);
+    let post = model_posterior(&Model::BASE, &data.parameters, &data.beam, &data.modes, &data.mode_scans, &scales);
     let seed = child_seed(data.sampler.seed, Purpose::ModelClass, [0, 0]);
     let run = run_model(Model::BASE, post, &DiagnoseSettings::quick(), seed, &[]).expect("base model runs");
     let checks = fitted_checks(&run, &data);

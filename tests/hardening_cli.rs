@@ -116,6 +116,49 @@ fn measured_modes_must_exist_in_the_model() {
     );
 }
 
+/// Mode scans (`mode_scans`, what `diagnose` suggests as a shape
+/// measurement) get the same treatment: each bad field named with its value
+/// and range.
+#[test]
+fn bad_mode_scans_are_named() {
+    let scan = |mode: &'static str, drive: &'static str, points: &str| {
+        let points = points.to_string();
+        move |m: &str| format!("{m}mode_scans: [{{ mode: {mode}, drive_x_nm: {drive}, points: [{points}] }}]\n")
+    };
+    let p = |x: f64, a: f64, sd: f64| format!("{{ x_nm: {x}, relative_amplitude: {a}, relative_amplitude_sd: {sd} }}");
+    let two = format!("{}, {}", p(2.0, 0.7, 0.01), p(4.0, 1.0, 0.01));
+    bad_measured(scan("41", "7.8", &two), "mode_scans[0].mode");
+    let l = bad_measured(scan("2", "9.0", &two), "mode_scans[0].drive_x_nm");
+    assert!(l.contains("= 9") && l.contains("length_nm = 8"), "{l}");
+    bad_measured(scan("2", "7.8", &p(2.0, 0.7, 0.01)), "mode_scans[0].points");
+    bad_measured(
+        scan("2", "7.8", &format!("{}, {}", p(4.0, 0.7, 0.01), p(2.0, 1.0, 0.01))),
+        "mode_scans[0].points[1].x_nm",
+    );
+    bad_measured(
+        scan("2", "7.8", &format!("{}, {}", p(2.0, 0.7, 0.01), p(8.0, 1.0, 0.01))),
+        "mode_scans[0].points[1].x_nm",
+    );
+    let l = bad_measured(
+        scan("2", "7.8", &format!("{}, {}", p(2.0, -0.1, 0.01), p(4.0, 1.0, 0.01))),
+        "mode_scans[0].points[0].relative_amplitude",
+    );
+    assert!(l.contains("= -0.1") && l.contains("<= 2"), "{l}");
+    bad_measured(
+        scan("2", "7.8", &format!("{}, {}", p(2.0, 0.7, 0.0), p(4.0, 1.0, 0.01))),
+        "mode_scans[0].points[0].relative_amplitude_sd",
+    );
+    bad_measured(
+        |m| format!("{m}mode_scans: [{{ mode: 2, drive_x_nm: 7.8, points: [], gain: 1 }}]\n"),
+        "mode_scans[0].gain",
+    );
+    let twice = |m: &str| {
+        let one = format!("{{ mode: 2, drive_x_nm: 7.8, points: [{}, {}] }}", p(2.0, 0.7, 0.01), p(4.0, 1.0, 0.01));
+        format!("{m}mode_scans: [{one}, {one}]\n")
+    };
+    bad_measured(twice, "mode_scans[1].mode");
+}
+
 #[test]
 fn a_run_without_any_valid_state_is_exit_1_saying_why() {
     // mode 1 is overdamped for every e0a in the prior (c̃ ≈ 55)

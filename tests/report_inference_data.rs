@@ -4,7 +4,7 @@
 //! shapes, values and attributes.
 
 use nanobeam::calibration::output::{inference_data, InferenceContext};
-use nanobeam::calibration::{calibrate, BeamPosterior, CalibrateOptions, MeasuredData};
+use nanobeam::calibration::{calibrate, BeamPosterior, CalibrateOptions, MeasuredData, ModeScan, ScanPoint};
 use nanobeam::report::inference_data::{Group, InferenceData, Variable};
 use netcdf_reader::NcFile;
 
@@ -90,4 +90,39 @@ fn a_variable_whose_values_do_not_fill_its_dimensions_is_an_error() {
     };
     let err = bad.to_netcdf().unwrap_err().to_string();
     assert!(err.contains("posterior/x"), "{err}");
+}
+
+/// A fitted mode scan adds `relative_amplitude` over a `scan_point`
+/// dimension to `log_likelihood` and `observed_data`, and the pointwise terms
+/// of all three variables still sum to the posterior's log likelihood (the
+/// scan's terms are in it, in the file's order).
+#[test]
+fn a_fitted_mode_scan_is_a_pointwise_variable_of_its_own() {
+    let mut data = measured();
+    // mode 1 of a simply supported beam driven near one end: ≈ sin(πx/L) over its largest point
+    let points: Vec<ScanPoint> = [(2.03, 0.707), (4.06, 1.0), (6.09, 0.707)]
+        .iter()
+        .map(|&(x_nm, a)| ScanPoint { x_nm, relative_amplitude: a, relative_amplitude_sd: 0.02 })
+        .collect();
+    data.mode_scans = vec![ModeScan { mode: 1, drive_x_nm: 7.9, points }];
+    let result = calibrate(&data, &CalibrateOptions::default()).expect("calibrates");
+    let post = BeamPosterior::new(&data, data.parameters.clone());
+    let bytes = inference_data(&result, &InferenceContext { posterior: &post, seed: 7 }).to_netcdf().unwrap();
+    let file = NcFile::from_bytes(&bytes).unwrap();
+    let root = file.root_group().unwrap();
+    let draws = 1000usize;
+    let ll = root.group("log_likelihood").unwrap();
+    assert_eq!(ll.variable("relative_amplitude").unwrap().shape(), vec![4, draws as u64, 3]);
+    let observed = flat(&file.read_variable_as_f64("observed_data/relative_amplitude").unwrap());
+    assert_eq!(observed, vec![0.707, 1.0, 0.707]);
+    let read = |name: &str| flat(&file.read_variable_as_f64(&format!("log_likelihood/{name}")).unwrap());
+    let (w, z, a) = (read("omega_rad_s"), read("zeta"), read("relative_amplitude"));
+    let (chain, draw) = (3, 17);
+    let row = chain * draws + draw;
+    let sum: f64 =
+        (0..2).map(|m| w[row * 2 + m] + z[row * 2 + m]).sum::<f64>() + (0..3).map(|k| a[row * 3 + k]).sum::<f64>();
+    use nanobeam::bayes::Posterior;
+    let direct = post.log_likelihood(&result.chains[chain].draws[result.burn_in + draw]);
+    assert!(direct.is_finite());
+    assert!((sum - direct).abs() <= 1e-9 * direct.abs().max(1.0), "{sum} vs {direct}");
 }

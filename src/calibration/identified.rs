@@ -128,7 +128,8 @@ fn assign(ids: &[f64], preds: &[f64], first: Option<usize>) -> Option<(f64, Vec<
 /// The measured-data file of identified modes on `beam`, validated as
 /// `calibrate` and `diagnose` will read it.
 pub fn measured_file(beam: BeamSpec, modes: Vec<ModeObservation>) -> Result<MeasuredFile, InputError> {
-    let file = MeasuredFile { beam, modes, held_out_modes: vec![], parameters: None, sampler: None };
+    let file =
+        MeasuredFile { beam, modes, held_out_modes: vec![], mode_scans: vec![], parameters: None, sampler: None };
     MeasuredData::from_file(file.clone())?;
     Ok(file)
 }

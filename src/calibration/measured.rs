@@ -5,6 +5,12 @@
 //! modes:                 # any number >= 1, mode numbers 1-based
 //!   - { mode: 1, omega_rad_s: 8.38e11, omega_sd_rad_s: 2.5e9, zeta: 0.0712, zeta_sd: 0.0021 }
 //! held_out_modes: []     # optional, same format, never used for fitting
+//! mode_scans:            # optional: deflection scans at a mode's resonance (fitted)
+//!   - mode: 2
+//!     drive_x_nm: 7.8
+//!     points:            # >= 2 readout points, 0 < x_nm < length_nm, ascending
+//!       - { x_nm: 0.4, relative_amplitude: 0.3129, relative_amplitude_sd: 0.002 }
+//!       - { x_nm: 2.0, relative_amplitude: 1.0, relative_amplitude_sd: 0.002 }
 //! parameters: { ... }    # optional; default = the paper's N = 1 set
 //! sampler: { ... }       # optional; default = the paper's §4.2 settings, 4 chains, fixed seed
 //! ```
@@ -15,6 +21,7 @@ use crate::bayes::dram::DramSettings;
 use crate::beam::spec::{RAW_MAX, RAW_MIN};
 use crate::beam::BeamSpec;
 use crate::calibration::parameters::ParameterSet;
+use crate::calibration::posterior::{observables, scan_observables, Observable};
 use crate::error::{fmt_num, InputError};
 
 /// One measured mode: natural frequency and damping ratio with their
@@ -30,6 +37,40 @@ pub struct ModeObservation {
     pub zeta_sd: f64,
 }
 
+/// A scan of the readout point along the beam while a point force at
+/// `drive_x_nm` drives mode `mode` at its resonance: at each point the
+/// deflection amplitude |H(ω_n; drive, x)| relative to the largest among the
+/// scan's points (dimensionless; a noisy reading may exceed 1). This is what
+/// `diagnose` suggests when no ω or ζ separates two explanations
+/// (`shape_measurement`, a scan of its grid). The model value at θ is the
+/// same ratio computed at the model's own ω_n
+/// ([`crate::calibration::posterior::relative_amplitudes`]); the readings
+/// are taken as independent Gaussians with the listed sds. Normalising by
+/// the largest point correlates the readings a little (the largest one is 1
+/// by construction); at sds far below the amplitudes that is second order.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModeScan {
+    /// 1-based mode number whose resonance the scan is taken at.
+    pub mode: usize,
+    pub drive_x_nm: f64,
+    pub points: Vec<ScanPoint>,
+}
+
+/// One readout point of a [`ModeScan`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ScanPoint {
+    pub x_nm: f64,
+    pub relative_amplitude: f64,
+    pub relative_amplitude_sd: f64,
+}
+
+/// Largest relative amplitude a reading may have: the ratio to the largest
+/// listed reading is ≤ 1 without noise; a generous bound for noisy readings
+/// that still rejects a column of raw amplitudes in m/N.
+pub const MAX_RELATIVE_AMPLITUDE: f64 = 2.0;
+
 /// The file as written.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -38,6 +79,8 @@ pub struct MeasuredFile {
     pub modes: Vec<ModeObservation>,
     #[serde(default)]
     pub held_out_modes: Vec<ModeObservation>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub mode_scans: Vec<ModeScan>,
     #[serde(default)]
     pub parameters: Option<serde_yaml::Mapping>,
     #[serde(default)]
@@ -50,6 +93,8 @@ pub struct MeasuredData {
     pub beam: BeamSpec,
     pub modes: Vec<ModeObservation>,
     pub held_out_modes: Vec<ModeObservation>,
+    /// Fitted beside `modes` ([`ModeScan`]).
+    pub mode_scans: Vec<ModeScan>,
     pub parameters: ParameterSet,
     pub sampler: DramSettings,
 }
@@ -78,6 +123,7 @@ impl MeasuredData {
                 ));
             }
         }
+        validate_scans(&file.mode_scans, &file.modes, file.beam.length_nm)?;
         let parameters = match &file.parameters {
             Some(map) => ParameterSet::from_mapping(map)?,
             None => ParameterSet::paper_n1(),
@@ -85,13 +131,92 @@ impl MeasuredData {
         parameters.check_against_beam(&file.beam)?;
         let sampler = file.sampler.clone().unwrap_or_default();
         sampler.validate(parameters.len())?;
-        Ok(Self { beam: file.beam, modes: file.modes, held_out_modes: file.held_out_modes, parameters, sampler })
+        Ok(Self {
+            beam: file.beam,
+            modes: file.modes,
+            held_out_modes: file.held_out_modes,
+            mode_scans: file.mode_scans,
+            parameters,
+            sampler,
+        })
     }
 
-    /// Highest mode number among fitted and held-out modes.
+    /// Highest mode number among fitted and held-out modes (a scan's mode is a fitted one).
     pub fn max_mode(&self) -> usize {
         self.modes.iter().chain(&self.held_out_modes).map(|m| m.mode).max().unwrap_or(1)
     }
+
+    /// Every fitted observable in the likelihood's order: the modes' ω and
+    /// ζ (eq. 36), then each scan's points.
+    pub fn fitted_observables(&self) -> Vec<Observable> {
+        let mut obs = observables(&self.modes);
+        obs.extend(scan_observables(&self.mode_scans));
+        obs
+    }
+}
+
+/// Scans need a fitted mode (the scan is taken at its resonance, and the
+/// likelihood reads its ω from the fast modal path), a drive point on the
+/// beam and at least two readout points strictly inside it, ascending (one
+/// point is 1 by definition), with readings in 0..=[`MAX_RELATIVE_AMPLITUDE`]
+/// and sds in RAW_MIN..=1; one scan per mode.
+fn validate_scans(scans: &[ModeScan], modes: &[ModeObservation], length_nm: f64) -> Result<(), InputError> {
+    let mut seen = std::collections::BTreeSet::new();
+    for (i, s) in scans.iter().enumerate() {
+        let f = |name: &str| format!("mode_scans[{i}].{name}");
+        if !modes.iter().any(|m| m.mode == s.mode) {
+            let listed: Vec<String> = modes.iter().map(|m| m.mode.to_string()).collect();
+            return Err(InputError::new(
+                f("mode"),
+                s.mode,
+                format!("a mode listed in `modes` ({})", listed.join(", ")),
+            ));
+        }
+        if !seen.insert(s.mode) {
+            return Err(InputError::new(f("mode"), s.mode, "one scan per mode"));
+        }
+        if !(s.drive_x_nm.is_finite() && (0.0..=length_nm).contains(&s.drive_x_nm)) {
+            return Err(InputError::new(
+                f("drive_x_nm"),
+                fmt_num(s.drive_x_nm),
+                format!("0 <= x <= length_nm = {length_nm}"),
+            ));
+        }
+        if s.points.len() < 2 {
+            return Err(InputError::new(
+                f("points"),
+                format!("{} point(s)", s.points.len()),
+                "at least 2 (amplitudes are relative to the largest)",
+            ));
+        }
+        let mut last = 0.0;
+        for (k, p) in s.points.iter().enumerate() {
+            let g = |name: &str| format!("mode_scans[{i}].points[{k}].{name}");
+            if !(p.x_nm.is_finite() && p.x_nm > last && p.x_nm < length_nm) {
+                return Err(InputError::new(
+                    g("x_nm"),
+                    fmt_num(p.x_nm),
+                    format!("{} < x < length_nm = {length_nm} (ascending, inside the beam)", fmt_num(last)),
+                ));
+            }
+            last = p.x_nm;
+            if !(p.relative_amplitude.is_finite() && (0.0..=MAX_RELATIVE_AMPLITUDE).contains(&p.relative_amplitude)) {
+                return Err(InputError::new(
+                    g("relative_amplitude"),
+                    fmt_num(p.relative_amplitude),
+                    format!("0 <= relative_amplitude <= {MAX_RELATIVE_AMPLITUDE} (relative to the scan's largest)"),
+                ));
+            }
+            if !(p.relative_amplitude_sd.is_finite() && (RAW_MIN..=1.0).contains(&p.relative_amplitude_sd)) {
+                return Err(InputError::new(
+                    g("relative_amplitude_sd"),
+                    fmt_num(p.relative_amplitude_sd),
+                    format!("{RAW_MIN:e} <= relative_amplitude_sd <= 1"),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Mode numbers 1..=dofs (the beam model has as many physical modes as free

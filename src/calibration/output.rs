@@ -195,7 +195,9 @@ pub fn inference_data(result: &CalibrationResult, ctx: &InferenceContext) -> Inf
 fn pointwise(result: &CalibrationResult, post: &BeamPosterior, idx: &[usize]) -> (Group, Group) {
     use rayon::prelude::*;
     let (y, sd) = (post.observed(), post.sd());
-    let m = y.len() / 2;
+    let m = post.fitted_modes().len();
+    // the scans' points follow the modes' ω and ζ (posterior module doc)
+    let points = y.len() - 2 * m;
     let thetas: Vec<&Vec<f64>> = result.chains.iter().flat_map(|c| idx.iter().map(move |&i| &c.draws[i])).collect();
     let terms: Vec<Vec<f64>> = thetas
         .par_iter()
@@ -213,27 +215,29 @@ fn pointwise(result: &CalibrationResult, post: &BeamPosterior, idx: &[usize]) ->
         })
         .collect();
     let dims = vec![("chain".into(), result.chains.len()), ("draw".into(), idx.len()), ("mode".into(), m)];
-    let var = |name: &str, off: usize| Variable {
-        name: name.into(),
-        dims: dims.clone(),
-        values: terms.iter().flat_map(|t| t[off..off + m].iter().copied()).collect(),
+    let var = |name: &str, off: usize, (dim, len): (&str, usize)| {
+        let mut dims = dims.clone();
+        dims[2] = (dim.into(), len);
+        Variable {
+            name: name.into(),
+            dims,
+            values: terms.iter().flat_map(|t| t[off..off + len].iter().copied()).collect(),
+        }
     };
-    let obs = |name: &str, off: usize| Variable {
+    let obs = |name: &str, off: usize, (dim, len): (&str, usize)| Variable {
         name: name.into(),
-        dims: vec![("mode".into(), m)],
-        values: y[off..off + m].to_vec(),
+        dims: vec![(dim.into(), len)],
+        values: y[off..off + len].to_vec(),
     };
+    let mut log_likelihood = vec![var("omega_rad_s", 0, ("mode", m)), var("zeta", m, ("mode", m))];
+    let mut observed = vec![obs("omega_rad_s", 0, ("mode", m)), obs("zeta", m, ("mode", m))];
+    if points > 0 {
+        log_likelihood.push(var("relative_amplitude", 2 * m, ("scan_point", points)));
+        observed.push(obs("relative_amplitude", 2 * m, ("scan_point", points)));
+    }
     (
-        Group {
-            name: "log_likelihood".into(),
-            variables: vec![var("omega_rad_s", 0), var("zeta", m)],
-            ..Group::default()
-        },
-        Group {
-            name: "observed_data".into(),
-            variables: vec![obs("omega_rad_s", 0), obs("zeta", m)],
-            ..Group::default()
-        },
+        Group { name: "log_likelihood".into(), variables: log_likelihood, ..Group::default() },
+        Group { name: "observed_data".into(), variables: observed, ..Group::default() },
     )
 }
 

@@ -1,9 +1,10 @@
 //! The beam posterior: priors of the named parameters times the Gaussian
 //! likelihood of the measured modal data, eqs. (24), (26), (38), (41).
 //!
-//! y = [ω_1 … ω_M, ζ_1 … ζ_M] (eq. 36 for any listed modes); the measurement
-//! covariance is diagonal with the file's standard deviations, scaled by β²
-//! when `beta_squared` is a parameter (eq. 41). A θ the forward model cannot
+//! y = [ω_1 … ω_M, ζ_1 … ζ_M] (eq. 36 for any listed modes), followed by the
+//! relative amplitudes of any mode scans ([`ModeScan`], not in the paper); the
+//! measurement covariance is diagonal with the file's standard deviations,
+//! scaled by β² when `beta_squared` is a parameter (eq. 41; the scans' too). A θ the forward model cannot
 //! evaluate (invalid beam, a requested mode overdamped or missing, numerical
 //! failure) has likelihood zero: log L = −∞.
 
@@ -13,6 +14,7 @@ use crate::bayes::likelihood::DiagonalGaussian;
 use crate::bayes::prior::Prior;
 use crate::bayes::Posterior;
 use crate::beam::{self, BeamSpec};
+use crate::calibration::measured::ModeScan;
 use crate::calibration::{MeasuredData, ModeObservation, ParameterSet, Target};
 
 thread_local! {
@@ -30,6 +32,8 @@ pub struct BeamPosterior {
     observables: Vec<Observable>,
     observed: Vec<f64>,
     sd: Vec<f64>,
+    /// Mode scans fitted after the modes' ω and ζ (empty: the paper's model).
+    scans: Vec<ModeScan>,
     /// Highest mode number the forward model must return.
     n_modes: usize,
     beta_squared: Option<usize>,
@@ -52,7 +56,7 @@ pub struct BeamPosterior {
 impl BeamPosterior {
     /// Posterior for the fitted `modes` of `data` with parameter set `params`.
     pub fn new(data: &MeasuredData, params: ParameterSet) -> Self {
-        Self::from_parts(&data.beam, &data.modes, params)
+        Self::from_parts(&data.beam, &data.modes, params).with_scans(&data.mode_scans)
     }
 
     pub fn from_parts(base: &BeamSpec, observations: &[ModeObservation], params: ParameterSet) -> Self {
@@ -79,11 +83,30 @@ impl BeamPosterior {
             observables,
             observed,
             sd,
+            scans: Vec::new(),
             params,
             beta_squared,
             likelihood,
             min_relaxation_log_ratio: 0.0,
         }
+    }
+
+    /// Fits `scans` too: their relative amplitudes join y after the modes'
+    /// ω and ζ, at one FRF factorisation per scan and proposal
+    /// ([`relative_amplitudes`]). Each scan's mode must be a fitted one
+    /// (`MeasuredData` validates it; a scan of another mode has no
+    /// likelihood: −∞).
+    pub fn with_scans(mut self, scans: &[ModeScan]) -> Self {
+        if scans.is_empty() {
+            return self;
+        }
+        let extra = scan_observables(scans);
+        self.observed.extend(extra.iter().map(|o| o.value));
+        self.sd.extend(extra.iter().map(|o| o.sd));
+        self.observables.extend(extra);
+        self.likelihood = DiagonalGaussian::new(&self.observed, &self.sd);
+        self.scans = scans.to_vec();
+        self
     }
 
     /// Restricts the model to internal variables whose relaxation rates differ
@@ -149,7 +172,30 @@ impl BeamPosterior {
     /// Predicted [ω…, ζ…] of the fitted modes at θ, or `None` when the model
     /// fails (invalid beam, a requested mode missing, numerical failure).
     pub fn predict(&self, theta: &[f64]) -> Option<Vec<f64>> {
-        predict_modes(&self.beam_at(theta), &self.modes, self.n_modes)
+        let beam = self.beam_at(theta);
+        if self.scans.is_empty() {
+            return predict_modes(&beam, &self.modes, self.n_modes);
+        }
+        self.predict_with_scans(&beam)
+    }
+
+    /// [ω…, ζ…, scan amplitudes…] of `beam`: the modes' ω and ζ by the fast
+    /// path, then one FRF factorisation per scan at its mode's ω (a fitted
+    /// mode's, validated with the file).
+    fn predict_with_scans(&self, beam: &BeamSpec) -> Option<Vec<f64>> {
+        let mut y = vec![0.0; 2 * self.modes.len()];
+        if !beam::modal_observables(beam, &self.modes, self.n_modes, &mut y).ok()? {
+            return None;
+        }
+        let omega_of = |n: usize| self.modes.iter().position(|&m| m == n).map(|k| y[k]);
+        let amplitudes = relative_amplitudes(beam, &self.scans, omega_of)?;
+        y.extend(amplitudes);
+        Some(y)
+    }
+
+    /// The fitted mode scans.
+    pub fn scans(&self) -> &[ModeScan] {
+        &self.scans
     }
 
     /// Highest mode number the forward model computes.
@@ -182,6 +228,8 @@ impl BeamPosterior {
 pub enum Quantity {
     Omega,
     Zeta,
+    /// A mode scan's relative amplitude at one point ([`ModeScan`]).
+    RelativeAmplitude,
 }
 
 impl Quantity {
@@ -189,29 +237,77 @@ impl Quantity {
         match self {
             Quantity::Omega => "omega",
             Quantity::Zeta => "zeta",
+            Quantity::RelativeAmplitude => "relative_amplitude",
         }
     }
 }
 
-/// One scalar entry of y (eq. 36): mode `mode`'s ω (rad/s) or ζ, with its
-/// measurement sd in the same unit.
+/// One scalar entry of y (eq. 36): mode `mode`'s ω (rad/s) or ζ, or a scan's
+/// relative amplitude at `x_nm`, with its measurement sd in the same unit.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Observable {
     pub mode: usize,
     pub quantity: Quantity,
+    /// The readout point of a relative amplitude (`None` for ω and ζ).
+    pub x_nm: Option<f64>,
     pub value: f64,
     pub sd: f64,
 }
 
 impl Observable {
-    /// This observable's model value among `modes` (1-based numbering), if computed.
+    /// This observable's model value among `modes` (1-based numbering), if
+    /// computed; `None` for a relative amplitude too, which needs its whole
+    /// scan ([`relative_amplitudes`]).
     pub fn predicted(&self, modes: &[beam::Mode]) -> Option<f64> {
         let m = modes.get(self.mode.checked_sub(1)?)?;
-        Some(match self.quantity {
-            Quantity::Omega => m.omega_rad_s,
-            Quantity::Zeta => m.zeta,
-        })
+        match self.quantity {
+            Quantity::Omega => Some(m.omega_rad_s),
+            Quantity::Zeta => Some(m.zeta),
+            Quantity::RelativeAmplitude => None,
+        }
     }
+}
+
+/// The relative amplitudes of every point of `scans`, scan by scan, on
+/// `beam` whose mode n has natural frequency `omega_of(n)` (rad/s): at ω_n,
+/// |H(ω_n; drive, x)| over the largest among the scan's points
+/// ([`relative_to_peak`]). `None` when a scanned mode's ω is unknown or the
+/// response cannot be solved.
+pub fn relative_amplitudes(
+    beam: &BeamSpec,
+    scans: &[ModeScan],
+    omega_of: impl Fn(usize) -> Option<f64>,
+) -> Option<Vec<f64>> {
+    let mut out = Vec::with_capacity(scans.iter().map(|s| s.points.len()).sum());
+    for s in scans {
+        let xs: Vec<f64> = s.points.iter().map(|p| p.x_nm).collect();
+        let h = beam::frf_points(beam, s.drive_x_nm, &xs, &[omega_of(s.mode)?]).ok()?;
+        out.extend(relative_to_peak(&h[0])?);
+    }
+    Some(out)
+}
+
+/// |h_k| / max_k |h_k|; `None` when the largest is zero or not finite.
+pub fn relative_to_peak(h: &[num_complex::Complex64]) -> Option<Vec<f64>> {
+    let amp: Vec<f64> = h.iter().map(|z| z.norm()).collect();
+    let peak = amp.iter().copied().fold(0.0, f64::max);
+    (peak > 0.0 && peak.is_finite()).then(|| amp.iter().map(|v| v / peak).collect())
+}
+
+/// The observables of `scans`' points, scan by scan, in the file's order.
+pub fn scan_observables(scans: &[ModeScan]) -> Vec<Observable> {
+    scans
+        .iter()
+        .flat_map(|s| {
+            s.points.iter().map(|p| Observable {
+                mode: s.mode,
+                quantity: Quantity::RelativeAmplitude,
+                x_nm: Some(p.x_nm),
+                value: p.relative_amplitude,
+                sd: p.relative_amplitude_sd,
+            })
+        })
+        .collect()
 }
 
 /// [ω…, ζ…] for the given 1-based modes of `beam`.
@@ -231,10 +327,17 @@ pub fn observables(obs: &[ModeObservation]) -> Vec<Observable> {
     let omega = obs.iter().map(|m| Observable {
         mode: m.mode,
         quantity: Quantity::Omega,
+        x_nm: None,
         value: m.omega_rad_s,
         sd: m.omega_sd_rad_s,
     });
-    let zeta = obs.iter().map(|m| Observable { mode: m.mode, quantity: Quantity::Zeta, value: m.zeta, sd: m.zeta_sd });
+    let zeta = obs.iter().map(|m| Observable {
+        mode: m.mode,
+        quantity: Quantity::Zeta,
+        x_nm: None,
+        value: m.zeta,
+        sd: m.zeta_sd,
+    });
     omega.chain(zeta).collect()
 }
 
@@ -297,6 +400,12 @@ impl Posterior for BeamPosterior {
     fn log_likelihood(&self, theta: &[f64]) -> f64 {
         if self.min_relaxation_log_ratio > 0.0 && !self.relaxations_distinct(&self.beam_at(theta)) {
             return f64::NEG_INFINITY;
+        }
+        if !self.scans.is_empty() {
+            return match self.with_beam_at(theta, |beam| self.predict_with_scans(beam)) {
+                Some(pred) => self.likelihood.log_likelihood(&pred, self.beta_at(theta)),
+                None => f64::NEG_INFINITY,
+            };
         }
         // the prediction on the stack for up to 32 modes (no allocation per proposal)
         let mut stack = [0.0; 64];

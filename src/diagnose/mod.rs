@@ -66,7 +66,10 @@ use crate::bayes::rng::{child_seed, Purpose};
 use crate::bayes::transform::Reparameterized;
 use crate::bayes::{BayesError, Posterior};
 use crate::beam::BeamSpec;
-use crate::calibration::{observables, BeamPosterior, MeasuredData, ModeObservation, Observable, ParameterSet};
+use crate::calibration::posterior::relative_amplitudes;
+use crate::calibration::{
+    observables, BeamPosterior, MeasuredData, ModeObservation, ModeScan, Observable, ParameterSet, Quantity,
+};
 use crate::error::InputError;
 use crate::report::ReportError;
 
@@ -415,22 +418,25 @@ struct Problem<'a> {
     misfit_verdicts: Mutex<BTreeMap<String, bool>>,
 }
 
-/// The posterior of `model` given the fitted `modes` of a beam whose known part is `beam`.
+/// The posterior of `model` given the fitted `modes` and `scans` of a beam whose known part is `beam`.
 pub fn model_posterior(
     model: &Model,
     parameters: &ParameterSet,
     beam: &BeamSpec,
     modes: &[ModeObservation],
+    scans: &[ModeScan],
     scales: &NominalScales,
 ) -> ClassPosterior {
     let p = model_parameters(model, parameters, beam, scales);
-    let posterior = BeamPosterior::from_parts(beam, modes, p.set).with_distinct_relaxations(DISTINCT_RELAXATIONS);
+    let posterior =
+        BeamPosterior::from_parts(beam, modes, p.set).with_scans(scans).with_distinct_relaxations(DISTINCT_RELAXATIONS);
     Reparameterized::new(posterior, p.log_scale)
 }
 
 impl Problem<'_> {
     fn posterior(&self, model: &Model) -> ClassPosterior {
-        model_posterior(model, &self.data.parameters, &self.data.beam, &self.data.modes, &self.scales)
+        let d = self.data;
+        model_posterior(model, &d.parameters, &d.beam, &d.modes, &d.mode_scans, &self.scales)
     }
 
     /// Evidence of every model in `models` (in parallel; each keyed by the
@@ -604,7 +610,7 @@ fn misfits(problem: &Problem, run: &ModelRun) -> bool {
     if let Some(&v) = problem.misfit_verdicts.lock().expect("no panic holds the lock").get(&name) {
         return v;
     }
-    let fitted = observables(&problem.data.modes);
+    let fitted = problem.data.fitted_observables();
     let draws = predictive(run, &fitted, problem.data.max_mode(), &problem.predictive_solves);
     let checks = ppc::check_fitted(&fitted, &draws);
     let per_test = ppc::sidak_level(problem.settings.family_alpha, checks.len());
@@ -621,7 +627,7 @@ fn log_evidence_of(runs: &[ModelRun], m: &Model) -> f64 {
 /// The leverage-corrected residual test ([`ppc::check_fitted`]) of every
 /// fitted observable of `data` under `run`'s posterior.
 pub fn fitted_checks(run: &ModelRun, data: &MeasuredData) -> Vec<Check> {
-    let fitted = observables(&data.modes);
+    let fitted = data.fitted_observables();
     ppc::check_fitted(&fitted, &predictive(run, &fitted, data.max_mode(), &AtomicU64::new(0)))
 }
 
@@ -636,7 +642,7 @@ struct Decision {
 
 impl Decision {
     fn new(problem: &Problem, runs: &[ModelRun], search: &Search) -> Self {
-        let fitted = observables(&problem.data.modes);
+        let fitted = problem.data.fitted_observables();
         let held = observables(&problem.data.held_out_modes);
         let all: Vec<Observable> = fitted.iter().chain(&held).copied().collect();
         let run = |m: &Model| runs.iter().find(|r| &r.model == m).expect("every visited model ran");
@@ -876,17 +882,33 @@ fn candidate(r: &ModelRun, z_base: f64, probability: f64, beam: &crate::beam::Be
 }
 
 /// Predictions of `obs` at every posterior sample (failed samples dropped), and β² per sample.
-/// One modal solve per posterior draw of `run`, added to `solves`.
+/// One modal solve per posterior draw of `run`, added to `solves`. Relative
+/// amplitudes among `obs` must be those of `run`'s fitted scans, in order
+/// (as [`MeasuredData::fitted_observables`] lists them); their FRF
+/// factorisations are not counted (they run only when scans are fitted).
 pub(crate) fn predictive(run: &ModelRun, obs: &[Observable], max_mode: usize, solves: &AtomicU64) -> Draws {
     solves.fetch_add(run.draws.len() as u64, Ordering::Relaxed);
     let post = &run.posterior;
+    let scans = post.inner().scans();
+    let has_amplitudes = obs.iter().any(|o| o.quantity == Quantity::RelativeAmplitude);
+    let max_mode = max_mode.max(post.inner().max_mode());
     let rows: Vec<Option<(Vec<f64>, f64)>> = run
         .draws
         .par_iter()
         .map(|u| {
             let x = post.to_inner(u);
-            let modes = crate::beam::modal(&post.inner().beam_at(&x), max_mode).ok()?.modes;
-            let row: Option<Vec<f64>> = obs.iter().map(|o| o.predicted(&modes)).collect();
+            let beam = post.inner().beam_at(&x);
+            let modes = crate::beam::modal(&beam, max_mode).ok()?.modes;
+            let omega_of = |n: usize| modes.iter().find(|m| m.mode == n).map(|m| m.omega_rad_s);
+            let amplitudes = if has_amplitudes { relative_amplitudes(&beam, scans, omega_of)? } else { vec![] };
+            let mut next_amplitude = amplitudes.into_iter();
+            let row: Option<Vec<f64>> = obs
+                .iter()
+                .map(|o| match o.quantity {
+                    Quantity::RelativeAmplitude => next_amplitude.next(),
+                    _ => o.predicted(&modes),
+                })
+                .collect();
             Some((row?, post.inner().beta_at(&x).powi(2)))
         })
         .collect();

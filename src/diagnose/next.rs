@@ -32,7 +32,8 @@ use serde::Serialize;
 use rayon::prelude::*;
 
 use crate::beam::{frf_points, modal, BeamSpec};
-use crate::calibration::{MeasuredData, Observable, Quantity};
+use crate::calibration::posterior::relative_to_peak;
+use crate::calibration::{MeasuredData, ModeScan, Observable, Quantity, ScanPoint};
 
 use super::evidence::ModelRun;
 
@@ -82,7 +83,13 @@ pub fn next_measurement<'r>(
     let candidates: Vec<Observable> = (1..=MAX_MODE)
         .filter(|m| !measured.contains(m))
         .flat_map(|mode| {
-            [Quantity::Omega, Quantity::Zeta].map(|quantity| Observable { mode, quantity, value: 0.0, sd: 0.0 })
+            [Quantity::Omega, Quantity::Zeta].map(|quantity| Observable {
+                mode,
+                quantity,
+                x_nm: None,
+                value: 0.0,
+                sd: 0.0,
+            })
         })
         .collect();
     if candidates.is_empty() {
@@ -178,6 +185,22 @@ impl ShapeMeasurement {
         resonance_scan(beam, self.mode, self.drive_x_nm, &xs).map(|s| s[(self.mode - 1) * xs.len() + k])
     }
 
+    /// The suggested scan as `mode_scans` data ([`ModeScan`]): `beam`'s
+    /// relative amplitudes at every point of the scan grid, each read with sd
+    /// `sd`, noise-free (what the scan would read on a beam known exactly,
+    /// e.g. a synthetic truth; the caller adds the instrument's noise).
+    pub fn scan_on(&self, beam: &BeamSpec, sd: f64) -> Option<ModeScan> {
+        let xs = scan_points(beam.length_nm);
+        let all = resonance_scan(beam, self.mode, self.drive_x_nm, &xs)?;
+        let row = &all[(self.mode - 1) * xs.len()..];
+        let points = xs
+            .iter()
+            .zip(row)
+            .map(|(&x_nm, &a)| ScanPoint { x_nm, relative_amplitude: a, relative_amplitude_sd: sd })
+            .collect();
+        Some(ModeScan { mode: self.mode, drive_x_nm: self.drive_x_nm, points })
+    }
+
     /// The expected ln B of the first model over the second when a beam whose
     /// true relative amplitude is `value` is measured with sd `sd`: ln B of a
     /// reading y is the ratio of the two Gaussian predictives N(y; m_k, s_k² +
@@ -210,7 +233,14 @@ pub fn shape_measurement<'r>(
     solves: &AtomicU64,
 ) -> Option<ShapeMeasurement> {
     let modes = data.max_mode().min(MAX_MODE);
-    let measured: Vec<usize> = data.modes.iter().chain(&data.held_out_modes).map(|m| m.mode).collect();
+    // a measured mode not already scanned
+    let measured: Vec<usize> = data
+        .modes
+        .iter()
+        .chain(&data.held_out_modes)
+        .map(|m| m.mode)
+        .filter(|n| !data.mode_scans.iter().any(|s| s.mode == *n))
+        .collect();
     let length_nm = data.beam.length_nm;
     let xs = scan_points(length_nm);
     let drive = SHAPE_DRIVE_FRACTION * length_nm;
@@ -297,12 +327,7 @@ pub fn resonance_scan(beam: &BeamSpec, modes: usize, drive_nm: f64, xs: &[f64]) 
     let h = frf_points(beam, drive_nm, xs, &omegas).ok()?;
     let mut row = Vec::with_capacity(modes * xs.len());
     for scan in &h {
-        let amp: Vec<f64> = scan.iter().map(|z| z.norm()).collect();
-        let peak = amp.iter().copied().fold(0.0, f64::max);
-        if !(peak > 0.0 && peak.is_finite()) {
-            return None;
-        }
-        row.extend(amp.iter().map(|v| v / peak));
+        row.extend(relative_to_peak(scan)?);
     }
     Some(row)
 }

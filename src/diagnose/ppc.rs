@@ -65,6 +65,9 @@ pub fn max_leverage(draws: usize) -> f64 {
 pub struct Check {
     pub mode: usize,
     pub quantity: &'static str,
+    /// The readout point of a mode scan's relative amplitude (absent for ω and ζ).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub x_nm: Option<f64>,
     pub z: f64,
     /// Two-sided p-value (leverage-corrected for fitted observables).
     pub ppp: f64,
@@ -111,7 +114,7 @@ pub fn check_fitted(obs: &[Observable], draws: &Draws) -> Vec<Check> {
             let residual_var = if leverage > h_max { noise_var } else { noise_var * (1.0 - leverage) };
             let z = (o.value - mean) / residual_var.sqrt();
             let ppp = 2.0 * std_normal.sf(z.abs());
-            Check { mode: o.mode, quantity: o.quantity.name(), z, ppp, leverage }
+            Check { mode: o.mode, quantity: o.quantity.name(), x_nm: o.x_nm, z, ppp, leverage }
         })
         .collect()
 }
@@ -137,6 +140,7 @@ fn check_one(o: &Observable, draws: &Draws, column: usize) -> Predictive {
         check: Check {
             mode: o.mode,
             quantity: o.quantity.name(),
+            x_nm: o.x_nm,
             z: (o.value - mean) / var.sqrt(),
             ppp: (2.0 * upper.min(lower)).min(1.0),
             leverage: 0.0,
@@ -178,7 +182,7 @@ mod tests {
     #[test]
     fn point_mass_predictive_gives_two_sided_normal_p_value() {
         // All samples predict 0 with sd 1; y = 2 → ppp = 2Q(2) = 0.0455, z = 2.
-        let o = [Observable { mode: 1, quantity: Quantity::Omega, value: 2.0, sd: 1.0 }];
+        let o = [Observable { mode: 1, quantity: Quantity::Omega, x_nm: None, value: 2.0, sd: 1.0 }];
         let draws = Draws { predictions: vec![vec![0.0]; 10], beta_sq: vec![1.0; 10] };
         let r = check(&o, &draws, 0);
         assert!((r[0].check.ppp - 0.045500263896).abs() < 1e-9);
@@ -191,7 +195,7 @@ mod tests {
     #[test]
     fn fitted_check_divides_by_the_residual_sd() {
         // 400 posterior draws of ŷ, ±a alternating: sample variance 400a²/399 = 0.72, σ = 1 → h = 0.72
-        let o = [Observable { mode: 2, quantity: Quantity::Zeta, value: 1.0, sd: 1.0 }];
+        let o = [Observable { mode: 2, quantity: Quantity::Zeta, x_nm: None, value: 1.0, sd: 1.0 }];
         let spread = |h: f64| {
             let a = (h * 399.0 / 400.0).sqrt();
             Draws {

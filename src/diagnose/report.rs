@@ -23,7 +23,7 @@ const TEMPLATE: &str = include_str!("../../paper/templates/diagnose.md.tera");
 #[derive(Serialize)]
 struct Row {
     mode: usize,
-    quantity: &'static str,
+    quantity: String,
     z_before: f64,
     p_before: String,
     z_after: f64,
@@ -54,7 +54,10 @@ pub fn markdown(run: &DiagnosisRun, data: &MeasuredData, s: &DiagnoseSettings) -
         .zip(&d.gain.misfit_after)
         .map(|(b, a)| Row {
             mode: b.mode,
-            quantity: b.quantity,
+            quantity: match b.x_nm {
+                Some(x) => format!("{} at {} nm", b.quantity, fmt_sig(x, 4)),
+                None => b.quantity.to_string(),
+            },
             z_before: b.z,
             p_before: format!("{:.2e}", b.ppp),
             z_after: a.z,
@@ -96,7 +99,11 @@ pub fn markdown(run: &DiagnosisRun, data: &MeasuredData, s: &DiagnoseSettings) -
 /// Every figure of the report as (file name, SVG text).
 pub fn figures(run: &DiagnosisRun) -> Result<Vec<(String, String)>, ReportError> {
     let d = &run.diagnosis;
-    let label = |c: &ppc::Check| format!("{}{}", if c.quantity == "omega" { "ω" } else { "ζ" }, c.mode);
+    let label = |c: &ppc::Check| match (c.quantity, c.x_nm) {
+        (_, Some(x)) => format!("A{}@{}", c.mode, fmt_sig(x, 3)),
+        ("omega", None) => format!("ω{}", c.mode),
+        _ => format!("ζ{}", c.mode),
+    };
     let residuals = residual_plot(&ResidualPlot {
         title: "Standardized residuals per observable".into(),
         labels: d.misfit.iter().map(label).collect(),

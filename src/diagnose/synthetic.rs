@@ -542,7 +542,7 @@ fn observations(y: &[Mode]) -> Vec<ModeObservation> {
 /// own base parameters screened, Nelder–Mead from the best 3; returns the
 /// largest standardized residual.
 fn base_fit_max_z(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -> f64 {
-    let post = model_posterior(&Model::BASE, &ParameterSet::paper_n1(), &nominal_beam(), &observations(y0), s);
+    let post = model_posterior(&Model::BASE, &ParameterSet::paper_n1(), &nominal_beam(), &observations(y0), &[], s);
     let mut rng = stream(seed, Purpose::SyntheticBaseFit, [0, 0]);
     let iv = truth.internal_variables[0];
     let mut starts = vec![vec![truth.nonlocal_e0a_nm, iv.delta, iv.omega_rad_s]];
@@ -625,7 +625,7 @@ fn model_fit_max_z(model: &Model, y0: &[Mode], truth: &BeamSpec, s: &NominalScal
     let base_truth = [truth.nonlocal_e0a_nm, iv.delta, iv.omega_rad_s];
     let k = catalogue_models().iter().position(|m| m == model).expect("a catalogue model");
     let params = model_parameters(model, &ParameterSet::paper_n1(), &nominal_beam(), s);
-    let post = model_posterior(model, &ParameterSet::paper_n1(), &nominal_beam(), &observations(y0), s);
+    let post = model_posterior(model, &ParameterSet::paper_n1(), &nominal_beam(), &observations(y0), &[], s);
     let sd: Vec<f64> = params
         .set
         .params
@@ -666,6 +666,7 @@ fn finish(seed: u64, truth: BeamSpec, y0: Vec<Mode>, hidden: Hidden, z: f64, rng
         beam: nominal_beam(),
         modes,
         held_out_modes: vec![],
+        mode_scans: vec![],
         parameters: None,
         sampler: Some(DramSettings { seed, ..DramSettings::default() }),
     };

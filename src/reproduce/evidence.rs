@@ -49,6 +49,7 @@ pub fn diagnosis_stage(
         beam,
         modes: c.observations.clone(),
         held_out_modes: vec![],
+        mode_scans: vec![],
         parameters: None,
         sampler: None,
     };
