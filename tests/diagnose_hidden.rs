@@ -26,8 +26,12 @@
 //! again, right answers too, without knowledge of the truth; the test asserts
 //! that no right answer is unsettled and reports both-named after the advice.
 //! Every case whose diagnosis suggests a mode-shape scan instead (no ω or ζ
-//! separates its alternatives) has the scan checked on the truth when one of
-//! the two models is the truth's ([`shape_check`]): it must decide for it.
+//! separates its alternatives) has the scan read on the truth and fed back
+//! as `mode_scans` data ([`measure_scan`]), and is diagnosed again (a pair
+//! counts it as its verdict after the advice); when one of the two models is
+//! the truth's, the rerun must put it ahead by the decision threshold
+//! ([`scan_gap`]), and so must the expectation from the two predictives
+//! ([`shape_check`]).
 //! Each pair's noise-free data are diagnosed too ([`NoiseFree::Diagnose`]),
 //! which tells a miss that a luckier noise draw would have avoided from one
 //! the effects' sizes do not support.
@@ -48,7 +52,7 @@ use rand_distr::{Distribution, StandardNormal};
 
 use nanobeam::bayes::rng::{stream, Purpose};
 use nanobeam::beam::modal;
-use nanobeam::calibration::{MeasuredData, ModeObservation};
+use nanobeam::calibration::{MeasuredData, ModeObservation, ModeScan};
 use nanobeam::diagnose::next::ShapeMeasurement;
 use nanobeam::diagnose::synthetic::{generate_hidden, Foreign, Hidden, SyntheticCase, OMEGA_REL_SD, ZETA_REL_SD};
 use nanobeam::diagnose::{decided_causes, diagnose, DiagnoseSettings, Diagnosis, Model, ModelClass};
@@ -108,7 +112,9 @@ fn ci_cases() -> Vec<(u64, Hidden)> {
 /// scan of mode 4 is sinusoidal under the tension and bent near the supports
 /// under the spring (0.618 against 0.582 of the largest amplitude at 0.7 L,
 /// decisive to ±0.015, measured 2026-11-26), and the truth's scan must
-/// decide for the tension ([`shape_check`]).
+/// decide for the tension: expected from the two predictives
+/// ([`shape_check`]), and when fed back as data ([`measure_scan`],
+/// [`scan_gap`]; 2026-11-27: the spring went from 0.36 to 29.7 nats behind).
 #[test]
 fn first_seed_of_every_single_cause_is_named_and_clean_data_raise_no_alarm() {
     let t = tally(ci_cases(), Follow::No, NoiseFree::Skip);
@@ -116,9 +122,11 @@ fn first_seed_of_every_single_cause_is_named_and_clean_data_raise_no_alarm() {
         t.shape_decides_for_truth, t.shape_checkable,
         "a mode-shape suggestion that does not decide for the truth"
     );
+    assert_eq!(t.scan_decides_for_truth, t.scan_checkable, "the truth's scan fed back does not decide for it");
     if !filtered() {
         assert_eq!(t.singles, ModelClass::CAUSES.len());
         assert!(t.shape_checkable >= 1, "seed 104's mode-shape suggestion between the tension and the spring");
+        assert!(t.scan_checkable >= 1, "seed 104's scan fed back");
     }
     assert_eq!(t.singles_right, t.singles, "singles {}/{}", t.singles_right, t.singles);
     assert_eq!(t.false_alarms, 0);
@@ -137,6 +145,7 @@ fn first_pair_is_named_and_first_foreign_effect_is_unexplained() {
         t.shape_decides_for_truth, t.shape_checkable,
         "a mode-shape suggestion that does not decide for the truth"
     );
+    assert_eq!(t.scan_decides_for_truth, t.scan_checkable, "the truth's scan fed back does not decide for it");
     if !filtered() {
         assert_eq!((t.pairs, t.foreign), (1, 1));
     }
@@ -164,6 +173,7 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
         t.shape_decides_for_truth, t.shape_checkable,
         "a mode-shape suggestion that does not decide for the truth"
     );
+    assert_eq!(t.scan_decides_for_truth, t.scan_checkable, "the truth's scan fed back does not decide for it");
     assert!(t.singles_right * 100 >= 95 * t.singles, "singles {}/{}", t.singles_right, t.singles);
     assert_eq!(t.false_alarms, 0);
     assert_eq!(t.decided_wrong, 0, "a decided cause that is not a true cause");
@@ -213,6 +223,7 @@ fn pairs_are_named_and_foreign_effects_are_unexplained() {
         t.shape_decides_for_truth, t.shape_checkable,
         "a mode-shape suggestion that does not decide for the truth"
     );
+    assert_eq!(t.scan_decides_for_truth, t.scan_checkable, "the truth's scan fed back does not decide for it");
     assert_eq!(t.pairs_unsettled, 0, "measuring the suggested mode unsettled a right answer");
     assert!(t.pairs_right_after >= t.pairs_right);
     assert_eq!(t.pairs_confidently_wrong, 0, "a pair named wrongly without the truth as an alternative");
@@ -253,6 +264,10 @@ struct Tally {
     /// Those where the truth's scan, measured at half the decisive sd, is
     /// expected to favour the truth's model by the decision threshold.
     shape_decides_for_truth: usize,
+    /// Shape suggestions followed ([`measure_scan`]) whose two models include the truth's ([`scan_gap`]).
+    scan_checkable: usize,
+    /// Those where the rerun puts the truth's model ahead of the other by the decision threshold.
+    scan_decides_for_truth: usize,
     /// Pairs whose noise-free data were diagnosed too ([`NoiseFree::Diagnose`]).
     pairs_noise_free: usize,
     /// Those whose noise-free data have both causes named.
@@ -280,6 +295,40 @@ fn shape_check(case: &SyntheticCase, m: &ShapeMeasurement) -> Option<f64> {
     }
     let ln_b = m.expected_log_bayes_factor(m.value_of(&case.truth_beam)?, 0.5 * m.decisive_measurement_sd);
     Some(if first { ln_b } else { -ln_b })
+}
+
+/// The suggested scan read on the truth ([`ShapeMeasurement::scan_on`]), every
+/// point of the grid at half the decisive sd (the instrument the suggestion
+/// says would decide, with a margin), Gaussian noise keyed by the seed and
+/// the mode. Readings below 5 sd are left out, as a lab leaves out points by
+/// a node where the amplitude is lost in the noise (a magnitude's noise is
+/// not Gaussian there, and a reading cannot be negative).
+fn measure_scan(case: &SyntheticCase, m: &ShapeMeasurement, seed: u64) -> ModeScan {
+    let sd = 0.5 * m.decisive_measurement_sd;
+    let mut scan = m.scan_on(&case.truth_beam, sd).expect("the truth computes");
+    let mut rng = stream(seed, Purpose::SyntheticCase, [3, m.mode as u64]);
+    for p in &mut scan.points {
+        let e: f64 = StandardNormal.sample(&mut rng);
+        p.relative_amplitude += e * sd;
+    }
+    scan.points.retain(|p| p.relative_amplitude >= 5.0 * sd);
+    scan
+}
+
+/// The scan fed back, judged on the truth: when one of the two models the
+/// suggestion separates is the truth's, ln Z of the truth's model minus ln Z
+/// of the other in the diagnosis with the scan (`None` when neither is the
+/// truth's). The advice worked when this is at least the decision threshold.
+fn scan_gap(case: &SyntheticCase, m: &ShapeMeasurement, with_scan: &Diagnosis) -> Option<f64> {
+    let truth = Model::with(&case.hidden.causes);
+    let [a, b] = m.between.clone().map(|n| Model::from_name(&n));
+    let rival = match (a == Some(truth.clone()), b == Some(truth.clone())) {
+        (true, _) => &m.between[1],
+        (_, true) => &m.between[0],
+        _ => return None,
+    };
+    let z = |name: &str| with_scan.candidates.iter().find(|c| c.extension == name).map(|c| c.log_evidence);
+    Some(z(&truth.name())? - z(rival)?)
 }
 
 /// Whether a pair whose diagnosis suggests a next measurement gets it.
@@ -361,7 +410,7 @@ fn tally(cases: Vec<(u64, Hidden)>, follow: Follow, noise_free: NoiseFree) -> Ta
     let cases: Vec<(u64, Hidden)> =
         cases.into_iter().filter(|(seed, _)| only.as_ref().is_none_or(|o| o.contains(seed))).collect();
     let t0 = Instant::now();
-    type Outcome = (u64, Hidden, f64, Diagnosis, f64, Option<Diagnosis>, Option<f64>, Option<Diagnosis>);
+    type Outcome = (u64, Hidden, f64, Diagnosis, f64, Option<Diagnosis>, Option<f64>, Option<Diagnosis>, Option<f64>);
     let results: Vec<Outcome> = cases
         .into_par_iter()
         .map(|(seed, hidden)| {
@@ -382,15 +431,29 @@ fn tally(cases: Vec<(u64, Hidden)>, follow: Follow, noise_free: NoiseFree) -> Ta
                 }
                 _ => None,
             };
+            // every shape suggestion is followed: the scan read on the truth, fed back as data
+            let scanned = d.shape_measurement.as_ref().map(|m| {
+                let mut file = case.file.clone();
+                file.mode_scans.push(measure_scan(&case, m, seed));
+                let data = MeasuredData::from_file(file).expect("the truth's scan is valid data");
+                let a = diagnose(&data, &settings).expect("valid synthetic data");
+                eprintln!("seed {seed} + scan of mode {} → {}", m.mode, verdict(&a));
+                a
+            });
+            let after = match (after, &scanned, hidden.causes.len(), follow) {
+                (None, Some(a), 2, Follow::SuggestedMode) if hidden.foreign.is_none() => Some(a.clone()),
+                (after, ..) => after,
+            };
+            let scan_gap = d.shape_measurement.as_ref().zip(scanned.as_ref()).and_then(|(m, a)| scan_gap(&case, m, a));
             let shape = d.shape_measurement.as_ref().and_then(|m| shape_check(&case, m));
             let expected = (noise_free == NoiseFree::Diagnose && hidden.causes.len() == 2 && hidden.foreign.is_none())
                 .then(|| diagnose(&case.noise_free_data(), &settings).expect("valid synthetic data"));
-            (seed, hidden, case.base_fit_max_z, d, t.elapsed().as_secs_f64(), after, shape, expected)
+            (seed, hidden, case.base_fit_max_z, d, t.elapsed().as_secs_f64(), after, shape, expected, scan_gap)
         })
         .collect();
     let mut confusion: BTreeMap<(String, String), usize> = BTreeMap::new();
     let mut t = Tally::default();
-    for (seed, hidden, z, d, secs, after, shape, expected) in &results {
+    for (seed, hidden, z, d, secs, after, shape, expected, scan_gap) in &results {
         let truth = hidden.label();
         let got = verdict(d);
         *confusion.entry((truth.clone(), got.clone())).or_default() += 1;
@@ -424,6 +487,11 @@ fn tally(cases: Vec<(u64, Hidden)>, follow: Follow, noise_free: NoiseFree) -> Ta
         t.shape_checkable += usize::from(shape.is_some());
         let threshold = DiagnoseSettings::quick().log_bayes_factor_threshold;
         t.shape_decides_for_truth += usize::from(shape.is_some_and(|b| b >= threshold));
+        if let Some(g) = scan_gap {
+            println!("    + the truth's scan: ln Z of the truth's model over the other {g:.1}");
+        }
+        t.scan_checkable += usize::from(scan_gap.is_some());
+        t.scan_decides_for_truth += usize::from(scan_gap.is_some_and(|g| g >= threshold));
         t.decided_wrong += usize::from(decides_wrong(hidden, &d.decided_causes));
         let any = if d.explained { decided_causes(&d.causes, &unscreened(&d.alternatives)) } else { vec![] };
         t.decided_wrong_any_alternative += usize::from(decides_wrong(hidden, &any));
@@ -516,8 +584,9 @@ fn tally(cases: Vec<(u64, Hidden)>, follow: Follow, noise_free: NoiseFree) -> Ta
         t.decided_wrong_any_alternative
     );
     println!(
-        "mode-shape suggestions {}; with the truth's model one of the two {}; the truth's scan decides for it {}",
-        t.shape_suggested, t.shape_checkable, t.shape_decides_for_truth
+        "mode-shape suggestions {}; with the truth's model one of the two {}; the truth's scan expected to decide \
+         for it {}; fed back, decides for it {}",
+        t.shape_suggested, t.shape_checkable, t.shape_decides_for_truth, t.scan_decides_for_truth
     );
     println!(
         "singles {}/{}, pairs both named {}/{} (wrong with the truth not an alternative: {}), foreign unexplained \

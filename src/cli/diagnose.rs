@@ -129,7 +129,7 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
                     t += &format!(
                         "mode-shape measurement: scan mode {} at its resonance (drive at {:.2} nm); at x = {:.2} nm \
                          the amplitude relative to the largest is {:.4} under {} and {:.4} under {}; measured to \
-                         +-{:.4} it decides\n",
+                         +-{:.4} it decides (feed the scan back as `mode_scans`, points x = k L/{})\n",
                         m.mode,
                         m.drive_x_nm,
                         m.position_x_nm,
@@ -137,7 +137,8 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
                         m.between[0],
                         m.predicted_relative_amplitude[1],
                         m.between[1],
-                        m.decisive_measurement_sd
+                        m.decisive_measurement_sd,
+                        crate::diagnose::next::SHAPE_GRID
                     );
                 }
             }

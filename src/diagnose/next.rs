@@ -23,7 +23,12 @@
 //! the beam at the mode's resonance gives: the amplitude |H(ω_n; x_drive, x)|
 //! ([`crate::beam::frf_points`]) relative to the largest on the scan grid. Its measurement sd depends on the instrument, which the data
 //! do not say, so the suggestion gives the largest sd at which the
-//! measurement still decides (moves ln B by the decision threshold).
+//! measurement still decides (moves ln B by the decision threshold). The
+//! scan goes back in as `mode_scans` data
+//! ([`crate::calibration::ModeScan`], [`ShapeMeasurement::scan_on`]) and is
+//! fitted like the modes; a scanned mode is not suggested again. Hidden case
+//! 104 (a tension, the spring 0.36 nats behind it): with the truth's scan of
+//! mode 4 on this grid at ±0.0073, the spring falls 29.7 nats behind.
 
 use std::sync::atomic::AtomicU64;
 
