@@ -127,9 +127,12 @@ fn bad_mode_scans_are_named() {
     };
     let p = |x: f64, a: f64, sd: f64| format!("{{ x_nm: {x}, relative_amplitude: {a}, relative_amplitude_sd: {sd} }}");
     let two = format!("{}, {}", p(2.0, 0.7, 0.01), p(4.0, 1.0, 0.01));
-    bad_measured(scan("41", "7.8", &two), "mode_scans[0].mode");
+    // a scan is taken at a fitted mode's resonance
+    let l = bad_measured(scan("3", "7.8", &two), "mode_scans[0].mode");
+    assert!(l.contains("= 3") && l.contains("listed in `modes` (1, 2)"), "{l}");
     let l = bad_measured(scan("2", "9.0", &two), "mode_scans[0].drive_x_nm");
     assert!(l.contains("= 9") && l.contains("length_nm = 8"), "{l}");
+    bad_measured(scan("2", "0.0", &two), "mode_scans[0].drive_x_nm");
     bad_measured(scan("2", "7.8", &p(2.0, 0.7, 0.01)), "mode_scans[0].points");
     bad_measured(
         scan("2", "7.8", &format!("{}, {}", p(4.0, 0.7, 0.01), p(2.0, 1.0, 0.01))),

@@ -156,8 +156,8 @@ impl MeasuredData {
 }
 
 /// Scans need a fitted mode (the scan is taken at its resonance, and the
-/// likelihood reads its ω from the fast modal path), a drive point on the
-/// beam and at least two readout points strictly inside it, ascending (one
+/// likelihood reads its ω from the fast modal path), a drive point and at
+/// least two readout points strictly inside the beam, ascending (one
 /// point is 1 by definition), with readings in 0..=[`MAX_RELATIVE_AMPLITUDE`]
 /// and sds in RAW_MIN..=1; one scan per mode.
 fn validate_scans(scans: &[ModeScan], modes: &[ModeObservation], length_nm: f64) -> Result<(), InputError> {
@@ -175,11 +175,12 @@ fn validate_scans(scans: &[ModeScan], modes: &[ModeObservation], length_nm: f64)
         if !seen.insert(s.mode) {
             return Err(InputError::new(f("mode"), s.mode, "one scan per mode"));
         }
-        if !(s.drive_x_nm.is_finite() && (0.0..=length_nm).contains(&s.drive_x_nm)) {
+        // strictly inside: a force at a pinned end moves nothing
+        if !(s.drive_x_nm.is_finite() && s.drive_x_nm > 0.0 && s.drive_x_nm < length_nm) {
             return Err(InputError::new(
                 f("drive_x_nm"),
                 fmt_num(s.drive_x_nm),
-                format!("0 <= x <= length_nm = {length_nm}"),
+                format!("0 < x < length_nm = {length_nm}"),
             ));
         }
         if s.points.len() < 2 {

@@ -2,11 +2,12 @@
 //! likelihood of the measured modal data, eqs. (24), (26), (38), (41).
 //!
 //! y = [ω_1 … ω_M, ζ_1 … ζ_M] (eq. 36 for any listed modes), followed by the
-//! relative amplitudes of any mode scans ([`ModeScan`], not in the paper); the
-//! measurement covariance is diagonal with the file's standard deviations,
-//! scaled by β² when `beta_squared` is a parameter (eq. 41; the scans' too). A θ the forward model cannot
-//! evaluate (invalid beam, a requested mode overdamped or missing, numerical
-//! failure) has likelihood zero: log L = −∞.
+//! relative amplitudes of any mode scans ([`ModeScan`], not in the paper);
+//! the measurement covariance is diagonal with the file's standard
+//! deviations, scaled by β² when `beta_squared` is a parameter (eq. 41; the
+//! scans' too). A θ the forward model cannot evaluate (invalid beam, a
+//! requested mode overdamped or missing, numerical failure) has likelihood
+//! zero: log L = −∞.
 
 use rand::RngCore;
 
@@ -169,8 +170,9 @@ impl BeamPosterior {
         self.beta_squared.map_or(1.0, |i| theta[i].sqrt())
     }
 
-    /// Predicted [ω…, ζ…] of the fitted modes at θ, or `None` when the model
-    /// fails (invalid beam, a requested mode missing, numerical failure).
+    /// Predicted [ω…, ζ…] of the fitted modes at θ, then the relative
+    /// amplitudes of the fitted scans (in y's order), or `None` when the
+    /// model fails (invalid beam, a requested mode missing, numerical failure).
     pub fn predict(&self, theta: &[f64]) -> Option<Vec<f64>> {
         let beam = self.beam_at(theta);
         if self.scans.is_empty() {
