@@ -221,8 +221,9 @@ pub struct Candidate {
     /// Cause parameters whose MAP lies on the stronger-effect bound of their
     /// prior range ([`on_prior_bound`]).
     pub map_on_prior_bound: Vec<BoundHit>,
-    /// The model has a point mass on supports that mirror each other, so the
-    /// modes fix its position only up to the mirror image about midspan: the
+    /// The model has a point mass on supports that mirror each other and the
+    /// data have no mode scan, so the modes fix its position only up to the
+    /// mirror image about midspan: the
     /// prior on `point_mass_x_nm` is folded onto the left half
     /// ([`classes::folds_mass_position`]) and a mass at L − x fits the data
     /// equally well.
@@ -427,7 +428,7 @@ pub fn model_posterior(
     scans: &[ModeScan],
     scales: &NominalScales,
 ) -> ClassPosterior {
-    let p = model_parameters(model, parameters, beam, scales);
+    let p = model_parameters(model, parameters, beam, scans, scales);
     let posterior =
         BeamPosterior::from_parts(beam, modes, p.set).with_scans(scans).with_distinct_relaxations(DISTINCT_RELAXATIONS);
     Reparameterized::new(posterior, p.log_scale)
@@ -695,7 +696,7 @@ impl Decision {
         let z_max = search.visited.iter().map(|m| run(m).log_evidence).fold(f64::NEG_INFINITY, f64::max);
         let norm: f64 = search.visited.iter().map(|m| (run(m).log_evidence - z_max).exp()).sum();
         let prob = |r: &ModelRun| (r.log_evidence - z_max).exp() / norm;
-        let candidate = |r: &ModelRun, p: f64| candidate(r, z_base, p, &problem.data.beam);
+        let candidate = |r: &ModelRun, p: f64| candidate(r, z_base, p, problem.data);
         let candidates: Vec<Candidate> =
             search.visited.iter().skip(1).map(|m| candidate(run(m), prob(run(m)))).collect();
         let baseline_run = run(&Model::Baseline);
@@ -860,7 +861,7 @@ impl Model {
     }
 }
 
-fn candidate(r: &ModelRun, z_base: f64, probability: f64, beam: &crate::beam::BeamSpec) -> Candidate {
+fn candidate(r: &ModelRun, z_base: f64, probability: f64, data: &MeasuredData) -> Candidate {
     let z = r.log_evidence;
     Candidate {
         extension: r.model.name(),
@@ -877,7 +878,7 @@ fn candidate(r: &ModelRun, z_base: f64, probability: f64, beam: &crate::beam::Be
         forward_evaluations: r.forward_evaluations,
         posterior: summaries(r),
         map_on_prior_bound: on_prior_bound(r),
-        point_mass_x_mirror_ambiguous: classes::folds_mass_position(&r.model, beam),
+        point_mass_x_mirror_ambiguous: classes::folds_mass_position(&r.model, &data.beam, &data.mode_scans),
     }
 }
 

@@ -249,12 +249,12 @@ pub fn shape_measurement<'r>(
     let length_nm = data.beam.length_nm;
     let xs = scan_points(length_nm);
     let drive = SHAPE_DRIVE_FRACTION * length_nm;
-    let da = shape_draws(a, &data.beam, modes, drive, &xs, solves);
+    let da = shape_draws(a, data, modes, drive, &xs, solves);
     if da.is_empty() {
         return None;
     }
     rivals.into_iter().find_map(|b| {
-        let db = shape_draws(b, &data.beam, modes, drive, &xs, solves);
+        let db = shape_draws(b, data, modes, drive, &xs, solves);
         if db.is_empty() {
             return None;
         }
@@ -293,13 +293,13 @@ pub fn shape_measurement<'r>(
 /// tension, so the suggested scan would have decided for the wrong model).
 fn shape_draws(
     run: &ModelRun,
-    data_beam: &BeamSpec,
+    data: &MeasuredData,
     modes: usize,
     drive_nm: f64,
     xs: &[f64],
     solves: &AtomicU64,
 ) -> Vec<Vec<f64>> {
-    let images = if super::classes::folds_mass_position(&run.model, data_beam) { 2 } else { 1 };
+    let images = if super::classes::folds_mass_position(&run.model, &data.beam, &data.mode_scans) { 2 } else { 1 };
     solves.fetch_add((images * run.draws.len() * (1 + modes)) as u64, std::sync::atomic::Ordering::Relaxed);
     let post = &run.posterior;
     let rows: Vec<Vec<Option<Vec<f64>>>> = run

@@ -624,7 +624,7 @@ fn model_fit_max_z(model: &Model, y0: &[Mode], truth: &BeamSpec, s: &NominalScal
     let iv = truth.internal_variables[0];
     let base_truth = [truth.nonlocal_e0a_nm, iv.delta, iv.omega_rad_s];
     let k = catalogue_models().iter().position(|m| m == model).expect("a catalogue model");
-    let params = model_parameters(model, &ParameterSet::paper_n1(), &nominal_beam(), s);
+    let params = model_parameters(model, &ParameterSet::paper_n1(), &nominal_beam(), &[], s);
     let post = model_posterior(model, &ParameterSet::paper_n1(), &nominal_beam(), &observations(y0), &[], s);
     let sd: Vec<f64> = params
         .set
