@@ -3,7 +3,8 @@
 use std::path::Path;
 use std::process::Command;
 
-use nanobeam::calibration::MeasuredData;
+use nanobeam::calibration::{MeasuredData, ModeScan, ScanPoint};
+use nanobeam::diagnose::ppc::Check;
 use nanobeam::diagnose::{
     diagnose, diagnose_run, report, synthetic, Alternative, BoundHit, DiagnoseError, DiagnoseSettings,
 };
@@ -160,6 +161,19 @@ fn report_directory_is_written_and_json_is_shaped() {
     c.point_mass_x_mirror_ambiguous = true;
     let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
     assert!(text.contains("a mass at 8 nm − x fits the data equally well"), "{text}");
+    // a fitted mode scan: the data line names it, its points get rows of their own and residual labels
+    let mut scanned = data.clone();
+    let point = |x_nm: f64, a: f64| ScanPoint { x_nm, relative_amplitude: a, relative_amplitude_sd: 0.01 };
+    scanned.mode_scans.push(ModeScan { mode: 2, drive_x_nm: 7.8, points: vec![point(2.0, 1.0), point(5.6, 0.9)] });
+    let check = Check { mode: 2, quantity: "relative_amplitude", x_nm: Some(5.6), z: 0.5, ppp: 0.6, leverage: 0.1 };
+    run.diagnosis.misfit.push(check);
+    run.diagnosis.gain.misfit_after.push(check);
+    let text = report::markdown(&run, &scanned, &DiagnoseSettings::quick()).unwrap();
+    assert!(text.contains("; scan of mode 2: 2 points, drive at 7.80 nm)"), "{text}");
+    assert!(text.contains("| 2 | relative_amplitude at 5.60 nm | 0.5 |"), "{text}");
+    let figures = report::figures(&run).unwrap();
+    let residuals = &figures.iter().find(|(name, _)| name == "residuals.svg").unwrap().1;
+    assert!(residuals.contains("A2@5.60"), "the scan point's residual label");
 }
 
 #[test]

@@ -22,16 +22,17 @@
 //!
 //! The pairs also test the advice (issue 13, item 4, at scale): every pair
 //! whose diagnosis suggests a next measurement gets the suggested mode (ω
-//! and ζ, the generator's noise) measured on the truth and is diagnosed
-//! again, right answers too, without knowledge of the truth; the test asserts
-//! that no right answer is unsettled and reports both-named after the advice.
+//! and ζ, the generator's noise) or mode-shape scan measured on the truth
+//! and is diagnosed again, right answers too, without knowledge of the
+//! truth; the test asserts that no right answer is unsettled and reports
+//! both-named after the advice.
 //! Every case whose diagnosis suggests a mode-shape scan instead (no ω or ζ
 //! separates its alternatives) has the scan read on the truth and fed back
 //! as `mode_scans` data ([`measure_scan`]), and is diagnosed again (a pair
 //! counts it as its verdict after the advice); when one of the two models is
 //! the truth's, the rerun must put it ahead by the decision threshold
-//! ([`scan_gap`]), and so must the expectation from the two predictives
-//! ([`shape_check`]).
+//! ([`scan_gap`]). The expectation from the two predictives at the one
+//! suggested point ([`shape_check`]) is printed beside it.
 //! Each pair's noise-free data are diagnosed too ([`NoiseFree::Diagnose`]),
 //! which tells a miss that a luckier noise draw would have avoided from one
 //! the effects' sizes do not support.
@@ -111,17 +112,12 @@ fn ci_cases() -> Vec<(u64, Hidden)> {
 /// separates them by 1 sd), so it gets a mode-shape suggestion instead: the
 /// scan of mode 4 is sinusoidal under the tension and bent near the supports
 /// under the spring (0.618 against 0.582 of the largest amplitude at 0.7 L,
-/// decisive to ±0.015, measured 2026-11-26), and the truth's scan must
-/// decide for the tension: expected from the two predictives
-/// ([`shape_check`]), and when fed back as data ([`measure_scan`],
-/// [`scan_gap`]; 2026-11-27: the spring went from 0.36 to 29.7 nats behind).
+/// decisive to ±0.015, measured 2026-11-26), and the truth's scan, fed back
+/// as data, must decide for the tension ([`measure_scan`], [`scan_gap`];
+/// 2026-11-27: the spring went from 0.36 to 29.7 nats behind).
 #[test]
 fn first_seed_of_every_single_cause_is_named_and_clean_data_raise_no_alarm() {
     let t = tally(ci_cases(), Follow::No, NoiseFree::Skip);
-    assert_eq!(
-        t.shape_decides_for_truth, t.shape_checkable,
-        "a mode-shape suggestion that does not decide for the truth"
-    );
     assert_eq!(t.scan_decides_for_truth, t.scan_checkable, "the truth's scan fed back does not decide for it");
     if !filtered() {
         assert_eq!(t.singles, ModelClass::CAUSES.len());
@@ -140,10 +136,6 @@ fn first_pair_is_named_and_first_foreign_effect_is_unexplained() {
         open_cases().into_iter().filter(|(seed, _)| [300, 400].contains(seed)).collect(),
         Follow::No,
         NoiseFree::Skip,
-    );
-    assert_eq!(
-        t.shape_decides_for_truth, t.shape_checkable,
-        "a mode-shape suggestion that does not decide for the truth"
     );
     assert_eq!(t.scan_decides_for_truth, t.scan_checkable, "the truth's scan fed back does not decide for it");
     if !filtered() {
@@ -169,10 +161,6 @@ fn first_pair_is_named_and_first_foreign_effect_is_unexplained() {
             (MAP search from sub-models' MAPs, 3720 s beside the pair part): singles 23/24 (114), clean 5/5"]
 fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
     let t = tally(closed_cases(), Follow::No, NoiseFree::Skip);
-    assert_eq!(
-        t.shape_decides_for_truth, t.shape_checkable,
-        "a mode-shape suggestion that does not decide for the truth"
-    );
     assert_eq!(t.scan_decides_for_truth, t.scan_checkable, "the truth's scan fed back does not decide for it");
     assert!(t.singles_right * 100 >= 95 * t.singles, "singles {}/{}", t.singles_right, t.singles);
     assert_eq!(t.false_alarms, 0);
@@ -181,7 +169,13 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
 
 /// Both causes of a pair named in ≥ 80 % of pairs; foreign effects `unexplained` in 100 %.
 #[test]
-#[ignore = "pair target not met. Measured 2026-11-27 at 03a03d0, the generator growing each cause of a pair until \
+#[ignore = "pair target not met. Measured 2026-11-27 at 62c4069 (mode-shape scans fed back as data; a scratch copy \
+            of this test with the noise-free diagnoses skipped, 2137 s on 2 cores): both named 29/40 (the first \
+            verdicts unchanged), 37/40 after the advice (23 followed: 10 suggested modes, 13 scans; none unsettled); \
+            the truth's model one of the scan's two in 12 of 13, and fed back the scan puts it ahead in all 12 (ln B \
+            19.5-474.6); the 13th (315) was between two wrong models and its rerun names both true causes. Left \
+            after the advice: 307 and 318 (spring + mass after mode 8), 310 (viscous-damping, no suggestion). \
+            Measured 2026-11-27 at 03a03d0, the generator growing each cause of a pair until \
             the other cause's model misses it by 5 sd (27 of the 40 pairs changed, 26 grown and 303 redrawn; \
             2812 s on 2 cores, the noise-free diagnoses included): both named 29/40, 31/40 after the suggested \
             mode (10 suggestions, none unsettled), 28/40 on the noise-free data, foreign 4/4. The 11 misses: 6 \
@@ -219,10 +213,6 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
             two in 10, each expected to decide for it (ln B 6.3-40.3); 315's is between two wrong models"]
 fn pairs_are_named_and_foreign_effects_are_unexplained() {
     let t = tally(open_cases(), Follow::SuggestedMode, NoiseFree::Diagnose);
-    assert_eq!(
-        t.shape_decides_for_truth, t.shape_checkable,
-        "a mode-shape suggestion that does not decide for the truth"
-    );
     assert_eq!(t.scan_decides_for_truth, t.scan_checkable, "the truth's scan fed back does not decide for it");
     assert_eq!(t.pairs_unsettled, 0, "measuring the suggested mode unsettled a right answer");
     assert!(t.pairs_right_after >= t.pairs_right);
@@ -286,6 +276,14 @@ struct Tally {
 /// N(mean, ≈ 5²) in ln B there, so one case in ~25 falls below the threshold
 /// by chance (seed 110: −1.3 at a draw of ≈ −2.5 sd, measured 2026-11-26),
 /// which says nothing about the advice.
+///
+/// Printed, not asserted, since the scan itself is fed back ([`scan_gap`]),
+/// which is the real test of the advice. This expectation reads one point
+/// and takes each predictive as a Gaussian; a folded mass's predictive is an
+/// equal mixture of two mirror images, which need not be near-Gaussian (the
+/// likely reason, not checked). On fresh pairs 342, 358 and 374 (tension or
+/// spring + mass, 2026-11-27) it was 0.7, 1.2 and 2.0 while the whole scan
+/// fed back put the truth's model 94.5, 30.9 and 29.4 nats ahead.
 fn shape_check(case: &SyntheticCase, m: &ShapeMeasurement) -> Option<f64> {
     let truth = Model::with(&case.hidden.causes);
     let first = Model::from_name(&m.between[0]) == Some(truth.clone());
@@ -335,8 +333,9 @@ fn scan_gap(case: &SyntheticCase, m: &ShapeMeasurement, with_scan: &Diagnosis) -
 #[derive(Clone, Copy, PartialEq)]
 enum Follow {
     No,
-    /// The suggested mode is measured on the truth and the diagnosis re-run:
-    /// what a lab following the tool's advice would do. Every pair with a
+    /// The suggested mode is measured on the truth (or, where a mode-shape
+    /// scan is suggested instead, the scan, [`measure_scan`]) and the
+    /// diagnosis re-run: what a lab following the tool's advice would do. Every pair with a
     /// suggestion is followed, the right ones too (the advice must not
     /// unsettle a right answer), and never with knowledge of the truth.
     SuggestedMode,
@@ -496,11 +495,13 @@ fn tally(cases: Vec<(u64, Hidden)>, follow: Follow, noise_free: NoiseFree) -> Ta
         let any = if d.explained { decided_causes(&d.causes, &unscreened(&d.alternatives)) } else { vec![] };
         t.decided_wrong_any_alternative += usize::from(decides_wrong(hidden, &any));
         if let Some(a) = after {
+            let what = match (&d.next_measurement, &d.shape_measurement) {
+                (Some(n), _) => format!("mode {} ({}, {:.1} sd)", n.mode, n.quantity, n.separation_sd),
+                (None, Some(m)) => format!("scan of mode {}", m.mode),
+                (None, None) => unreachable!("a follow-up follows a suggestion"),
+            };
             println!(
-                "    + mode {} ({}, {:.1} sd): verdict {} decided {:?} alternatives {:?}",
-                d.next_measurement.as_ref().map_or(0, |n| n.mode),
-                d.next_measurement.as_ref().map_or("", |n| n.quantity),
-                d.next_measurement.as_ref().map_or(0.0, |n| n.separation_sd),
+                "    + {what}: verdict {} decided {:?} alternatives {:?}",
                 verdict(a),
                 a.decided_causes,
                 a.alternatives.iter().map(|a| (&a.extension, a.misfits)).collect::<Vec<_>>()

@@ -296,8 +296,9 @@ pub fn folds_mass_position(model: &Model, beam: &BeamSpec, scans: &[ModeScan]) -
 /// driven at one point and read point by point, so it is not
 /// mirror-symmetric, and with one the mass position prior spans the whole
 /// beam (folded, a mass on the right half could not fit the scan at all:
-/// hidden pairs 342 and 361, tension or spring + a mass, came out
-/// `unexplained` once their truth's scan was fed back).
+/// fresh hidden pairs 342, 358 and 361, tension or spring + a mass, came out
+/// `unexplained` once their truth's scan was fed back; unfolded, all three
+/// name both causes).
 pub fn data_mirror(beam: &BeamSpec, scans: &[ModeScan]) -> bool {
     beam.support.mirrors_itself() && scans.is_empty()
 }

@@ -55,7 +55,7 @@ pub fn markdown(run: &DiagnosisRun, data: &MeasuredData, s: &DiagnoseSettings) -
         .map(|(b, a)| Row {
             mode: b.mode,
             quantity: match b.x_nm {
-                Some(x) => format!("{} at {} nm", b.quantity, fmt_sig(x, 4)),
+                Some(x) => format!("{} at {x:.2} nm", b.quantity),
                 None => b.quantity.to_string(),
             },
             z_before: b.z,
@@ -85,6 +85,12 @@ pub fn markdown(run: &DiagnosisRun, data: &MeasuredData, s: &DiagnoseSettings) -
         "n_fitted": d.misfit.len(),
         "fitted_modes": mode_list(&data.modes),
         "held_out_modes": mode_list(&data.held_out_modes),
+        "scans": data
+            .mode_scans
+            .iter()
+            .map(|s| format!("scan of mode {}: {} points, drive at {:.2} nm", s.mode, s.points.len(), s.drive_x_nm))
+            .collect::<Vec<_>>()
+            .join("; "),
         "seed": s.seed.unwrap_or(data.sampler.seed),
         "samples": s.samples,
         "mh_steps": s.mh_steps,
@@ -100,7 +106,7 @@ pub fn markdown(run: &DiagnosisRun, data: &MeasuredData, s: &DiagnoseSettings) -
 pub fn figures(run: &DiagnosisRun) -> Result<Vec<(String, String)>, ReportError> {
     let d = &run.diagnosis;
     let label = |c: &ppc::Check| match (c.quantity, c.x_nm) {
-        (_, Some(x)) => format!("A{}@{}", c.mode, fmt_sig(x, 3)),
+        (_, Some(x)) => format!("A{}@{x:.2}", c.mode),
         ("omega", None) => format!("ω{}", c.mode),
         _ => format!("ζ{}", c.mode),
     };
