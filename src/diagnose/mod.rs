@@ -223,10 +223,9 @@ pub struct Candidate {
     pub map_on_prior_bound: Vec<BoundHit>,
     /// The model has a point mass on supports that mirror each other and the
     /// data have no mode scan, so the modes fix its position only up to the
-    /// mirror image about midspan: the
-    /// prior on `point_mass_x_nm` is folded onto the left half
-    /// ([`classes::folds_mass_position`]) and a mass at L − x fits the data
-    /// equally well.
+    /// mirror image about midspan: the prior on `point_mass_x_nm` is folded
+    /// onto the left half ([`classes::folds_mass_position`]) and a mass at
+    /// L − x fits the data equally well.
     pub point_mass_x_mirror_ambiguous: bool,
 }
 
@@ -892,7 +891,6 @@ pub(crate) fn predictive(run: &ModelRun, obs: &[Observable], max_mode: usize, so
     let post = &run.posterior;
     let scans = post.inner().scans();
     let has_amplitudes = obs.iter().any(|o| o.quantity == Quantity::RelativeAmplitude);
-    let max_mode = max_mode.max(post.inner().max_mode());
     let rows: Vec<Option<(Vec<f64>, f64)>> = run
         .draws
         .par_iter()
