@@ -158,7 +158,10 @@ fn first_pair_is_named_and_first_foreign_effect_is_unexplained() {
             of about -2.5 sd; its noise-free ln B was 9.8), so the check is now the expected ln B: 10.4, 9.7 and 13.0 \
             for 104, 110 and 114; the whole closed world re-run 2026-11-27 at 8f4a5fd (mirror-image scan predictive, 751 s \
             in two subsets): singles 23/24 (114 again), clean 5/5, no other shape suggestion; again at 6801c95 \
-            (MAP search from sub-models' MAPs, 3720 s beside the pair part): singles 23/24 (114), clean 5/5"]
+            (MAP search from sub-models' MAPs, 3720 s beside the pair part): singles 23/24 (114), clean 5/5. \
+            With the suggested scans fed back (2026-11-27 at 3920135, seeds 110 and 114 only, 128 s): the truth's \
+            scan puts the truth's model ahead by 34.2 (110) and 73.2 (114) nats, and 114 is named \
+            support-rotational-stiffness after it; 104's (29.7) is in CI"]
 fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
     let t = tally(closed_cases(), Follow::No, NoiseFree::Skip);
     assert_eq!(t.scan_decides_for_truth, t.scan_checkable, "the truth's scan fed back does not decide for it");
@@ -175,6 +178,9 @@ fn single_hidden_causes_are_named_and_clean_data_raise_no_alarm() {
             the truth's model one of the scan's two in 12 of 13, and fed back the scan puts it ahead in all 12 (ln B \
             19.5-474.6); the 13th (315) was between two wrong models and its rerun names both true causes. Left \
             after the advice: 307 and 318 (spring + mass after mode 8), 310 (viscous-damping, no suggestion). \
+            The one-point expectation that 3 fresh seeds failed (below) is no longer asserted: fed back, the \
+            scans of 342, 358 and 374 put the truth's model 94.5, 30.9 and 29.4 nats ahead, and 342, 358, 361, \
+            369 and 374 all have both causes named after their scan (1 of 5 before). \
             Measured 2026-11-27 at 03a03d0, the generator growing each cause of a pair until \
             the other cause's model misses it by 5 sd (27 of the 40 pairs changed, 26 grown and 303 redrawn; \
             2812 s on 2 cores, the noise-free diagnoses included): both named 29/40, 31/40 after the suggested \
