@@ -291,14 +291,15 @@ struct Tally {
 /// spring + mass, 2026-11-27) it was 0.7, 1.2 and 2.0 while the whole scan
 /// fed back put the truth's model 94.5, 30.9 and 29.4 nats ahead.
 fn shape_check(case: &SyntheticCase, m: &ShapeMeasurement) -> Option<f64> {
-    let truth = Model::with(&case.hidden.causes);
-    let first = Model::from_name(&m.between[0]) == Some(truth.clone());
-    let second = Model::from_name(&m.between[1]) == Some(truth);
-    if !(first || second) {
-        return None;
-    }
+    let first = truth_side(case, m)? == 0;
     let ln_b = m.expected_log_bayes_factor(m.value_of(&case.truth_beam)?, 0.5 * m.decisive_measurement_sd);
     Some(if first { ln_b } else { -ln_b })
+}
+
+/// Which of the two models a shape suggestion separates is the truth's (0 or 1; `None`: neither).
+fn truth_side(case: &SyntheticCase, m: &ShapeMeasurement) -> Option<usize> {
+    let truth = Model::with(&case.hidden.causes);
+    m.between.iter().position(|n| Model::from_name(n).as_ref() == Some(&truth))
 }
 
 /// The suggested scan read on the truth ([`ShapeMeasurement::scan_on`]), every
@@ -324,15 +325,9 @@ fn measure_scan(case: &SyntheticCase, m: &ShapeMeasurement, seed: u64) -> ModeSc
 /// of the other in the diagnosis with the scan (`None` when neither is the
 /// truth's). The advice worked when this is at least the decision threshold.
 fn scan_gap(case: &SyntheticCase, m: &ShapeMeasurement, with_scan: &Diagnosis) -> Option<f64> {
-    let truth = Model::with(&case.hidden.causes);
-    let [a, b] = m.between.clone().map(|n| Model::from_name(&n));
-    let rival = match (a == Some(truth.clone()), b == Some(truth.clone())) {
-        (true, _) => &m.between[1],
-        (_, true) => &m.between[0],
-        _ => return None,
-    };
+    let t = truth_side(case, m)?;
     let z = |name: &str| with_scan.candidates.iter().find(|c| c.extension == name).map(|c| c.log_evidence);
-    Some(z(&truth.name())? - z(rival)?)
+    Some(z(&m.between[t])? - z(&m.between[1 - t])?)
 }
 
 /// Whether a pair whose diagnosis suggests a next measurement gets it.
