@@ -35,7 +35,7 @@
 //! evidence is invariant under this change of variables.
 
 use crate::bayes::prior::Prior;
-use crate::beam::{BeamError, BeamSpec};
+use crate::beam::{BeamError, BeamSpec, Support};
 use crate::calibration::{ModeScan, Parameter, ParameterSet, Target};
 
 /// One candidate cause: an extension of the base model.
@@ -73,6 +73,25 @@ impl ModelClass {
 
     pub fn from_name(name: &str) -> Option<Self> {
         Self::CAUSES.into_iter().find(|c| c.name() == name)
+    }
+
+    /// Whether the cause changes a beam with `support` at all. The rotational
+    /// spring acts on the rotations a support leaves free (`beam::model`):
+    /// both ends of a simply supported beam, the pinned end of a
+    /// clamped–pinned one, none on a clamped–clamped or clamped–free beam.
+    /// There the class would add a parameter the likelihood ignores, its
+    /// evidence that of the model without it up to estimator noise, and it
+    /// would be listed as an alternative "within the margin" of every
+    /// selection (measured 2026-11-27 on a clamped–clamped beam with a
+    /// point mass: support-rotational-stiffness + attached-mass 0.0 nats
+    /// from the selected attached-mass; on a cantilever the same).
+    pub fn acts_on(self, support: Support) -> bool {
+        match self {
+            ModelClass::SupportRotationalStiffness => {
+                matches!(support, Support::SimplySupported | Support::ClampedPinned)
+            }
+            _ => true,
+        }
     }
 
     /// How many parameters the class appends to the base model (what
@@ -148,6 +167,12 @@ impl Model {
             models.extend(level.iter().cloned());
         }
         models
+    }
+
+    /// [`Model::up_to`] without the models of a cause that does not act on
+    /// `support` ([`ModelClass::acts_on`]): the candidates of a diagnosis.
+    pub fn candidates(k: usize, support: Support) -> Vec<Model> {
+        Model::up_to(k).into_iter().filter(|m| m.causes().iter().all(|c| c.acts_on(support))).collect()
     }
 
     /// This model without `cause` (the model itself when it lacks it).
@@ -381,6 +406,29 @@ mod tests {
         let pair = Model::with(&[ModelClass::AxialForce, ModelClass::AttachedMass]);
         assert_eq!(pair.without(ModelClass::AxialForce), Model::with(&[ModelClass::AttachedMass]));
         assert_eq!(pair.without(ModelClass::ShearDeformation), pair);
+    }
+
+    /// The candidates leave out exactly the models of a cause that cannot act
+    /// on the support, and each cause that can act does: the spring moves
+    /// ω₁ of a simply supported and a clamped–pinned beam and leaves the
+    /// clamped–clamped and clamped–free beams' ω₁ as they are (to rounding:
+    /// the spring's rows are eliminated with the rotations it would act on).
+    #[test]
+    fn candidates_leave_out_causes_the_support_hides() {
+        use crate::beam::modal;
+        for support in Support::ALL {
+            let mut beam = BeamSpec::elastic(8.0, 1.0, 1.0e12, 2300.0, support, 12);
+            let w0 = modal(&beam, 1).unwrap().modes[0].omega_rad_s;
+            beam.support_rotational_stiffness_n_m_rad = 10.0 * 6.1e-18 / 8e-9;
+            let moved = modal(&beam, 1).unwrap().modes[0].omega_rad_s / w0 - 1.0;
+            let acts = ModelClass::SupportRotationalStiffness.acts_on(support);
+            let ok = if acts { moved > 1e-3 } else { moved.abs() < 1e-12 };
+            assert!(ok, "{}: ω₁ moved by {moved:e}", support.name());
+            let models = Model::candidates(2, support);
+            let expected = if acts { 22 } else { 16 };
+            assert_eq!(models.len(), expected, "{}", support.name());
+            assert!(models.iter().all(|m| m.causes().iter().all(|c| c.acts_on(support))));
+        }
     }
 
     /// `parameter_count` is what `add_extension` appends, for every class.

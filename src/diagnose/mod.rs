@@ -9,8 +9,9 @@
 //!    test ([`ppc`]). Misfit is detected when some p-value falls below the Šidák
 //!    level 1 − (1 − α_FW)^(1/J) (family-wise α_FW = 1 % over J observables).
 //! 2. **Search.** Every model of at most [`DiagnoseSettings::max_causes`]
-//!    causes (22 at the default two: the base, six singles, fifteen pairs)
-//!    gets its evidence ([`evidence`]), in one parallel batch per number of
+//!    causes (22 at the default two: the base, six singles, fifteen pairs;
+//!    16 on a clamped–clamped or clamped–free beam, where no rotation is
+//!    left for a support spring, [`ModelClass::acts_on`]) gets its evidence ([`evidence`]), in one parallel batch per number of
 //!    causes (a multimodal model's MAP search also starts from its
 //!    sub-models' MAPs). A cause
 //!    earns its place in a model when the model's ln B against the same
@@ -526,7 +527,7 @@ struct Search {
     /// their evidence gain (at each step the sub-model of highest evidence),
     /// ending with the selected model.
     path: Vec<Model>,
-    /// Every model compared, in the order of [`Model::up_to`] (the base first).
+    /// Every model compared, in the order of [`Model::candidates`] (the base first).
     visited: Vec<Model>,
 }
 
@@ -558,7 +559,7 @@ struct Search {
 fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Search, DiagnoseError> {
     let threshold = problem.settings.log_bayes_factor_threshold;
     let margin = problem.settings.alternative_margin;
-    let models = Model::up_to(problem.settings.max_causes);
+    let models = Model::candidates(problem.settings.max_causes, problem.data.beam.support);
     for k in 1..=problem.settings.max_causes {
         let batch: Vec<Model> = models.iter().filter(|m| m.causes().len() == k).cloned().collect();
         let done = problem.run(batch, runs)?;
