@@ -107,10 +107,18 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
             );
         }
         for a in &d.alternatives {
-            let fit = if a.misfits { "; misfits, so no explanation" } else { "" };
+            let fit = match (a.misfits, a.is_noise()) {
+                (true, _) => "; misfits, so no explanation",
+                (false, true) => {
+                    "; noise larger than the stated sds explains the data about as well: repeat the \
+                                  measured modes to estimate their scatter"
+                }
+                (false, false) => "",
+            };
             t += &format!("alternative: {} (ln B gap {:.2}{fit})\n", a.extension, a.log_bayes_factor_gap);
         }
-        let fitting = d.alternatives.iter().filter(|a| !a.misfits).count();
+        let fitting = d.alternatives.iter().filter(|a| !a.misfits && !a.is_noise()).count();
+        let causal = d.alternatives.iter().filter(|a| !a.is_noise()).count();
         match (&d.next_measurement, fitting == 0) {
             (Some(n), _) => {
                 t += &format!(
@@ -142,9 +150,7 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
                     );
                 }
             }
-            (None, true) if !d.alternatives.is_empty() => {
-                t += "next measurement: none needed (every alternative misfits)\n"
-            }
+            (None, true) if causal > 0 => t += "next measurement: none needed (every alternative misfits)\n",
             (None, true) => {}
         }
         let assessed = d.candidates.iter().find(|c| c.extension == d.gain.extension);

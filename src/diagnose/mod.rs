@@ -339,6 +339,13 @@ pub struct Alternative {
     pub misfits: bool,
 }
 
+impl Alternative {
+    /// The β baseline: noise larger than the stated sds, not a cause.
+    pub fn is_noise(&self) -> bool {
+        self.extension == Model::Baseline.name()
+    }
+}
+
 /// Decision thresholds actually used.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct Thresholds {
@@ -447,8 +454,9 @@ impl Problem<'_> {
     /// peak, and whose importance evidence is not reliable enough to stand
     /// in for it, is replicated ([`evidence::replicate`]) when it is in
     /// contention: its Laplace evidence within the alternative margin of the
-    /// best evidence of `done` and the batch. One far behind cannot change a decision and
-    /// keeps its single run (flagged in the output by one entry in
+    /// best evidence of `done` and the batch, the β baseline left out (it
+    /// is never a cause). One far behind cannot change a decision and keeps
+    /// its single run (flagged in the output by one entry in
     /// `log_evidence_runs`): on a foreign effect, where every pair is tried,
     /// replicating every flagged model took one case from 85 s to 690 s.
     fn run(&self, models: Vec<Model>, done: &[ModelRun]) -> Result<Vec<ModelRun>, DiagnoseError> {
@@ -465,7 +473,14 @@ impl Problem<'_> {
                 evidence::run_model(m.clone(), self.posterior(&m), self.settings, seed, &subs).map_err(err(&m))
             })
             .collect::<Result<_, _>>()?;
-        let best = runs.iter().chain(done).map(|r| r.log_evidence).fold(f64::NEG_INFINITY, f64::max);
+        // the β baseline is never a cause: a misfit it absorbs as noise must not
+        // lift the bar a candidate's evidence is judged in contention against
+        let best = runs
+            .iter()
+            .chain(done)
+            .filter(|r| r.model != Model::Baseline)
+            .map(|r| r.log_evidence)
+            .fold(f64::NEG_INFINITY, f64::max);
         let margin = self.settings.alternative_margin;
         runs.into_par_iter()
             .map(|r| match r.log_evidence_laplace {
@@ -703,12 +718,19 @@ impl Decision {
         let lb = baseline_run.log_evidence - z_base;
 
         let z_sel = run(selected).log_evidence;
+        // The β baseline is an alternative too, though never a cause: noise
+        // larger than the stated sds explaining the misfit about as well as
+        // the selected causes (a clean set whose noise is twice its stated
+        // sds was named viscous-damping 0.5 nats ahead of it, 2026-11-27). It
+        // lacks every cause, so within the margin it undecides them all
+        // ([`decided_causes`]); no ω or ζ is asked to separate it (`rivals`).
         let mut alternatives: Vec<Alternative> = if selected == &Model::BASE {
             vec![]
         } else {
             search
                 .visited
                 .iter()
+                .chain([&Model::Baseline])
                 .filter(|m| *m != selected && z_sel - run(m).log_evidence < s.alternative_margin)
                 .map(|m| Alternative {
                     extension: m.name(),
@@ -733,7 +755,7 @@ impl Decision {
             let m = Model::from_name(&a.extension).expect("names of visited models parse");
             selected.causes().iter().all(|c| m.causes().contains(c))
         };
-        let fitting = alternatives.iter().filter(|a| !a.misfits);
+        let fitting = alternatives.iter().filter(|a| !a.misfits && !a.is_noise());
         let asked = fitting.clone().filter(|a| !nested(a)).chain(fitting.filter(nested));
         let rivals: Vec<&ModelRun> =
             asked.map(|a| run(search.visited.iter().find(|m| m.name() == a.extension).expect("visited"))).collect();
@@ -821,7 +843,8 @@ impl Decision {
 }
 
 /// The causes of `causes` (in their order) that every alternative's model
-/// that fits contains too. A cause missing from some such model within the
+/// that fits contains too (the β baseline, noise larger than stated,
+/// contains none). A cause missing from some such model within the
 /// alternative margin is not decided: the data explain themselves about as
 /// well without it (a near-tie of two pairs that share one cause leaves that
 /// one; a single cause with a rival single leaves none). A superset of the
@@ -964,6 +987,10 @@ mod tests {
         // an alternative the data reject undecides nothing
         let rejected = Alternative { misfits: true, ..alt("axial-force") };
         assert_eq!(decided_causes(&causes, &[rejected]), causes);
+        // noise larger than stated explains the data without any cause
+        let noise = alt("baseline-beta");
+        assert!(noise.is_noise() && !rival_pair[0].is_noise());
+        assert!(decided_causes(&causes, &[noise]).is_empty());
     }
 
     /// On a stronger-effect bound within 0.1 % of the prior's width (in ln x
