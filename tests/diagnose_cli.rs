@@ -146,6 +146,17 @@ fn report_directory_is_written_and_json_is_shaped() {
     assert!(!text.contains("An alternative that misfits is no explanation"), "{text}");
     assert!(text.contains("**Next measurement:** none of this kind"), "{text}");
     assert!(text.contains("unmeasured mode up to 8 separates"), "{text}");
+    // the β baseline as the only alternative that fits: noise larger than stated, no rival cause
+    let d = &mut run.diagnosis;
+    d.alternatives[0].misfits = true;
+    d.alternatives.push(Alternative { extension: "baseline-beta".into(), log_bayes_factor_gap: 0.4, misfits: false });
+    let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
+    assert!(text.contains("| baseline-beta (noise larger than the stated sds, no cause) | 0.4 | yes |"), "{text}");
+    assert!(text.contains("**Next measurement:** repeat the measured modes to estimate their scatter"), "{text}");
+    assert!(!text.contains("none needed: every alternative misfits"), "{text}");
+    let d = &mut run.diagnosis;
+    d.alternatives.pop();
+    d.alternatives[0].misfits = false;
     // a MAP on its prior bound in the assessed model: the report says so
     let d = &mut run.diagnosis;
     let assessed = d.gain.extension.clone();
