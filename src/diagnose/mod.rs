@@ -11,9 +11,10 @@
 //! 2. **Search.** Every model of at most [`DiagnoseSettings::max_causes`]
 //!    causes (22 at the default two: the base, six singles, fifteen pairs;
 //!    16 on a clamped–clamped or clamped–free beam, where no rotation is
-//!    left for a support spring, [`ModelClass::acts_on`]) gets its evidence ([`evidence`]), in one parallel batch per number of
-//!    causes (a multimodal model's MAP search also starts from its
-//!    sub-models' MAPs). A cause
+//!    left for a support spring, [`ModelClass::acts_on`]) gets its
+//!    evidence ([`evidence`]), in one parallel batch per number of causes
+//!    (a multimodal model's MAP search also starts from its sub-models'
+//!    MAPs). A cause
 //!    earns its place in a model when the model's ln B against the same
 //!    model without it is ≥ 3 ("strong" on the Kass–Raftery scale, B ≥ 20,
 //!    and more than ten times the TMCMC log-evidence spread between seeds,
