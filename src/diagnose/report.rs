@@ -77,8 +77,12 @@ pub fn markdown(run: &DiagnosisRun, data: &MeasuredData, s: &DiagnoseSettings) -
             figure: posterior_figure(name),
         })
         .collect();
+    let fitting = |noise: bool| d.alternatives.iter().filter(|a| !a.misfits && a.is_noise() == noise).count();
     let ctx = json!({
         "d": d,
+        "noise_extension": super::Model::Baseline.name(),
+        "causal_fitting": fitting(false),
+        "noise_fits": fitting(true) > 0,
         "rows": rows,
         "post": post,
         "z_threshold": ppc::z_threshold(d.thresholds.per_test_alpha_sidak),
