@@ -63,9 +63,13 @@ use crate::bayes::rng::{child_seed, Purpose};
 use crate::bayes::tmcmc::{tmcmc, TmcmcConfig, TmcmcResult};
 use crate::bayes::{BayesError, Posterior};
 
+use super::classes::ClassPosterior;
 use super::classes::Model;
-use super::{ClassPosterior, DiagnoseSettings, LAPLACE_DISAGREEMENT_NATS};
+use super::settings::DiagnoseSettings;
 use crate::calibration::Target;
+
+/// Laplace vs TMCMC log-evidence gap that flags a non-Gaussian posterior.
+pub const LAPLACE_DISAGREEMENT_NATS: f64 = 1.0;
 
 /// Everything computed for one model (kept for the report's plots).
 #[derive(Debug, Clone)]

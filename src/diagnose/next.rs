@@ -100,12 +100,12 @@ pub fn next_measurement<'r>(
     if candidates.is_empty() {
         return None;
     }
-    let da = super::predictive(a, &candidates, MAX_MODE, solves);
+    let da = super::predictive::predictive(a, &candidates, MAX_MODE, solves);
     if da.predictions.is_empty() {
         return None;
     }
     rivals.into_iter().find_map(|b| {
-        let db = super::predictive(b, &candidates, MAX_MODE, solves);
+        let db = super::predictive::predictive(b, &candidates, MAX_MODE, solves);
         if db.predictions.is_empty() {
             return None;
         }

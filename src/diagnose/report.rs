@@ -10,13 +10,13 @@ use std::path::Path;
 use serde::Serialize;
 use serde_json::json;
 
-use crate::calibration::MeasuredData;
+use crate::calibration::{MeasuredData, ModeObservation};
 use crate::report::render::{render_embedded, write_dir_atomically};
 use crate::report::svg::{bar_chart, histogram, residual_plot, BarChart, HistogramPlot, NamedValues, ResidualPlot};
 use crate::report::table::fmt_sig;
 use crate::report::ReportError;
 
-use super::{mode_list, ppc, DiagnoseSettings, DiagnosisRun};
+use super::{ppc, DiagnoseSettings, Diagnosis, DiagnosisRun};
 
 const TEMPLATE: &str = include_str!("../../paper/templates/diagnose.md.tera");
 
@@ -77,12 +77,11 @@ pub fn markdown(run: &DiagnosisRun, data: &MeasuredData, s: &DiagnoseSettings) -
             figure: posterior_figure(name),
         })
         .collect();
-    let fitting = |noise: bool| d.alternatives.iter().filter(|a| !a.misfits && a.is_noise() == noise).count();
     let ctx = json!({
         "d": d,
         "noise_extension": super::Model::Baseline.name(),
-        "causal_fitting": fitting(false),
-        "noise_fits": fitting(true) > 0,
+        "causal_fitting": d.fitting_alternatives(false),
+        "noise_fits": d.fitting_alternatives(true) > 0,
         "rows": rows,
         "post": post,
         "z_threshold": ppc::z_threshold(d.thresholds.per_test_alpha_sidak),
@@ -172,4 +171,88 @@ pub fn write_report(
         }
         Ok::<(), ReportError>(())
     })
+}
+
+/// The plain-text summary `nanobeam diagnose` prints without `--json`: the
+/// verdict, the decided causes, the alternatives and whether each fits, the
+/// next measurement, and the parameters on a prior bound.
+pub fn summary(d: &Diagnosis) -> String {
+    let mut t = format!(
+        "misfit detected: {}\ncause: {}\nexplained: {}\nln B ({} vs base): {:.2}\nRMS z: {:.2} -> {:.2}\n",
+        d.misfit_detected,
+        d.cause,
+        d.explained,
+        d.gain.extension,
+        d.gain.log_bayes_factor,
+        d.gain.rms_z_before,
+        d.gain.rms_z_after,
+    );
+    if d.causes.len() > d.decided_causes.len() {
+        let decided = if d.decided_causes.is_empty() { "none".to_string() } else { d.decided_causes.join(", ") };
+        t += &format!(
+            "decided causes: {decided} (of {}; an alternative within the margin that fits lacks each of the others)\n",
+            d.causes.join(", ")
+        );
+    }
+    for a in &d.alternatives {
+        let fit = match (a.misfits, a.is_noise()) {
+            (true, _) => "; misfits, so no explanation",
+            (false, true) => {
+                "; noise larger than the stated sds explains the data about as well: repeat the \
+                              measured modes to estimate their scatter"
+            }
+            (false, false) => "",
+        };
+        t += &format!("alternative: {} (ln B gap {:.2}{fit})\n", a.extension, a.log_bayes_factor_gap);
+    }
+    let fitting = d.fitting_alternatives(false);
+    let causal = d.alternatives.iter().filter(|a| !a.is_noise()).count();
+    match (&d.next_measurement, fitting == 0) {
+        (Some(n), _) => {
+            t += &format!(
+                "next measurement: {} of mode {} ({:.1} sd apart under {} and {})\n",
+                n.quantity, n.mode, n.separation_sd, n.between[0], n.between[1]
+            )
+        }
+        (None, false) => {
+            t += &format!(
+                "next measurement: none of this kind (no omega or zeta of an unmeasured mode <= {} separates any \
+                 alternative that fits by {} sd; a measurement of another kind is needed)\n",
+                super::next::MAX_MODE,
+                super::next::MIN_SEPARATION_SD
+            );
+            if let Some(m) = &d.shape_measurement {
+                t += &format!(
+                    "mode-shape measurement: scan mode {} at its resonance (drive at {:.2} nm); at x = {:.2} nm \
+                     the amplitude relative to the largest is {:.4} under {} and {:.4} under {}; measured to \
+                     +-{:.4} it decides (feed the scan back as `mode_scans`, points x = k L/{})\n",
+                    m.mode,
+                    m.drive_x_nm,
+                    m.position_x_nm,
+                    m.predicted_relative_amplitude[0],
+                    m.between[0],
+                    m.predicted_relative_amplitude[1],
+                    m.between[1],
+                    m.decisive_measurement_sd,
+                    super::next::SHAPE_GRID
+                );
+            }
+        }
+        (None, true) if causal > 0 => t += "next measurement: none needed (every alternative misfits)\n",
+        (None, true) => {}
+    }
+    let assessed = d.candidates.iter().find(|c| c.extension == d.gain.extension);
+    for h in assessed.map_or(&[][..], |c| &c.map_on_prior_bound) {
+        t += &format!(
+            "on a prior bound: {} = {} (bound {}) in {}: the data ask for more of this effect than its class \
+             allows, so the effect may lie outside the catalogue\n",
+            h.parameter, h.map, h.bound, d.gain.extension
+        );
+    }
+    t
+}
+
+/// The observations of `modes` as the file lists them (for the report).
+fn mode_list(modes: &[ModeObservation]) -> String {
+    modes.iter().map(|m| m.mode.to_string()).collect::<Vec<_>>().join(", ")
 }
