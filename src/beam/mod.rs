@@ -9,6 +9,7 @@
 //! exact matrix exponential of the state space).
 
 pub(crate) mod band;
+mod buckling;
 pub(crate) mod dual;
 pub(crate) mod eigen;
 pub mod element;
@@ -22,12 +23,12 @@ mod spectrum;
 mod state_space;
 mod time_response;
 
+pub use buckling::buckling_load_n;
 pub use error::BeamError;
 pub use frf::{frf, frf_each, frf_points, max_frequency_rad_s, MAX_OMEGA_TILDE};
 pub use modal::{
     modal, modal_observables, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode, SolverPath,
 };
-pub use model::buckling_load_n;
 pub use spec::{BeamSpec, InternalVariable, PointMass, ShearDeformation, Support};
 pub use spectrum::{
     certificates as spectrum_certificates, direct_eigenvalues, interpolated_eigenvalues,

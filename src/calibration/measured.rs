@@ -19,9 +19,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::bayes::dram::DramSettings;
 use crate::beam::spec::{RAW_MAX, RAW_MIN};
-use crate::beam::BeamSpec;
+use crate::beam::{self, BeamSpec};
 use crate::calibration::parameters::ParameterSet;
-use crate::calibration::posterior::{observables, scan_observables, Observable};
 use crate::error::{fmt_num, InputError};
 
 /// One measured mode: natural frequency and damping ratio with their
@@ -251,4 +250,85 @@ fn validate_modes(field: &str, modes: &[ModeObservation], dofs: usize) -> Result
         }
     }
     Ok(())
+}
+
+/// Which modal quantity an observable is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Quantity {
+    Omega,
+    Zeta,
+    /// A mode scan's relative amplitude at one point ([`ModeScan`]).
+    RelativeAmplitude,
+}
+
+impl Quantity {
+    pub fn name(self) -> &'static str {
+        match self {
+            Quantity::Omega => "omega",
+            Quantity::Zeta => "zeta",
+            Quantity::RelativeAmplitude => "relative_amplitude",
+        }
+    }
+}
+
+/// One scalar entry of y (eq. 36): mode `mode`'s ω (rad/s) or ζ, or a scan's
+/// relative amplitude at `x_nm`, with its measurement sd in the same unit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Observable {
+    pub mode: usize,
+    pub quantity: Quantity,
+    /// The readout point of a relative amplitude (`None` for ω and ζ).
+    pub x_nm: Option<f64>,
+    pub value: f64,
+    pub sd: f64,
+}
+
+impl Observable {
+    /// This observable's model value among `modes` (1-based numbering), if
+    /// computed; `None` for a relative amplitude too, which needs its whole
+    /// scan ([`relative_amplitudes`](crate::calibration::posterior::relative_amplitudes)).
+    pub fn predicted(&self, modes: &[beam::Mode]) -> Option<f64> {
+        let m = modes.get(self.mode.checked_sub(1)?)?;
+        match self.quantity {
+            Quantity::Omega => Some(m.omega_rad_s),
+            Quantity::Zeta => Some(m.zeta),
+            Quantity::RelativeAmplitude => None,
+        }
+    }
+}
+
+/// The observables of `scans`' points, scan by scan, in the file's order.
+pub fn scan_observables(scans: &[ModeScan]) -> Vec<Observable> {
+    scans
+        .iter()
+        .flat_map(|s| {
+            s.points.iter().map(|p| Observable {
+                mode: s.mode,
+                quantity: Quantity::RelativeAmplitude,
+                x_nm: Some(p.x_nm),
+                value: p.relative_amplitude,
+                sd: p.relative_amplitude_sd,
+            })
+        })
+        .collect()
+}
+
+/// The observables of a list of modes stacked as in eq. (36): every ω, then every ζ.
+pub fn observables(obs: &[ModeObservation]) -> Vec<Observable> {
+    let omega = obs.iter().map(|m| Observable {
+        mode: m.mode,
+        quantity: Quantity::Omega,
+        x_nm: None,
+        value: m.omega_rad_s,
+        sd: m.omega_sd_rad_s,
+    });
+    let zeta = obs.iter().map(|m| Observable {
+        mode: m.mode,
+        quantity: Quantity::Zeta,
+        x_nm: None,
+        value: m.zeta,
+        sd: m.zeta_sd,
+    });
+    omega.chain(zeta).collect()
 }

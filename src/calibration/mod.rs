@@ -9,7 +9,7 @@ pub mod posterior;
 pub mod run;
 
 pub use crate::bayes::dram::DramSettings;
-pub use measured::{MeasuredData, ModeObservation, ModeScan, ScanPoint};
+pub use measured::{observables, MeasuredData, ModeObservation, ModeScan, Observable, Quantity, ScanPoint};
 pub use parameters::{Parameter, ParameterSet, Target};
-pub use posterior::{observables, BeamPosterior, Observable, Quantity};
+pub use posterior::BeamPosterior;
 pub use run::{calibrate, calibrate_posterior, CalibrateOptions, CalibrationResult, SamplingError};

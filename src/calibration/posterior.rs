@@ -16,6 +16,7 @@ use crate::bayes::prior::Prior;
 use crate::bayes::Posterior;
 use crate::beam::{self, BeamSpec};
 use crate::calibration::measured::ModeScan;
+pub use crate::calibration::measured::{observables, scan_observables, Observable, Quantity};
 use crate::calibration::{MeasuredData, ModeObservation, ParameterSet, Target};
 
 thread_local! {
@@ -224,52 +225,6 @@ impl BeamPosterior {
     }
 }
 
-/// Which modal quantity an observable is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Quantity {
-    Omega,
-    Zeta,
-    /// A mode scan's relative amplitude at one point ([`ModeScan`]).
-    RelativeAmplitude,
-}
-
-impl Quantity {
-    pub fn name(self) -> &'static str {
-        match self {
-            Quantity::Omega => "omega",
-            Quantity::Zeta => "zeta",
-            Quantity::RelativeAmplitude => "relative_amplitude",
-        }
-    }
-}
-
-/// One scalar entry of y (eq. 36): mode `mode`'s ω (rad/s) or ζ, or a scan's
-/// relative amplitude at `x_nm`, with its measurement sd in the same unit.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Observable {
-    pub mode: usize,
-    pub quantity: Quantity,
-    /// The readout point of a relative amplitude (`None` for ω and ζ).
-    pub x_nm: Option<f64>,
-    pub value: f64,
-    pub sd: f64,
-}
-
-impl Observable {
-    /// This observable's model value among `modes` (1-based numbering), if
-    /// computed; `None` for a relative amplitude too, which needs its whole
-    /// scan ([`relative_amplitudes`]).
-    pub fn predicted(&self, modes: &[beam::Mode]) -> Option<f64> {
-        let m = modes.get(self.mode.checked_sub(1)?)?;
-        match self.quantity {
-            Quantity::Omega => Some(m.omega_rad_s),
-            Quantity::Zeta => Some(m.zeta),
-            Quantity::RelativeAmplitude => None,
-        }
-    }
-}
-
 /// The relative amplitudes of every point of `scans`, scan by scan, on
 /// `beam` whose mode n has natural frequency `omega_of(n)` (rad/s): at ω_n,
 /// |H(ω_n; drive, x)| over the largest among the scan's points
@@ -296,22 +251,6 @@ pub fn relative_to_peak(h: &[num_complex::Complex64]) -> Option<Vec<f64>> {
     (peak > 0.0 && peak.is_finite()).then(|| amp.iter().map(|v| v / peak).collect())
 }
 
-/// The observables of `scans`' points, scan by scan, in the file's order.
-pub fn scan_observables(scans: &[ModeScan]) -> Vec<Observable> {
-    scans
-        .iter()
-        .flat_map(|s| {
-            s.points.iter().map(|p| Observable {
-                mode: s.mode,
-                quantity: Quantity::RelativeAmplitude,
-                x_nm: Some(p.x_nm),
-                value: p.relative_amplitude,
-                sd: p.relative_amplitude_sd,
-            })
-        })
-        .collect()
-}
-
 /// [ω…, ζ…] for the given 1-based modes of `beam`.
 pub fn predict_modes(beam: &BeamSpec, modes: &[usize], n_modes: usize) -> Option<Vec<f64>> {
     let result = beam::modal(beam, n_modes).ok()?;
@@ -322,25 +261,6 @@ pub fn predict_modes(beam: &BeamSpec, modes: &[usize], n_modes: usize) -> Option
         y[modes.len() + k] = mode.zeta;
     }
     Some(y)
-}
-
-/// The observables of a list of modes stacked as in eq. (36): every ω, then every ζ.
-pub fn observables(obs: &[ModeObservation]) -> Vec<Observable> {
-    let omega = obs.iter().map(|m| Observable {
-        mode: m.mode,
-        quantity: Quantity::Omega,
-        x_nm: None,
-        value: m.omega_rad_s,
-        sd: m.omega_sd_rad_s,
-    });
-    let zeta = obs.iter().map(|m| Observable {
-        mode: m.mode,
-        quantity: Quantity::Zeta,
-        x_nm: None,
-        value: m.zeta,
-        sd: m.zeta_sd,
-    });
-    omega.chain(zeta).collect()
 }
 
 /// The (Δᵢ, Ωᵢ) index pairs of θ when at least two internal variables have

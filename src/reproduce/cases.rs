@@ -11,8 +11,7 @@ use crate::calibration::{calibrate_posterior, BeamPosterior, CalibrateOptions, C
 use crate::calibration::{ParameterSet, Target};
 use crate::report::svg::{self, HistogramPlot, NamedValues, PairPlot, TracePlot};
 use crate::report::table::{fmt_sig, Table};
-use crate::reproduce::audit::mcse;
-use crate::reproduce::pipeline::ReproduceError;
+use crate::reproduce::error::ReproduceError;
 use crate::reproduce::reconstruction::Reconstruction;
 use crate::reproduce::reference::Published;
 use crate::reproduce::replicates::{synthetic_observations, Noise};
@@ -229,4 +228,10 @@ fn parameter_figures(g: &[&CaseOutcome], fig: &str, name: &str, out: &mut TableF
         caption: format!("{name}: marginal posterior density of each case (post-burn-in draws of all chains); dashed: the true value"),
     });
     Ok(())
+}
+
+/// Monte Carlo standard error of the mean of parameter k: sd/√ESS_bulk.
+pub fn mcse(c: &CaseOutcome, k: usize) -> f64 {
+    let p = &c.result.summary.parameters[k];
+    p.sd / p.ess_bulk.max(1.0).sqrt()
 }

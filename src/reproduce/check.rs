@@ -30,8 +30,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use crate::reproduce::audit::Status;
 use crate::reproduce::results::Results;
+use crate::reproduce::verdict::Status;
 
 /// Drift threshold in standard errors of the difference (module doc).
 pub const K_SIGMA: f64 = 4.0;

@@ -8,12 +8,12 @@ use serde_json::Value;
 
 use crate::report::svg::{self, HistogramPlot, NamedValues};
 use crate::report::table::{fmt_interval, fmt_sig, Table};
-use crate::reproduce::audit::{Status, Verdict};
 use crate::reproduce::cases::{spec_file, CaseOutcome, Figure, TableFiles};
-use crate::reproduce::pipeline::ReproduceError;
+use crate::reproduce::error::ReproduceError;
 use crate::reproduce::reconstruction::{Fit, Reconstruction};
 use crate::reproduce::results::{Provenance, Results};
 use crate::reproduce::specs::{CaseTable, Specs};
+use crate::reproduce::verdict::{Status, Verdict};
 
 /// Tables 5 and 10: reference values, their rounding intervals and the reconstruction's fit.
 pub fn fit_table(f: &Fit) -> Table {

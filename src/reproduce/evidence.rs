@@ -3,7 +3,7 @@
 //! Which cases and how many TMCMC samples: `paper/specs/evidence.yaml`.
 
 use crate::reproduce::cases::CaseOutcome;
-use crate::reproduce::pipeline::ReproduceError;
+use crate::reproduce::error::ReproduceError;
 use crate::reproduce::reconstruction::Reconstruction;
 use crate::reproduce::results::{CandidateResult, DiagnosisResult, EvidenceResult};
 use crate::reproduce::specs::EvidenceSpec;

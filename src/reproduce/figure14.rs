@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use crate::beam::{self, BeamSpec};
 use crate::report::svg::{self, Axis, Band, LinePlot, RefLine, Series};
 use crate::reproduce::cases::{truth_beam, CaseOutcome};
-use crate::reproduce::pipeline::ReproduceError;
+use crate::reproduce::error::ReproduceError;
 use crate::reproduce::reconstruction::{ghz_to_rad_s, Reconstruction};
 use crate::reproduce::results::Figure14Result;
 use crate::reproduce::specs::{FrfSpec, Specs};

@@ -6,7 +6,7 @@ use rayon::prelude::*;
 use crate::beam::{self, InternalVariable};
 use crate::report::svg::{self, Axis, Heatmap};
 use crate::report::table::{fmt_sig, Table};
-use crate::reproduce::pipeline::ReproduceError;
+use crate::reproduce::error::ReproduceError;
 use crate::reproduce::reconstruction::{ghz_to_rad_s, Reconstruction};
 use crate::reproduce::results::{r6, Table2Row};
 use crate::reproduce::specs::Specs;

@@ -16,8 +16,7 @@ use serde_json::json;
 
 use crate::calibration::output::{write_calibration_files, InferenceContext};
 use crate::report::render::{render_template, write_dir_atomically};
-use crate::report::ReportError;
-use crate::reproduce::audit::{audit, AuditInput, Verdict};
+use crate::reproduce::audit::{audit, AuditInput};
 use crate::reproduce::cases::{case_result, run_case, table_files, truth_beam, CaseOutcome, Figure, TableFiles};
 use crate::reproduce::document::{audit_figures, fit_table, provenance, report_context, DocumentInput};
 use crate::reproduce::evidence::{diagnosis_stage, evidence_stage};
@@ -29,7 +28,9 @@ use crate::reproduce::replicates::{replicate_cases, CaseReplicates, ReplicateInp
 use crate::reproduce::results::{ReconstructionResult, ReplicateCount, Results, Timings};
 use crate::reproduce::specs::{CaseTable, Specs};
 
+pub use crate::reproduce::error::ReproduceError;
 pub use crate::reproduce::figure14::FrfOutcome;
+use crate::reproduce::verdict::Verdict;
 
 /// Where to read and write.
 #[derive(Debug, Clone)]
@@ -40,29 +41,6 @@ pub struct Options {
     pub quick: bool,
     /// The command line that started the run (for the provenance block).
     pub command_line: String,
-}
-
-/// Why a reproduction stopped.
-#[derive(Debug)]
-pub enum ReproduceError {
-    Input(String),
-    Failure(String),
-}
-
-impl std::fmt::Display for ReproduceError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            ReproduceError::Input(s) | ReproduceError::Failure(s) => write!(f, "{s}"),
-        }
-    }
-}
-
-impl std::error::Error for ReproduceError {}
-
-impl From<ReportError> for ReproduceError {
-    fn from(e: ReportError) -> Self {
-        ReproduceError::Failure(e.to_string())
-    }
 }
 
 /// What `run` returns (also written as results.json).

@@ -5,8 +5,8 @@ use serde::{Serialize, Serializer};
 
 use crate::bayes::summary::ParameterSummary;
 use crate::calibration::ModeObservation;
-use crate::reproduce::audit::Verdict;
 use crate::reproduce::reconstruction::{Fit, Reconstruction};
+use crate::reproduce::verdict::Verdict;
 
 /// Rounds to `sig` significant digits.
 pub fn round_sig(x: f64, sig: i32) -> f64 {
