@@ -105,3 +105,258 @@ fn the_scanner_sees_imports_inline_paths_and_groups() {
     let names: Vec<&str> = found.iter().map(|(_, n)| n.as_str()).collect();
     assert_eq!(names, ["beam", "cli", "bayes", "error"]);
 }
+
+/// The text of `line` before a `//` comment.
+fn code_of(line: &str) -> &str {
+    line.split("//").next().unwrap_or("")
+}
+
+/// The code of a file up to its unit tests (`#[cfg(test)]`), comments removed.
+fn code_before_tests(text: &str) -> String {
+    let mut out = String::new();
+    for line in text.lines() {
+        if line.trim_start().starts_with("#[cfg(test)]") {
+            break;
+        }
+        out.push_str(code_of(line));
+        out.push('\n');
+    }
+    out
+}
+
+/// The first path segment after every occurrence of `prefix` in `code`
+/// (`prefix{a, b::c}` yields `a` and `b`).
+fn names_after(code: &str, prefix: &str) -> BTreeSet<String> {
+    let ident =
+        |s: &str| -> String { s.trim().chars().take_while(|c| c.is_ascii_alphanumeric() || *c == '_').collect() };
+    let mut out = BTreeSet::new();
+    let mut rest = code;
+    while let Some(k) = rest.find(prefix) {
+        let before = rest[..k].chars().last();
+        rest = &rest[k + prefix.len()..];
+        if before.is_some_and(|c| c.is_ascii_alphanumeric() || c == '_' || c == ':') {
+            continue;
+        }
+        if let Some(inner) = rest.strip_prefix('{') {
+            // a group: its top-level names
+            let mut depth = 0;
+            let mut item = String::new();
+            for c in inner.chars() {
+                match c {
+                    '{' => depth += 1,
+                    '}' if depth == 0 => break,
+                    '}' => depth -= 1,
+                    ',' if depth == 0 => {
+                        out.insert(ident(&item));
+                        item.clear();
+                        continue;
+                    }
+                    _ => {}
+                }
+                if depth == 0 {
+                    item.push(c);
+                }
+            }
+            out.insert(ident(&item));
+        } else {
+            out.insert(ident(rest));
+        }
+    }
+    out.remove("");
+    out
+}
+
+/// The files of one module directory that `file` uses: `super::f` or
+/// `crate::<module>::f` for a sibling file `f`, and `mod.rs` for any other
+/// name reached through `super::` (an item defined or re-exported there).
+/// `mod.rs` is the module's facade: its `mod` and `pub use` lines are not
+/// uses; its own code's paths to a sibling (`f::…`) are.
+fn sibling_uses(module: &str, file: &str, text: &str, siblings: &BTreeSet<String>) -> BTreeSet<String> {
+    let code = code_before_tests(text);
+    let mut used = BTreeSet::new();
+    if file == "mod" {
+        let own: String = code
+            .lines()
+            .filter(|l| {
+                let t = l.trim_start();
+                !(t.starts_with("pub use") || t.starts_with("pub(crate) use") || t.contains("mod "))
+            })
+            .collect::<Vec<_>>()
+            .join("\n");
+        for s in siblings {
+            if names_after(&own, &format!("{s}::")).is_empty() && !own.contains(&format!("{s}::")) {
+                continue;
+            }
+            used.insert(s.clone());
+        }
+    } else {
+        for n in names_after(&code, "super::") {
+            used.insert(if siblings.contains(&n) { n } else { "mod".to_string() });
+        }
+    }
+    for n in names_after(&code, &format!("crate::{module}::")) {
+        if siblings.contains(&n) {
+            used.insert(n);
+        }
+    }
+    used.remove(file);
+    used
+}
+
+/// A cycle in `graph` (file → files it uses), if any, as the files along it.
+fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
+    fn visit(
+        n: &str,
+        graph: &BTreeMap<String, BTreeSet<String>>,
+        state: &mut BTreeMap<String, u8>,
+        stack: &mut Vec<String>,
+    ) -> Option<Vec<String>> {
+        state.insert(n.to_string(), 1);
+        stack.push(n.to_string());
+        for m in graph.get(n).into_iter().flatten() {
+            match state.get(m).copied().unwrap_or(0) {
+                1 => {
+                    let start = stack.iter().position(|s| s == m).expect("on the stack");
+                    let mut cycle = stack[start..].to_vec();
+                    cycle.push(m.clone());
+                    return Some(cycle);
+                }
+                0 => {
+                    if let Some(c) = visit(m, graph, state, stack) {
+                        return Some(c);
+                    }
+                }
+                _ => {}
+            }
+        }
+        stack.pop();
+        state.insert(n.to_string(), 2);
+        None
+    }
+    let mut state = BTreeMap::new();
+    for n in graph.keys() {
+        if state.get(n).copied().unwrap_or(0) == 0 {
+            if let Some(c) = visit(n, graph, &mut state, &mut Vec::new()) {
+                return Some(c);
+            }
+        }
+    }
+    None
+}
+
+/// No circle between the files of one module: each file's uses of its
+/// siblings (`super::…`, `crate::<module>::…`) form a graph without cycles,
+/// so every file can be read after the files it builds on.
+#[test]
+fn no_circle_between_the_files_of_a_module() {
+    let mut circles = Vec::new();
+    for e in std::fs::read_dir(root().join("src")).expect("readable src") {
+        let dir = e.expect("entry").path();
+        if !dir.is_dir() {
+            continue;
+        }
+        let module = dir.file_name().expect("name").to_string_lossy().into_owned();
+        let mut texts = BTreeMap::new();
+        for f in std::fs::read_dir(&dir).expect("readable module") {
+            let p = f.expect("entry").path();
+            if p.extension().is_some_and(|x| x == "rs") {
+                let stem = p.file_stem().expect("stem").to_string_lossy().into_owned();
+                texts.insert(stem, std::fs::read_to_string(&p).expect("readable"));
+            }
+        }
+        let siblings: BTreeSet<String> = texts.keys().filter(|k| *k != "mod").cloned().collect();
+        let graph: BTreeMap<String, BTreeSet<String>> =
+            texts.iter().map(|(f, t)| (f.clone(), sibling_uses(&module, f, t, &siblings))).collect();
+        if let Some(c) = find_cycle(&graph) {
+            circles.push(format!("src/{module}/: {}", c.join(" → ")));
+        }
+    }
+    assert!(circles.is_empty(), "files of one module that use each other in a circle:\n{}", circles.join("\n"));
+}
+
+#[test]
+fn the_circle_finder_sees_groups_and_cycles() {
+    let names = names_after("use super::{a, b::{c, d}, E};\nlet x = super::f::g();", "super::");
+    assert_eq!(names.into_iter().collect::<Vec<_>>(), ["E", "a", "b", "f"]);
+    let siblings: BTreeSet<String> = ["a", "b"].map(String::from).into();
+    let uses = sibling_uses("m", "a", "use super::b::X;\nuse super::Item;\n#[cfg(test)]\nuse super::a;", &siblings);
+    assert_eq!(uses.into_iter().collect::<Vec<_>>(), ["b", "mod"]);
+    let facade = sibling_uses("m", "mod", "mod a;\npub use a::X;\nfn f() { b::g() }", &siblings);
+    assert_eq!(facade.into_iter().collect::<Vec<_>>(), ["b"]);
+    let g = |edges: &[(&str, &str)]| {
+        let mut g: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+        for (a, b) in edges {
+            g.entry(a.to_string()).or_default().insert(b.to_string());
+        }
+        g
+    };
+    assert_eq!(
+        find_cycle(&g(&[("a", "b"), ("b", "c"), ("c", "a")])),
+        Some(vec!["a".into(), "b".into(), "c".into(), "a".into()])
+    );
+    assert_eq!(find_cycle(&g(&[("a", "b"), ("b", "c"), ("a", "c")])), None);
+}
+
+/// A date (YYYY-MM-DD) or a commit hash (7–40 hex digits, with a digit and
+/// a letter, after `at`, `commit`, `since`, `before` or `after`) in `line`.
+fn dated(line: &str) -> Option<String> {
+    let b = line.as_bytes();
+    let digit = |i: usize| b.get(i).is_some_and(u8::is_ascii_digit);
+    for i in 0..b.len() {
+        let starts_word = i == 0 || !b[i - 1].is_ascii_alphanumeric();
+        if starts_word
+            && (0..4).all(|k| digit(i + k))
+            && b.get(i + 4) == Some(&b'-')
+            && digit(i + 5)
+            && digit(i + 6)
+            && b.get(i + 7) == Some(&b'-')
+            && digit(i + 8)
+            && digit(i + 9)
+            && !digit(i + 10)
+        {
+            return Some(line[i..i + 10].to_string());
+        }
+    }
+    let words: Vec<&str> = line.split(|c: char| !c.is_ascii_alphanumeric()).filter(|w| !w.is_empty()).collect();
+    for w in words.windows(2) {
+        let hash = w[1];
+        let hexy = (7..=40).contains(&hash.len())
+            && hash.chars().all(|c| c.is_ascii_digit() || ('a'..='f').contains(&c))
+            && hash.chars().any(|c| c.is_ascii_digit())
+            && hash.chars().any(|c| c.is_ascii_alphabetic());
+        if hexy && ["at", "commit", "since", "before", "after"].contains(&w[0].to_ascii_lowercase().as_str()) {
+            return Some(format!("{} {hash}", w[0]));
+        }
+    }
+    None
+}
+
+/// Measurements (dates, commit hashes) belong in records (`tests/*.md`,
+/// `benches/README.md`) and commit messages, not in `src/`.
+#[test]
+fn no_date_or_commit_hash_in_src() {
+    let mut files = Vec::new();
+    rust_files(&root().join("src"), &mut files);
+    files.sort();
+    let mut found = Vec::new();
+    for f in &files {
+        let text = std::fs::read_to_string(f).expect("readable");
+        for (i, line) in text.lines().enumerate() {
+            if let Some(what) = dated(line) {
+                found.push(format!("{}:{}: {what}", f.display(), i + 1));
+            }
+        }
+    }
+    assert!(found.is_empty(), "dates or commit hashes in src/ (move them to a record):\n{}", found.join("\n"));
+}
+
+#[test]
+fn dates_and_hashes_are_recognised() {
+    assert_eq!(dated("measured 2026-11-25 on"), Some("2026-11-25".into()));
+    assert_eq!(dated("(2026-11-27)").as_deref(), Some("2026-11-27"));
+    assert_eq!(dated("screened, at 9bd7092)"), Some("at 9bd7092".into()));
+    assert_eq!(dated("commit 5cef615a"), Some("commit 5cef615a".into()));
+    assert_eq!(dated("x = 12026-11-250"), None);
+    assert_eq!(dated("at 1000000 samples, at deadbeef, at 1e12"), None);
+    assert_eq!(dated("let range = 2..=10;"), None);
+}

@@ -83,7 +83,7 @@ impl ModelClass {
     /// There the class would add a parameter the likelihood ignores, its
     /// evidence that of the model without it up to estimator noise, and it
     /// would be listed as an alternative "within the margin" of every
-    /// selection (measured 2026-11-27 on a clamped–clamped beam with a
+    /// selection (measured on a clamped–clamped beam with a
     /// point mass: support-rotational-stiffness + attached-mass 0.0 nats
     /// from the selected attached-mass; on a cantilever the same).
     pub fn acts_on(self, support: Support) -> bool {
@@ -113,7 +113,7 @@ impl ModelClass {
 /// class's physical range allows; pinned at the weak end it only says the
 /// cause is barely needed, or that the truth sits at the limit (the hidden
 /// suite's shear cases have κ = 1, the prior's upper end, and their MAPs sit
-/// there: 4 of 4 on 2026-11-25).
+/// there: 4 of 4).
 pub fn stronger_effect_ends(target: Target) -> [bool; 2] {
     match target {
         Target::Delta(_) | Target::ViscousDamping | Target::SupportRotationalStiffness | Target::PointMassKg => {

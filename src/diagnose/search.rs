@@ -123,7 +123,7 @@ pub(super) struct Search {
 /// alone is never run, and the verdict can be `unexplained` while a
 /// catalogue pair fits (hidden case 335: relaxation + tension, its pair
 /// never run). Why rules 2 and 3, measured on the 73 hidden cases
-/// (2026-11-25) with the evidences and misfit flags of this batch: rule 1
+/// with the evidences and misfit flags of this batch: rule 1
 /// alone named a spring as viscous damping + tension (case 120: that pair
 /// lies 1.0 nats above the spring, each of its causes 3.7–33 nats above its
 /// singles) and took singles to 22/24; rules 1 and 2 keep that spring but

@@ -51,7 +51,7 @@ pub const ZETA_REL_SD: f64 = 0.03;
 /// e0a and an axial compression together make a near-uniform drop) and a
 /// linear taper d(x) = d₀(1 + t(x/L − ½)) up to t = 1 (EI ∝ d⁴, ρA ∝ d²;
 /// on a simply supported beam its effect is even in t and smooth in n,
-/// four seeds of four gave up, 2026-11-25).
+/// four seeds of four gave up).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Foreign {
     /// An avoided crossing of one beam mode with a lossy resonance outside
@@ -577,7 +577,7 @@ fn max_z(post: &super::ClassPosterior, theta: &[f64]) -> f64 {
 /// diagnosis fits it with attached mass + shear deformation (a mass of
 /// 0.69 ρAL 0.50 nm from a support, κ on its prior bound 0.3, e0a = 0.37 nm;
 /// largest residual 2.3 σ on the noisy data). 256 points and 8 runs
-/// (2026-11-25) did not find that fit either and doubled the generation
+/// did not find that fit either and doubled the generation
 /// time, so the suite's seeds are checked by the diagnosis itself: a case
 /// the catalogue fits fails the open-world test instead of passing it.
 const CATALOGUE_STARTS: usize = 64;
@@ -708,7 +708,7 @@ mod tests {
     /// the other cause ≥ [`MIN_SHIFT_SIGMA`] away, on the case's own
     /// noise-free data and the truth's own base coordinates. Pair seed 300
     /// (relaxation + spring) needed the spring grown ×3.375 past its size
-    /// alone (2026-11-27), so this fails if the growth step is skipped.
+    /// alone, so this fails if the growth step is skipped.
     #[test]
     fn each_cause_of_a_pair_is_visible_against_the_other() {
         use ModelClass::*;

@@ -94,7 +94,7 @@ impl Decision {
         // The β baseline is an alternative too, though never a cause: noise
         // larger than the stated sds explaining the misfit about as well as
         // the selected causes (a clean set whose noise is twice its stated
-        // sds was named viscous-damping 0.5 nats ahead of it, 2026-11-27). It
+        // sds was named viscous-damping 0.5 nats ahead of it). It
         // lacks every cause, so within the margin it undecides them all
         // ([`decided_causes`]); no ω or ζ is asked to separate it (`rivals`).
         let mut alternatives: Vec<Alternative> = if selected == &Model::BASE {

@@ -14,7 +14,6 @@
 //! The "cause" of a ≈/✗ is measured, not guessed: the noise-free fit gives the
 //! deterministic part of the statistic, the replicates its noise spread.
 
-
 pub use crate::reproduce::cases::mcse;
 use crate::reproduce::cases::CaseOutcome;
 use crate::reproduce::figure14::FrfOutcome;
