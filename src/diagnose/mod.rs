@@ -24,7 +24,7 @@
 //!    replace fewer only when their best model beats the selection by 3 nats
 //!    as well (parsimony), and a selection that misfits yields to the most
 //!    probable selectable model within
-//!    [`DiagnoseSettings::alternative_margin`] of it that fits ([`search`]).
+//!    [`DiagnoseSettings::alternative_margin`] of it that fits ([`search::search`]).
 //!    Every model and not a greedy path: a pair whose causes are each masked
 //!    alone is never reached by extending the leading singles.
 //!    The β-inflated base of eq. (41) is computed beside it as a baseline.
