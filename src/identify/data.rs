@@ -34,6 +34,16 @@ use crate::error::{fmt_num, InputError};
 /// constant, has 5 real parameters).
 pub const MIN_ROWS: usize = 8;
 
+/// Most data rows a record may have. The identification needs 3 samples in
+/// each mode's half-power band 2ζω: on a uniform grid up to ω_max, a mode at
+/// ω_max/10 with ζ = 1e-4 (a quality factor of 5 000, lighter damping than
+/// the nanotube measurements the paper fits) needs a step ≤ 2ζω/3 ≈
+/// 6.7e-6·ω_max, i.e. 1.5e5 rows; a ring-down sampled at the same rate and
+/// long enough for that mode to decay needs as many. 2e5 leaves margin. Larger
+/// records cost time and memory linearly (issue 44: 10⁶ rows took 51 s and
+/// 1.1 GB) and are checked while reading, before they are held in memory.
+pub const MAX_ROWS: usize = 200_000;
+
 /// A measured record.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Measurement {
@@ -97,6 +107,13 @@ impl Measurement {
         let mut columns: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
         for (r, record) in reader.records().enumerate() {
             let row = r + 1;
+            if row > MAX_ROWS {
+                return Err(InputError::new(
+                    "rows",
+                    format!("more than {MAX_ROWS}"),
+                    format!("<= {MAX_ROWS} data rows (3 samples per half-power band of a mode with zeta = 1e-4 at a tenth of the top frequency need 1.5e5)"),
+                ));
+            }
             let record = record.map_err(|e| {
                 InputError::new(format!("row {row}"), "(unreadable)", format!("{} fields ({e})", names.len()))
             })?;
