@@ -53,7 +53,7 @@ pub fn check_buckling(beam: &BeamSpec) -> Result<(), InputError> {
         ),
         Err(_) => "above the buckling load of this beam (tension > 0)".to_string(),
     };
-    Err(InputError::new("axial_force_n", beam.axial_force_n, allowed))
+    Err(InputError::new("axial_force_n", crate::error::fmt_num(beam.axial_force_n), allowed))
 }
 
 /// The buckling load N_cr < 0 (newtons) of this beam's mesh and support (see

@@ -173,6 +173,28 @@ pub const OMEGA_TILDE_RANGE: (f64, f64) = (1e-8, 1e10);
 pub const MAX_C_TILDE: f64 = 1e4;
 pub const MAX_SPRING_TILDE: f64 = 1e12;
 pub const MAX_MASS_TILDE: f64 = 1e6;
+/// Largest tension ñ = N L²/EI. The tension stiffness ñ·G adds to the bending
+/// stiffness K̃, and mode r's bending share of its stiffness is ≈ (rπ)²/ñ
+/// once ñ ≫ (rπ)²: the damping of the internal variables, e0a and the
+/// spring act on that share alone (the axial force is elastic). At ñ = 1e8
+/// the share is ≈ 1e-7, still 1e8 times the relative rounding of the
+/// eigen solve; measured (simply supported and cantilever, 20 and 300
+/// elements, one internal variable) every mode is finite with ζ > 0 there,
+/// while at ñ = 1e10 the 300-element banded path fails and the 20-element
+/// one returns ζ ≈ 3e-15, i.e. rounding; at ñ ≈ 1e39 (1e30 N on the 8 nm
+/// beam) ζ came out −0.95. Physically ñ = 1e8 on the paper's beam is
+/// 0.08 N, an axial stress ≈ 1e17 Pa, a million times a nanotube's strength.
+pub const MAX_N_TILDE: f64 = 1e8;
+/// Range of the scaled shear stiffness g̃ = κGAL²/EI (≈ 100–450 for the
+/// paper's L/d ≈ 8). Mode r's shear share of its compliance is ≈ (rπ)²/g̃:
+/// at g̃ = 0.1 the first mode is ~99 % shear (a shear beam, no longer a
+/// nanotube in bending), and below it the bending part falls under the
+/// banded solver's resolution (measured: 100 elements fail at g̃ = 1e-2, a
+/// 20-element cantilever gave ζ < 0 at 1e-6; κ = 1e-300 took 9 s to fail).
+/// At g̃ = 1e10 the shear share is < 1e-8 for the first 10 modes (the
+/// Euler–Bernoulli limit) and the modes were measured converged, finite
+/// and unchanged from 1e8 to 7 digits on the same meshes.
+pub const SHEAR_TILDE_RANGE: (f64, f64) = (0.1, 1e10);
 
 /// `RAW_MIN <= value <= RAW_MAX` (or exactly 0 when `zero_ok`).
 #[inline]
@@ -285,10 +307,49 @@ impl BeamSpec {
             }
             let k = sd.shear_coefficient;
             if !(k.is_finite() && k > 0.0 && k <= 1.0) {
-                return Err(InputError::new("shear_deformation.shear_coefficient", k, "0 < shear_coefficient <= 1"));
+                return Err(InputError::new(
+                    "shear_deformation.shear_coefficient",
+                    fmt_num(k),
+                    "0 < shear_coefficient <= 1",
+                ));
             }
+            self.check_shear_group(sd)?;
+        }
+        let l = self.length_nm * 1e-9;
+        let n_unit = self.youngs_modulus_pa * self.inertia_m4() / (l * l);
+        if self.axial_force_n > MAX_N_TILDE * n_unit {
+            return Err(InputError::new(
+                "axial_force_n",
+                fmt_num(self.axial_force_n),
+                format!(
+                    "<= {:e} N in tension (N L^2/EI <= {MAX_N_TILDE:e}, EI/L^2 = {n_unit:e} N; compression < 0 down to the buckling load)",
+                    MAX_N_TILDE * n_unit
+                ),
+            ));
         }
         Ok(())
+    }
+
+    /// The scaled shear stiffness g̃ = κGAL²/EI = κ/(2(1 + ν))·AL²/I within
+    /// [`SHEAR_TILDE_RANGE`], reported on the shear coefficient (the
+    /// field a user tunes) with the κ range that puts g̃ there.
+    fn check_shear_group(&self, sd: &ShearDeformation) -> Result<(), InputError> {
+        let l = self.length_nm * 1e-9;
+        let per_kappa = self.area_m2() * l * l / self.inertia_m4() / (2.0 * (1.0 + sd.poisson_ratio));
+        let g = sd.shear_coefficient * per_kappa;
+        let (lo, hi) = SHEAR_TILDE_RANGE;
+        if (lo..=hi).contains(&g) {
+            return Ok(());
+        }
+        Err(InputError::new(
+            "shear_deformation.shear_coefficient",
+            fmt_num(sd.shear_coefficient),
+            format!(
+                "{:e} <= shear_coefficient <= {:e} for this beam ({lo:e} <= kappa A L^2/(2(1+nu) I) <= {hi:e}, A L^2/(2(1+nu) I) = {per_kappa:e}; also <= 1)",
+                lo / per_kappa,
+                (hi / per_kappa).min(1.0)
+            ),
+        ))
     }
 
     /// The dimensionless groups of the scaled model within the solver's

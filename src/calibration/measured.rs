@@ -122,7 +122,7 @@ impl MeasuredData {
                 ));
             }
         }
-        validate_scans(&file.mode_scans, &file.modes, file.beam.length_nm)?;
+        validate_scans(&file.mode_scans, &file.modes, &file.beam)?;
         let parameters = match &file.parameters {
             Some(map) => ParameterSet::from_mapping(map)?,
             None => ParameterSet::paper_n1(),
@@ -156,10 +156,23 @@ impl MeasuredData {
 
 /// Scans need a fitted mode (the scan is taken at its resonance, and the
 /// likelihood reads its ω from the fast modal path), a drive point and at
-/// least two readout points strictly inside the beam, ascending (one
-/// point is 1 by definition), with readings in 0..=[`MAX_RELATIVE_AMPLITUDE`]
-/// and sds in RAW_MIN..=1; one scan per mode.
-fn validate_scans(scans: &[ModeScan], modes: &[ModeObservation], length_nm: f64) -> Result<(), InputError> {
+/// least two readout points inside the beam, ascending (one point is 1 by
+/// definition, so not all are 0), with readings in
+/// 0..=[`MAX_RELATIVE_AMPLITUDE`] and sds in RAW_MIN..=1; one scan per mode.
+/// "Inside" is 0 < x < L, and x = L too on a cantilever (its free end moves,
+/// while a force at a supported end moves nothing); at most 4 readout points
+/// per element.
+fn validate_scans(scans: &[ModeScan], modes: &[ModeObservation], beam: &BeamSpec) -> Result<(), InputError> {
+    let length_nm = beam.length_nm;
+    // a cantilever's end x = L is free: it moves, so it may be driven and read
+    let free_end = beam.support == crate::beam::Support::ClampedFree;
+    let inside = |x: f64| x.is_finite() && x > 0.0 && (x < length_nm || (free_end && x == length_nm));
+    let upper = if free_end {
+        format!("x <= length_nm = {length_nm} (free end)")
+    } else {
+        format!("x < length_nm = {length_nm}")
+    };
+    let max_points = max_scan_points(beam);
     let mut seen = std::collections::BTreeSet::new();
     for (i, s) in scans.iter().enumerate() {
         let f = |name: &str| format!("mode_scans[{i}].{name}");
@@ -174,12 +187,18 @@ fn validate_scans(scans: &[ModeScan], modes: &[ModeObservation], length_nm: f64)
         if !seen.insert(s.mode) {
             return Err(InputError::new(f("mode"), s.mode, "one scan per mode"));
         }
-        // strictly inside: a force at a pinned end moves nothing
-        if !(s.drive_x_nm.is_finite() && s.drive_x_nm > 0.0 && s.drive_x_nm < length_nm) {
+        // not at a supported end: a force there moves nothing
+        if !inside(s.drive_x_nm) {
+            return Err(InputError::new(f("drive_x_nm"), fmt_num(s.drive_x_nm), format!("0 < {upper}")));
+        }
+        if s.points.len() > max_points {
             return Err(InputError::new(
-                f("drive_x_nm"),
-                fmt_num(s.drive_x_nm),
-                format!("0 < x < length_nm = {length_nm}"),
+                f("points"),
+                format!("{} points", s.points.len()),
+                format!(
+                    "at most {max_points} (4 per element of the beam's {} elements: its deflection is one cubic per element, which 4 readings fix; more only average noise, which the sds state)",
+                    beam.elements
+                ),
             ));
         }
         if s.points.len() < 2 {
@@ -192,11 +211,11 @@ fn validate_scans(scans: &[ModeScan], modes: &[ModeObservation], length_nm: f64)
         let mut last = 0.0;
         for (k, p) in s.points.iter().enumerate() {
             let g = |name: &str| format!("mode_scans[{i}].points[{k}].{name}");
-            if !(p.x_nm.is_finite() && p.x_nm > last && p.x_nm < length_nm) {
+            if !(inside(p.x_nm) && p.x_nm > last) {
                 return Err(InputError::new(
                     g("x_nm"),
                     fmt_num(p.x_nm),
-                    format!("{} < x < length_nm = {length_nm} (ascending, inside the beam)", fmt_num(last)),
+                    format!("{} < {upper} (ascending, inside the beam)", fmt_num(last)),
                 ));
             }
             last = p.x_nm;
@@ -215,8 +234,20 @@ fn validate_scans(scans: &[ModeScan], modes: &[ModeObservation], length_nm: f64)
                 ));
             }
         }
+        if s.points.iter().all(|p| p.relative_amplitude == 0.0) {
+            return Err(InputError::new(
+                f("points"),
+                "every relative_amplitude 0",
+                "a scan with a nonzero reading (amplitudes are relative to the largest, which is 1)",
+            ));
+        }
     }
     Ok(())
+}
+
+/// Most readout points of one scan: 4 per element (see `validate_scans`).
+fn max_scan_points(beam: &BeamSpec) -> usize {
+    4 * beam.elements
 }
 
 /// Mode numbers 1..=dofs (the beam model has as many physical modes as free

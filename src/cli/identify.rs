@@ -6,19 +6,21 @@
 //! Without `--out` the measured-data YAML goes to stdout; with it, a summary
 //! table (or `--json`) does. Everything is computed before anything is written.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 use serde::Serialize;
 
-use crate::calibration::identified::{measured_file, number_modes, to_yaml};
+use crate::beam::BeamSpec;
+use crate::calibration::identified::{measured_file, number_modes, to_yaml, EXTRA_PREDICTED};
 use crate::calibration::ModeObservation;
 use crate::cli::{read_beam, write_out, CliError};
 use crate::error::InputError;
 use crate::identify::{identify, Identification, IdentifyError, IdentifySettings, Measurement, DEFAULT_MAX_ORDER};
-use crate::report::render::{write_dir_atomically, write_file_atomically};
+use crate::report::render::{check_out_dir, check_out_file, write_dir_atomically, StagedFile};
 use crate::report::svg::{line_plot, scatter_plot, Axis, LinePlot, RefLine, ScatterPlot, Series};
 use crate::report::table::{fmt_sig, Table};
+use crate::report::ReportError;
 
 #[derive(Debug, Args)]
 pub struct IdentifyArgs {
@@ -62,15 +64,91 @@ impl From<IdentifyError> for CliError {
     }
 }
 
+/// A bad `--out` FILE or `--plot` DIR (an existing directory for the file,
+/// a foreign non-empty directory, a missing or read-only parent) is bad input
+/// (exit 2, naming the flag and its value); any other write failure is exit 1.
+fn out_error(flag: &str, path: &Path, e: ReportError) -> CliError {
+    match e {
+        ReportError::OutPath { reason, .. } => {
+            let allowed = if flag == "--out" {
+                "a file path in an existing writable directory"
+            } else {
+                "a new path, an empty directory or a directory written by nanobeam"
+            };
+            CliError::Input(InputError::new(flag, path.display(), format!("{allowed}; {reason}")))
+        }
+        other => CliError::Failure(format!("cannot write {flag} {}: {other}", path.display())),
+    }
+}
+
+/// `--first-mode` against the beam before anything is computed: at least 1,
+/// and at most the number of physical modes the `--beam` mesh has (its free
+/// DOFs), since the lowest identified mode is one of them.
+fn check_first_mode(first: Option<usize>, beam: &BeamSpec) -> Result<(), CliError> {
+    let dofs = beam.free_dofs();
+    match first {
+        Some(f) if f == 0 || f > dofs => Err(InputError::new(
+            "--first-mode",
+            f,
+            format!("1..={dofs} (physical modes of the --beam mesh: its free DOFs)"),
+        )
+        .into()),
+        _ => Ok(()),
+    }
+}
+
+/// `--first-mode` against the identified modes: modes f ..= f + k − 1 and the
+/// [`EXTRA_PREDICTED`] spare ones the numbering compares against must all be
+/// modes of the `--beam` mesh.
+fn check_first_mode_fits(first: Option<usize>, k: usize, beam: &BeamSpec) -> Result<(), CliError> {
+    let dofs = beam.free_dofs();
+    let Some(f) = first else { return Ok(()) };
+    let last_first = (dofs + 1).saturating_sub(k + EXTRA_PREDICTED);
+    if f > last_first {
+        return Err(InputError::new(
+            "--first-mode",
+            f,
+            format!(
+                "1..={last_first} ({k} identified modes from it on plus {EXTRA_PREDICTED} spare must be among the {dofs} modes of the --beam mesh)"
+            ),
+        )
+        .into());
+    }
+    Ok(())
+}
+
+/// A mode the record puts where the measured-data file cannot take it is a
+/// property of the record: name the record's column, not the output field.
+fn record_error(e: InputError, record: &Measurement) -> CliError {
+    if e.field.starts_with("modes[") {
+        let field = e.field.split('.').next().unwrap_or("modes").to_string();
+        return CliError::Input(InputError::new(
+            format!("{} (identified {field})", record.abscissa_name()),
+            e.value,
+            format!("a record whose modes a measured-data file takes: {} {}", e.field, e.allowed),
+        ));
+    }
+    CliError::Input(e)
+}
+
 pub fn run(args: &IdentifyArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
     if args.max_order < 4 {
         return Err(InputError::new("--max-order", args.max_order, ">= 4").into());
     }
+    // every output is checked before anything is computed
+    if let Some(path) = &args.out {
+        check_out_file(path).map_err(|e| out_error("--out", path, e))?;
+    }
+    if let Some(dir) = &args.plot {
+        check_out_dir(dir).map_err(|e| out_error("--plot", dir, e))?;
+    }
     let beam = read_beam(&args.beam)?;
+    check_first_mode(args.first_mode, &beam)?;
     let text = std::fs::read_to_string(&args.data)
         .map_err(|e| InputError::new("DATA.csv", args.data.display(), format!("a readable CSV file ({e})")))?;
     let record = Measurement::from_csv(&text)?;
     let id = identify(&record, &IdentifySettings { modes: args.modes, max_order: args.max_order })?;
+    check_first_mode_fits(args.first_mode, id.modes.len(), &beam)?;
     let omegas: Vec<f64> = id.modes.iter().map(|m| m.omega_rad_s).collect();
     let numbers = number_modes(&beam, &omegas, args.first_mode)?;
     let observations: Vec<ModeObservation> = id
@@ -85,7 +163,7 @@ pub fn run(args: &IdentifyArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
             zeta_sd: m.zeta_sd,
         })
         .collect();
-    let file = measured_file(beam, observations.clone())?;
+    let file = measured_file(beam, observations.clone()).map_err(|e| record_error(e, &record))?;
     let comment = format!(
         "nanobeam identify {}: {} record, {} modes; sds from the fit (residual noise sd {:.4e}, {} residuals, {} parameters)",
         args.data.display(),
@@ -100,18 +178,24 @@ pub fn run(args: &IdentifyArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
         Some(_) => Some(figures(&id).map_err(|e| CliError::Failure(format!("cannot draw: {e}")))?),
         None => None,
     };
+    // all or nothing: the file is staged (and removed on any failure or
+    // signal) until the plot directory is in place
+    let staged = match &args.out {
+        Some(path) => Some(StagedFile::new(path, yaml.as_bytes()).map_err(|e| out_error("--out", path, e))?),
+        None => None,
+    };
     if let (Some(dir), Some(figs)) = (&args.plot, figures) {
         write_dir_atomically(dir, |tmp| {
             for (name, svg) in &figs {
-                write_file_atomically(&tmp.join(name), svg.as_bytes())?;
+                // the temporary directory is itself registered for cleanup
+                std::fs::write(tmp.join(name), svg.as_bytes()).map_err(|e| ReportError::io(tmp.join(name), e))?;
             }
-            Ok::<(), crate::report::ReportError>(())
+            Ok::<(), ReportError>(())
         })
-        .map_err(|e| CliError::Failure(format!("cannot write {}: {e}", dir.display())))?;
+        .map_err(|e| out_error("--plot", dir, e))?;
     }
-    if let Some(path) = &args.out {
-        write_file_atomically(path, yaml.as_bytes())
-            .map_err(|e| CliError::Failure(format!("cannot write {}: {e}", path.display())))?;
+    if let (Some(path), Some(staged)) = (&args.out, staged) {
+        staged.commit().map_err(|e| out_error("--out", path, e))?;
     }
     if args.json {
         let json = serde_json::to_string(&JsonOut { modes: &observations, identification: &id }).expect("serialises");

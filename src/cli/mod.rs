@@ -31,17 +31,25 @@ pub struct Cli {
     pub command: Command,
 }
 
+/// Every subcommand takes a value that starts with `-` as a (negative)
+/// number (`--input-x-nm -0.0`, `--samples -1`), so the value is checked
+/// and named with its flag instead of being taken for an unknown argument.
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Natural frequencies and damping ratios (eqs. 34-35) of a beam.
+    #[command(allow_negative_numbers = true)]
     Modal(modal::ModalArgs),
     /// Receptance between a point force and a point displacement.
+    #[command(allow_negative_numbers = true)]
     Frf(frf::FrfArgs),
     /// Bayesian calibration (DRAM) against measured modal data.
+    #[command(allow_negative_numbers = true)]
     Calibrate(calibrate::CalibrateArgs),
     /// Model diagnosis: misfit checks, candidate causes by evidence, gain.
+    #[command(allow_negative_numbers = true)]
     Diagnose(diagnose::DiagnoseArgs),
     /// Modal identification of a measured sweep, spectrum or ring-down -> measured-data file.
+    #[command(allow_negative_numbers = true)]
     Identify(identify::IdentifyArgs),
 }
 

@@ -246,7 +246,10 @@ pub fn summary(d: &Diagnosis) -> String {
         t += &format!(
             "on a prior bound: {} = {} (bound {}) in {}: the data ask for more of this effect than its class \
              allows, so the effect may lie outside the catalogue\n",
-            h.parameter, h.map, h.bound, d.gain.extension
+            h.parameter,
+            crate::error::fmt_num(h.map),
+            crate::error::fmt_num(h.bound),
+            d.gain.extension
         );
     }
     t

@@ -28,11 +28,21 @@
 
 use num_complex::Complex64;
 
-use crate::error::InputError;
+use crate::error::{fmt_num, InputError};
 
 /// Fewest rows any record may have (the smallest fit, one mode and a
 /// constant, has 5 real parameters).
 pub const MIN_ROWS: usize = 8;
+
+/// Most data rows a record may have. The identification needs 3 samples in
+/// each mode's half-power band 2ζω: on a uniform grid up to ω_max, a mode at
+/// ω_max/10 with ζ = 1e-4 (a quality factor of 5 000, lighter damping than
+/// the nanotube measurements the paper fits) needs a step ≤ 2ζω/3 ≈
+/// 6.7e-6·ω_max, i.e. 1.5e5 rows; a ring-down sampled at the same rate and
+/// long enough for that mode to decay needs as many. 2e5 leaves margin. Larger
+/// records cost time and memory linearly (issue 44: 10⁶ rows took 51 s and
+/// 1.1 GB) and are checked while reading, before they are held in memory.
+pub const MAX_ROWS: usize = 200_000;
 
 /// A measured record.
 #[derive(Debug, Clone, PartialEq)]
@@ -97,6 +107,13 @@ impl Measurement {
         let mut columns: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
         for (r, record) in reader.records().enumerate() {
             let row = r + 1;
+            if row > MAX_ROWS {
+                return Err(InputError::new(
+                    "rows",
+                    format!("more than {MAX_ROWS}"),
+                    format!("<= {MAX_ROWS} data rows (3 samples per half-power band of a mode with zeta = 1e-4 at a tenth of the top frequency need 1.5e5)"),
+                ));
+            }
             let record = record.map_err(|e| {
                 InputError::new(format!("row {row}"), "(unreadable)", format!("{} fields ({e})", names.len()))
             })?;
@@ -127,11 +144,14 @@ impl Measurement {
         Ok(match kind {
             0 => {
                 let im = cols.next().unwrap_or_default();
-                let h = y.iter().zip(&im).map(|(&re, &im)| Complex64::new(re, im)).collect();
+                let h: Vec<Complex64> = y.iter().zip(&im).map(|(&re, &im)| Complex64::new(re, im)).collect();
+                check_modulus(&h)?;
+                check_not_all_zero("h_re_m_per_n,h_im_m_per_n", h.iter().all(|z| z.norm() == 0.0), h.len())?;
                 Self::Complex { omega_rad_s: x, h_m_per_n: h }
             }
             1 => {
                 check_each(names[1], &y, |v| v >= 0.0, ">= 0")?;
+                check_not_all_zero(names[1], y.iter().all(|&v| v == 0.0), y.len())?;
                 Self::Magnitude { omega_rad_s: x, h_abs_m_per_n: y }
             }
             2 => {
@@ -140,6 +160,7 @@ impl Measurement {
             }
             _ => {
                 check_uniform(&x)?;
+                check_not_all_zero(names[1], y.iter().all(|&v| v == 0.0), y.len())?;
                 Self::Time { time_s: x, displacement_m: y }
             }
         })
@@ -165,7 +186,7 @@ fn kind_of(header: &[String]) -> Result<usize, InputError> {
 
 fn check_each(name: &str, v: &[f64], ok: impl Fn(f64) -> bool, allowed: &str) -> Result<(), InputError> {
     match v.iter().position(|&x| !ok(x)) {
-        Some(i) => Err(InputError::new(format!("{name} (row {})", i + 1), v[i], allowed)),
+        Some(i) => Err(InputError::new(format!("{name} (row {})", i + 1), fmt_num(v[i]), allowed)),
         None => Ok(()),
     }
 }
@@ -178,27 +199,69 @@ fn check_abscissa(name: &str, x: &[f64]) -> Result<(), InputError> {
         if x[i] <= x[i - 1] {
             return Err(InputError::new(
                 format!("{name} (row {})", i + 1),
-                x[i],
-                format!("> {} (row {}): strictly increasing", x[i - 1], i),
+                fmt_num(x[i]),
+                format!("> {} (row {}): strictly increasing", fmt_num(x[i - 1]), i),
             ));
         }
     }
     Ok(())
 }
 
-/// Uniform sampling within 10⁻³ of the mean step (see the module doc).
+/// Uniform sampling within 10⁻³ of the mean step (see the module doc). The
+/// grid point k is interpolated between t_0 and t_last (never formed as
+/// t_0 + k·(t_last − t_0)/(n − 1), whose difference overflows for times of
+/// opposite sign near ±f64::MAX), and the span t_last − t_0 must itself be a
+/// finite number of seconds: the fit works on times relative to t_0.
 fn check_uniform(t: &[f64]) -> Result<(), InputError> {
     let n = t.len();
-    let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
+    let (first, last) = (t[0], t[n - 1]);
+    let m = (n - 1) as f64;
+    // each term is at most |t| / (n − 1): finite for finite times
+    let dt = last / m - first / m;
     for (k, &tk) in t.iter().enumerate() {
-        let expected = t[0] + k as f64 * dt;
-        if (tk - expected).abs() > 1e-3 * dt {
+        let s = k as f64 / m;
+        let expected = first * (1.0 - s) + last * s;
+        // an infinite deviation (opposite signs near f64::MAX) fails too
+        if !((tk - expected).abs() <= 1e-3 * dt) {
             return Err(InputError::new(
                 format!("time_s (row {})", k + 1),
-                tk,
+                fmt_num(tk),
                 format!("{expected:e} ± {:e} (uniform sampling, step {dt:e} s)", 1e-3 * dt),
             ));
         }
+    }
+    if !(last - first).is_finite() {
+        return Err(InputError::new(
+            format!("time_s (row {n})"),
+            fmt_num(last),
+            format!("a span time_s(row {n}) − time_s(row 1) <= {:e} s (finite; row 1 is {first:e})", f64::MAX),
+        ));
+    }
+    Ok(())
+}
+
+/// Every complex value's modulus |h| = hypot(re, im) is finite: both parts
+/// below f64::MAX do not make it so (1.5e308 + 1.5e308i).
+fn check_modulus(h: &[Complex64]) -> Result<(), InputError> {
+    match h.iter().position(|z| !z.norm().is_finite()) {
+        Some(i) => Err(InputError::new(
+            format!("h_re_m_per_n,h_im_m_per_n (row {})", i + 1),
+            format!("{:e}{:+e}i (|h| overflows)", h[i].re, h[i].im),
+            format!("|h| = hypot(re, im) <= {:e} m/N", f64::MAX),
+        )),
+        None => Ok(()),
+    }
+}
+
+/// A response that is zero on every row has no modes to identify: bad input
+/// like a constant one, not a numerical failure of the fit.
+fn check_not_all_zero(name: &str, all_zero: bool, rows: usize) -> Result<(), InputError> {
+    if all_zero {
+        return Err(InputError::new(
+            format!("{name} (rows 1..={rows})"),
+            "0 on every row",
+            "a record with a nonzero response (an all-zero record has no modes)",
+        ));
     }
     Ok(())
 }
@@ -259,5 +322,55 @@ mod tests {
         let ragged =
             rows("omega_rad_s,h_abs_m_per_n", 10, |i| if i == 2 { "3".into() } else { format!("{},1", i + 1) });
         assert_eq!(Measurement::from_csv(&ragged).unwrap_err().field, "row 3");
+    }
+
+    #[test]
+    fn all_zero_records_are_bad_input() {
+        // issue 44, defect 5: exit 1 "no model order ... could be solved" before
+        let c = rows("omega_rad_s,h_re_m_per_n,h_im_m_per_n", 10, |i| format!("{},0,0", i + 1));
+        assert_eq!(Measurement::from_csv(&c).unwrap_err().field, "h_re_m_per_n,h_im_m_per_n (rows 1..=10)");
+        let m = rows("omega_rad_s,h_abs_m_per_n", 10, |i| format!("{},0", i + 1));
+        assert_eq!(Measurement::from_csv(&m).unwrap_err().field, "h_abs_m_per_n (rows 1..=10)");
+        let t = rows("time_s,displacement_m", 10, |i| format!("{i}e-12,0.0"));
+        assert_eq!(Measurement::from_csv(&t).unwrap_err().field, "displacement_m (rows 1..=10)");
+        // one nonzero row is a record
+        let one = rows("time_s,displacement_m", 10, |i| format!("{i}e-12,{}", if i == 3 { 1e-12 } else { 0.0 }));
+        assert!(Measurement::from_csv(&one).is_ok());
+    }
+
+    #[test]
+    fn uniform_check_survives_times_near_the_largest_float() {
+        // issue 44, defect 6: t_last − t_0 overflowed to inf and every row passed
+        let n = 40;
+        // the span 2e308 overflows: the grid is built by interpolation
+        let grid = |k: usize| {
+            let s = k as f64 / (n - 1) as f64;
+            -1e308 * (1.0 - s) + 1e308 * s
+        };
+        let step = 2.0 * (1e308 / (n - 1) as f64);
+        let off = rows("time_s,displacement_m", n, |i| {
+            let t = if i == 17 { grid(i) + 0.4 * step } else { grid(i) };
+            format!("{t:e},{}", if i % 2 == 0 { 1e-12 } else { -1e-12 })
+        });
+        let e = Measurement::from_csv(&off).unwrap_err();
+        assert_eq!(e.field, "time_s (row 18)", "{e}");
+        assert!(e.value.contains('e') && e.value.len() < 30, "shortest scientific form: {}", e.value);
+        // on the grid, the span itself is not a finite number of seconds
+        let on = rows("time_s,displacement_m", n, |i| format!("{:e},{}", grid(i), if i % 2 == 0 { 1.0 } else { -1.0 }));
+        assert_eq!(Measurement::from_csv(&on).unwrap_err().field, format!("time_s (row {n})"));
+    }
+
+    #[test]
+    fn an_overflowing_modulus_names_its_row() {
+        // issue 44, user-hostile 10: exit 1 "no model order could be solved" before
+        let c = rows("omega_rad_s,h_re_m_per_n,h_im_m_per_n", 10, |i| {
+            if i == 6 {
+                format!("{},1.5e308,1.5e308", i + 1)
+            } else {
+                format!("{},1e-9,-2e-9", i + 1)
+            }
+        });
+        let e = Measurement::from_csv(&c).unwrap_err();
+        assert_eq!(e.field, "h_re_m_per_n,h_im_m_per_n (row 7)", "{e}");
     }
 }

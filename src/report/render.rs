@@ -183,7 +183,20 @@ fn recover_stale(parent: &Path, name: &str, dest: &Path) {
         if tag == "old" && fs::symlink_metadata(dest).is_err() && fs::rename(&path, dest).is_ok() {
             continue;
         }
-        let _ = fs::remove_dir_all(&path);
+        remove_any(&path);
+    }
+}
+
+/// Removes a temporary path, a directory (with its contents) or a file.
+fn remove_any(path: &Path) {
+    match fs::symlink_metadata(path) {
+        Ok(meta) if meta.is_dir() => {
+            let _ = fs::remove_dir_all(path);
+        }
+        Ok(_) => {
+            let _ = fs::remove_file(path);
+        }
+        Err(_) => {}
     }
 }
 
@@ -225,7 +238,7 @@ mod signals {
                 if let Some(sig) = signals.forever().next() {
                     let pending = lock();
                     for p in pending.iter() {
-                        let _ = std::fs::remove_dir_all(p);
+                        super::remove_any(p);
                     }
                     std::process::exit(128 + sig);
                 }
@@ -354,16 +367,94 @@ fn check_dest(dest: &Path) -> Result<()> {
     }
 }
 
-/// Writes `bytes` to a temporary sibling of `path` and renames it over
-/// `path` (atomic on POSIX file systems); `path` is untouched on failure.
-pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = sibling(path, "tmp")?;
-    if let Err(e) = fs::write(&tmp, bytes) {
-        let _ = fs::remove_file(&tmp);
-        return Err(ReportError::io(&tmp, e));
+/// Checks, before any computation, that `dest` can take an output file:
+/// it is not a directory or a symbolic link, and its parent is an existing
+/// writable directory (probed by creating and removing a temporary sibling).
+/// Also removes temporary siblings of `dest` left by processes that no longer
+/// run, and installs the SIGINT/SIGTERM cleanup. Errors are
+/// [`ReportError::OutPath`] (a bad `--out`, exit 2).
+pub fn check_out_file(dest: &Path) -> Result<()> {
+    let name = file_name_of(dest)?;
+    let refuse = |reason: String| Err(ReportError::OutPath { path: dest.to_path_buf(), reason });
+    match fs::symlink_metadata(dest) {
+        Ok(meta) if meta.file_type().is_symlink() => {
+            return refuse("it is a symbolic link (give the real file)".into())
+        }
+        Ok(meta) if meta.is_dir() => return refuse("it is an existing directory, not a file".into()),
+        _ => {}
     }
-    fs::rename(&tmp, path).map_err(|e| {
-        let _ = fs::remove_file(&tmp);
-        ReportError::io(path, e)
-    })
+    let parent = parent_of(dest);
+    if !parent.is_dir() {
+        return refuse(format!("its parent {} is not an existing directory", parent.display()));
+    }
+    recover_stale(&parent, &name, dest);
+    signals::install();
+    let _hold = signals::lock();
+    let probe = sibling(dest, "probe")?;
+    fs::create_dir(&probe).map_err(|e| ReportError::OutPath {
+        path: dest.to_path_buf(),
+        reason: format!("{} is not writable ({e})", parent.display()),
+    })?;
+    let _ = fs::remove_dir(&probe);
+    Ok(())
+}
+
+/// A file written in full to a temporary sibling of its destination and
+/// registered with the SIGINT/SIGTERM cleanup: [`StagedFile::commit`] renames
+/// it into place; dropping it uncommitted (an error elsewhere, a panic)
+/// removes it, and so does a signal. Lets a command write several outputs
+/// all or nothing: stage the file, write the rest, then commit.
+pub struct StagedFile {
+    tmp: Option<PathBuf>,
+    dest: PathBuf,
+}
+
+impl StagedFile {
+    /// Writes `bytes` to a fresh temporary sibling of `dest`.
+    pub fn new(dest: &Path, bytes: &[u8]) -> Result<Self> {
+        signals::install();
+        let tmp = {
+            let mut pending = signals::lock();
+            let tmp = sibling(dest, "tmp")?;
+            pending.push(tmp.clone());
+            tmp
+        };
+        let staged = StagedFile { tmp: Some(tmp.clone()), dest: dest.to_path_buf() };
+        // on failure `staged` is dropped, which removes the partial file
+        fs::write(&tmp, bytes).map_err(|e| ReportError::io(dest, e))?;
+        Ok(staged)
+    }
+
+    /// Renames the staged file over the destination (atomic on POSIX file
+    /// systems), under the cleanup lock so a signal sees it either staged
+    /// (and removes it) or in place.
+    pub fn commit(mut self) -> Result<()> {
+        let tmp = self.tmp.take().expect("a staged file has its temporary path until committed or dropped");
+        let mut pending = signals::lock();
+        let renamed = fs::rename(&tmp, &self.dest);
+        if renamed.is_err() {
+            let _ = fs::remove_file(&tmp);
+        }
+        pending.retain(|p| p != &tmp);
+        renamed.map_err(|e| ReportError::io(&self.dest, e))
+    }
+}
+
+impl Drop for StagedFile {
+    fn drop(&mut self) {
+        if let Some(tmp) = self.tmp.take() {
+            let mut pending = signals::lock();
+            let _ = fs::remove_file(&tmp);
+            pending.retain(|p| p != &tmp);
+        }
+    }
+}
+
+/// Writes `bytes` to a temporary sibling of `path` and renames it over
+/// `path` (atomic on POSIX file systems); `path` is untouched on failure, and
+/// SIGINT/SIGTERM during the write leave no temporary file (see
+/// [`StagedFile`]). Not for use inside [`write_dir_atomically`]'s `build`
+/// (which holds the cleanup lock and whose directory is already temporary).
+pub fn write_file_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
+    StagedFile::new(path, bytes)?.commit()
 }
