@@ -15,7 +15,10 @@
 //!    real poles (0 … [`MAX_REAL_POLES`]) is chosen by BIC (sweeps,
 //!    ring-downs) or a likelihood-ratio test (magnitude, PSD), so the relaxation
 //!    background is modelled (not reported, not biasing the modes).
-//! 4. **Uncertainties**: σ̂² from the residuals, covariance from the Jacobian.
+//! 4. **Noise model and uncertainties** ([`noise`]): uniform or additive +
+//!    signal-proportional variance, chosen by the BIC on the residuals; the
+//!    latter refits by weighted least squares; covariance σ̂²(J̃ᵀJ̃)⁺, or the
+//!    sandwich where a Breusch–Pagan test leaves the noise model in doubt.
 //!
 //! Which modes are reported: every mode in the band whose residue is at least
 //! [`MIN_AMPLITUDE_SNR`] sd from zero, or with `modes = Some(K)` the K
