@@ -8,6 +8,12 @@
 //! | `omega_rad_s,psd_m2_s_per_rad` | displacement power spectral density |
 //! | `time_s,displacement_m` | free decay / impulse response, uniform sampling |
 //!
+//! Lab units are accepted under their own names ([`UNIT_ALIASES`]):
+//! `frequency_hz` for `omega_rad_s`, `h_db_re_1_m_per_n` for
+//! `h_abs_m_per_n`, and `psd_{one,two}_sided_m2_per_hz` /
+//! `psd_{one,two}_sided_m2_s_per_rad` for `psd_m2_s_per_rad` (one-sided per
+//! rad/s), converted on reading; messages name the record's own column.
+//!
 //! Accepted layout (what lab software writes): comma-separated, the header
 //! line first with exactly those names; LF or CRLF line endings; spaces or
 //! tabs around any field or name; a UTF-8 byte-order mark before the header;
@@ -65,8 +71,42 @@ pub const HEADERS: [&[&str]; 4] = [
     &["time_s", "displacement_m"],
 ];
 
+/// Other accepted column names, in the units labs write, with the canonical
+/// column each is read as and the factor or conversion applied on reading:
+/// frequency in Hz (ω = 2πf); magnitude in dB re 1 m/N (|H| = 10^(dB/20));
+/// PSDs one- or two-sided, per Hz or per rad/s. A one-sided PSD holds the
+/// whole variance over f ≥ 0 (twice a two-sided one there), and
+/// S(ω) dω = S(f) df with dω = 2π df, so S_ω = S_f/(2π).
+pub const UNIT_ALIASES: [(&str, &str, Conversion); 6] = [
+    ("frequency_hz", "omega_rad_s", Conversion::Scale(std::f64::consts::TAU)),
+    ("h_db_re_1_m_per_n", "h_abs_m_per_n", Conversion::Decibel),
+    ("psd_one_sided_m2_per_hz", "psd_m2_s_per_rad", Conversion::Scale(1.0 / std::f64::consts::TAU)),
+    ("psd_two_sided_m2_per_hz", "psd_m2_s_per_rad", Conversion::Scale(1.0 / std::f64::consts::PI)),
+    ("psd_one_sided_m2_s_per_rad", "psd_m2_s_per_rad", Conversion::Scale(1.0)),
+    ("psd_two_sided_m2_s_per_rad", "psd_m2_s_per_rad", Conversion::Scale(2.0)),
+];
+
+/// How an alias column's values become the canonical column's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Conversion {
+    /// Multiply by the factor.
+    Scale(f64),
+    /// 20·log₁₀ amplitude → amplitude.
+    Decibel,
+}
+
+impl Conversion {
+    fn apply(self, v: f64) -> f64 {
+        match self {
+            Conversion::Scale(k) => v * k,
+            Conversion::Decibel => 10f64.powf(v / 20.0),
+        }
+    }
+}
+
 fn allowed_headers() -> String {
-    HEADERS.iter().map(|h| h.join(",")).collect::<Vec<_>>().join(" | ")
+    let aliases: Vec<&str> = UNIT_ALIASES.iter().map(|a| a.0).collect();
+    format!("{} (aliases: {})", HEADERS.iter().map(|h| h.join(",")).collect::<Vec<_>>().join(" | "), aliases.join(", "))
 }
 
 impl Measurement {
@@ -102,8 +142,12 @@ impl Measurement {
             .iter()
             .map(str::to_string)
             .collect();
-        let kind = kind_of(&header)?;
-        let names = HEADERS[kind];
+        let alias = |n: &str| UNIT_ALIASES.iter().find(|a| a.0 == n).copied();
+        let canonical: Vec<String> = header.iter().map(|n| alias(n).map_or(n.clone(), |a| a.1.to_string())).collect();
+        let kind = kind_of(&canonical)?;
+        // the names in messages are the record's own
+        let shown: Vec<&str> = header.iter().map(String::as_str).collect();
+        let names: &[&str] = &shown;
         let mut columns: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
         for (r, record) in reader.records().enumerate() {
             let row = r + 1;
@@ -136,6 +180,21 @@ impl Measurement {
         }
         if columns[0].len() < MIN_ROWS {
             return Err(InputError::new("rows", columns[0].len(), format!(">= {MIN_ROWS} data rows")));
+        }
+        for (c, col) in columns.iter_mut().enumerate() {
+            if let Some((_, _, conversion)) = alias(names[c]) {
+                for (r, v) in col.iter_mut().enumerate() {
+                    let converted = conversion.apply(*v);
+                    if !converted.is_finite() {
+                        return Err(InputError::new(
+                            format!("{} (row {})", names[c], r + 1),
+                            *v,
+                            "a value whose conversion to SI units is finite",
+                        ));
+                    }
+                    *v = converted;
+                }
+            }
         }
         check_abscissa(names[0], &columns[0])?;
         let mut cols = columns.into_iter();
@@ -192,7 +251,7 @@ fn check_each(name: &str, v: &[f64], ok: impl Fn(f64) -> bool, allowed: &str) ->
 }
 
 fn check_abscissa(name: &str, x: &[f64]) -> Result<(), InputError> {
-    if name == "omega_rad_s" {
+    if name != "time_s" {
         check_each(name, x, |v| v >= 0.0, ">= 0")?;
     }
     for i in 1..x.len() {
@@ -289,6 +348,27 @@ mod tests {
         assert!(matches!(Measurement::from_csv(&p), Ok(Measurement::Psd { .. })));
         let t = rows("time_s,displacement_m", 10, |i| format!("{:e},1e-12", i as f64 * 1e-13));
         assert!(matches!(Measurement::from_csv(&t), Ok(Measurement::Time { .. })));
+    }
+
+    /// Hz, dB and the PSD conventions read as their SI equivalents (values
+    /// worked by hand: 1 kHz = 6283.185… rad/s, −180 dB = 1e-9 m/N, a
+    /// two-sided 1e-20 m²/Hz = one-sided 2e-20 m²/Hz = 2e-20/(2π) m²s/rad).
+    #[test]
+    fn lab_units_convert_on_reading() {
+        let hz = rows("frequency_hz,h_db_re_1_m_per_n", 10, |i| format!("{},-180", 1000 * (i + 1)));
+        let Ok(Measurement::Magnitude { omega_rad_s, h_abs_m_per_n }) = Measurement::from_csv(&hz) else {
+            panic!("magnitude in Hz and dB")
+        };
+        assert!((omega_rad_s[0] - 6283.185307179586).abs() < 1e-9);
+        assert!((h_abs_m_per_n[3] / 1e-9 - 1.0).abs() < 1e-12);
+        let psd = rows("frequency_hz,psd_two_sided_m2_per_hz", 10, |i| format!("{},1e-20", i + 1));
+        let Ok(Measurement::Psd { psd_m2_s_per_rad, .. }) = Measurement::from_csv(&psd) else { panic!("psd") };
+        assert!((psd_m2_s_per_rad[0] / (2e-20 / std::f64::consts::TAU) - 1.0).abs() < 1e-12);
+        let back = rows("frequency_hz,h_db_re_1_m_per_n", 10, |i| format!("{},0", if i == 6 { 2 } else { i + 1 }));
+        assert_eq!(Measurement::from_csv(&back).unwrap_err().field, "frequency_hz (row 7)");
+        let huge =
+            rows("frequency_hz,h_db_re_1_m_per_n", 10, |i| format!("{},{}", i + 1, if i == 2 { 1e5 } else { 0.0 }));
+        assert_eq!(Measurement::from_csv(&huge).unwrap_err().field, "h_db_re_1_m_per_n (row 3)");
     }
 
     #[test]

@@ -15,7 +15,10 @@
 //!    real poles (0 … [`MAX_REAL_POLES`]) is chosen by BIC (sweeps,
 //!    ring-downs) or a likelihood-ratio test (magnitude, PSD), so the relaxation
 //!    background is modelled (not reported, not biasing the modes).
-//! 4. **Uncertainties**: σ̂² from the residuals, covariance from the Jacobian.
+//! 4. **Noise model and uncertainties** ([`noise`]): uniform or additive +
+//!    signal-proportional variance, chosen by the BIC on the residuals; the
+//!    latter refits by weighted least squares; covariance σ̂²(J̃ᵀJ̃)⁺, or the
+//!    sandwich where a Breusch–Pagan test leaves the noise model in doubt.
 //!
 //! Which modes are reported: every mode in the band whose residue is at least
 //! [`MIN_AMPLITUDE_SNR`] sd from zero, or with `modes = Some(K)` the K
@@ -27,6 +30,7 @@
 
 pub mod data;
 pub mod lscf;
+pub mod noise;
 pub mod pencil;
 pub mod refine;
 pub mod stabilisation;
@@ -37,6 +41,7 @@ use serde::Serialize;
 
 use crate::error::InputError;
 pub use data::Measurement;
+pub use noise::NoiseModel;
 use refine::{FitKind, FitResult, Model, PER_MODE, PER_REAL};
 pub use stabilisation::Diagram;
 
@@ -125,6 +130,8 @@ pub struct Identification {
     /// (m/N per component, m/N, or m; PSD: the relative sd 1/√ν̂ of a bin,
     /// ν̂ the estimated number of averages).
     pub noise_sd: f64,
+    /// The noise model chosen with the modes (see [`noise`]).
+    pub noise_model: NoiseModel,
     pub residual_count: usize,
     pub parameter_count: usize,
     pub diagram: Diagram,
@@ -223,7 +230,8 @@ pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identifi
         check_points_per_resonance(&sc, &band)?;
     }
     let (model, fit) = best_refinement(&sc, &initial)?;
-    Ok(assemble(m, &sc, &model, &fit, diagram, initial.len(), settings.modes))
+    let (model, fit, noise_model) = reweight(&sc, model, fit, initial.len());
+    Ok(assemble(m, &sc, (&model, &fit), diagram, initial.len(), settings.modes, noise_model))
 }
 
 /// Poles at orders 2, 4, … of LSCF or the matrix pencil.
@@ -314,6 +322,7 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
         n_modes: initial.len(),
         n_real,
         poly: poly.clone(),
+        weights: None,
     };
     let scored = |model: Model, fit: FitResult| {
         if !stable_modes(&fit, n_identified) {
@@ -386,6 +395,105 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
         FitKind::Magnitude | FitKind::Psd => likelihood_ratio_selection(usable.map(|(_, m, f)| (m, f)).collect()),
     };
     chosen.ok_or_else(|| IdentifyError::Numerical("the nonlinear least-squares refinement did not converge".into()))
+}
+
+/// Reweighting rounds of the additive + proportional noise model (the
+/// weights depend on the fitted |ŷ|, which moves with the fit).
+const REWEIGHT_ROUNDS: usize = 3;
+
+/// The noise model fitted with the modes (see [`noise`]): chooses uniform or
+/// additive + proportional variance by the BIC on the residuals of `fit`,
+/// refits by weighted least squares when the latter wins, and replaces the
+/// covariance by the sandwich when a Breusch–Pagan test leaves the chosen
+/// model in doubt. A weighted refit that fails or loses a mode keeps the
+/// unweighted fit (its covariance then the sandwich, the model being wrong).
+fn reweight(sc: &Scaled, model: Model, fit: FitResult, n_identified: usize) -> (Model, FitResult, NoiseModel) {
+    use statrs::distribution::{ChiSquared, ContinuousCDF};
+    if sc.kind == FitKind::Psd {
+        let nm = NoiseModel {
+            kind: "welch_gamma",
+            additive_sd: fit.noise_var.sqrt(),
+            proportional_fraction: 0.0,
+            likelihood_ratio: 0.0,
+            covariance: "model",
+            breusch_pagan: 0.0,
+        };
+        return (model, fit, nm);
+    }
+    let per_point = if sc.kind == FitKind::Complex { 2 } else { 1 };
+    let n = sc.x.len();
+    // squared residuals (unweighted) and squared signal levels per residual
+    let levels = |model: &Model, theta: &[f64]| -> (Vec<f64>, Vec<f64>) {
+        let plain = Model { weights: None, ..model.clone() };
+        let (r, _) = plain.eval(theta, false);
+        let s: Vec<f64> = plain.curve(theta, &plain.x).iter().map(|h| h.norm_sqr()).collect();
+        let s2 = (0..n * per_point).map(|k| s[k % n]).collect();
+        (r.iter().map(|v| v * v).collect(), s2)
+    };
+    let (r2, s2) = levels(&model, &fit.theta);
+    let m = r2.len() as f64;
+    let (c0, l1, l0) = noise::fit_variance(&r2, &s2);
+    let likelihood_ratio = 2.0 * (l1 - l0);
+    let proportional = likelihood_ratio > m.ln() && c0 > 0.0;
+    let (mut model, mut fit, mut c) = (model, fit, 0.0);
+    if proportional {
+        c = c0;
+        for round in 0..REWEIGHT_ROUNDS {
+            if round > 0 {
+                let (r2, s2) = levels(&model, &fit.theta);
+                c = noise::fit_variance(&r2, &s2).0;
+            }
+            let (_, s2) = levels(&model, &fit.theta);
+            let weights = (0..n).map(|i| 1.0 / (1.0 + c * s2[i]).sqrt()).collect();
+            let weighted = Model { weights: Some(weights), ..model.clone() };
+            let refit = match sc.kind {
+                FitKind::Magnitude => {
+                    let mut fixed = vec![false; weighted.n_params()];
+                    for r in n_identified..weighted.n_modes {
+                        let o = PER_MODE * r;
+                        if fit.theta[o].hypot(fit.theta[o + 1]) > sc.band.1 {
+                            fixed[o] = true;
+                            fixed[o + 1] = true;
+                        }
+                    }
+                    refine::fit(&weighted, fit.theta.clone(), &fixed)
+                }
+                _ => refine::fit_projected(&weighted, &fit.theta),
+            };
+            match refit {
+                Some(f) if stable_modes(&f, n_identified) => (model, fit) = (weighted, f),
+                _ => break,
+            }
+        }
+    }
+    let chose_proportional = model.weights.is_some();
+    if !chose_proportional {
+        c = 0.0;
+    }
+    // the final weighted residuals against the signal level: variance left
+    let (r, jac) = model.eval(&fit.theta, true);
+    let (_, s2) = levels(&model, &fit.theta);
+    let r2w: Vec<f64> = r.iter().map(|v| v * v).collect();
+    let bp = noise::breusch_pagan(&r2w, &s2);
+    let critical = ChiSquared::new(1.0).map(|d| d.inverse_cdf(1.0 - noise::DOUBT_LEVEL)).unwrap_or(f64::INFINITY);
+    let doubt = bp > critical || (proportional && !chose_proportional);
+    let mut covariance = "model";
+    if doubt {
+        if let Some(bread) = refine::pseudo_inverse_sym(&(jac.transpose() * &jac)) {
+            fit.cov = noise::sandwich(&r, &jac, &bread);
+            covariance = "sandwich";
+        }
+    }
+    let a2 = fit.noise_var;
+    let nm = NoiseModel {
+        kind: if chose_proportional { "additive_plus_proportional" } else { "uniform" },
+        additive_sd: a2.sqrt() * sc.y_ref,
+        proportional_fraction: (c * a2).sqrt(),
+        likelihood_ratio,
+        covariance,
+        breusch_pagan: bp,
+    };
+    (model, fit, nm)
 }
 
 /// Level of the likelihood-ratio test that adds real poles to a joint-LM
@@ -523,11 +631,11 @@ fn amplitude_snr(fit: &FitResult, r: usize) -> f64 {
 fn assemble(
     m: &Measurement,
     sc: &Scaled,
-    model: &Model,
-    fit: &FitResult,
+    (model, fit): (&Model, &FitResult),
     diagram: Diagram,
     n_identified: usize,
     report: Option<usize>,
+    noise_model: NoiseModel,
 ) -> Identification {
     let w_unit = if sc.kind == FitKind::Time { 1.0 / sc.x_ref } else { sc.x_ref };
     let mut all: Vec<IdentifiedMode> = (0..model.n_modes)
@@ -589,6 +697,7 @@ fn assemble(
         background_modes: background,
         real_poles_rad_s,
         noise_sd: fit.noise_var.sqrt() * noise_unit,
+        noise_model,
         residual_count: model.n_residuals(),
         parameter_count: model.n_params(),
         diagram: Diagram {
@@ -626,7 +735,8 @@ fn unscale_curves(
     fit: &FitResult,
     model: &Model,
 ) -> (Vec<Complex64>, Vec<Complex64>, Vec<f64>) {
-    let (r, _) = model.eval(&fit.theta, false);
+    // residuals in the record's units: unweighted
+    let (r, _) = Model { weights: None, ..model.clone() }.eval(&fit.theta, false);
     let n = sc.x.len();
     let fitted: Vec<Complex64> = raw
         .iter()

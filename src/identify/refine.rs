@@ -59,6 +59,12 @@ pub struct Model {
     pub n_real: usize,
     /// Exponents of the residual terms (time: `[0]`, the offset).
     pub poly: Vec<i32>,
+    /// Relative weights 1/σ_i of the points (`None`: uniform). Every
+    /// residual of point i and its Jacobian row are multiplied by its weight
+    /// (weighted least squares, the Gaussian likelihood of a noise whose sd
+    /// varies as σ_i); the PSD's Gamma deviance ignores them (its noise is
+    /// already relative).
+    pub weights: Option<Vec<f64>>,
 }
 
 /// Parameters per mode and per real pole.
@@ -145,6 +151,15 @@ impl Model {
         for i in 0..n {
             let h = self.point(theta, i, &mut grad);
             let y = self.y[i];
+            let w = match (&self.weights, self.kind) {
+                (Some(w), FitKind::Complex | FitKind::Magnitude | FitKind::Time) => w[i],
+                _ => 1.0,
+            };
+            let h = h * w;
+            let y = y * w;
+            for g in grad.iter_mut() {
+                *g *= w;
+            }
             let selected = cols.iter().map(|&j| grad[j]).enumerate();
             match self.kind {
                 FitKind::Complex => {
@@ -752,7 +767,7 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Projected<'_> {
 /// of parameter units), dropping eigenvalues below 1e-12·max: beyond that
 /// condition number the double-precision Gram matrix (relative error ~1e-16
 /// times the condition number) no longer determines the direction.
-fn pseudo_inverse_sym(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+pub(crate) fn pseudo_inverse_sym(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     let d: Vec<f64> = (0..a.nrows()).map(|i| a[(i, i)].max(f64::MIN_POSITIVE).sqrt()).collect();
     let scaled = DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] / (d[i] * d[j]));
     let eig = scaled.try_symmetric_eigen(f64::EPSILON, MAX_SWEEPS)?;

@@ -1,0 +1,174 @@
+//! Coverage of `identify`'s intervals on records from the independent
+//! generator in `tests/identify_reference` (closed-form Euler–Bernoulli
+//! modal sums with analytic shapes, a relaxation pole, both noise kinds,
+//! sensors anywhere; no crate beam code). The study over many seeds is
+//! `#[ignore]`d (its measured result is in `tests/identify_coverage.md`);
+//! a CI-sized subset runs in the suite.
+
+mod identify_reference;
+
+use identify_reference::{positions, record, Beam, Kind, Noise, Support};
+use nanobeam::identify::{identify, IdentifySettings};
+
+/// Tallies of one (record kind, noise kind) cell.
+#[derive(Debug, Default, Clone)]
+struct Tally {
+    records: usize,
+    failed: usize,
+    visible: usize,
+    found: usize,
+    false_modes: usize,
+    /// intervals (ω and ζ of every found visible mode)
+    intervals: usize,
+    within_95: usize,
+    within_3sd: usize,
+    worst_z: f64,
+}
+
+const SUPPORTS: [Support; 3] = [Support::SimplySupported, Support::ClampedClamped, Support::Cantilever];
+
+fn noise_of(proportional: bool) -> Noise {
+    if proportional {
+        // 1 % of |signal| plus a floor of 1e-4 of the peak (issue 42's lock-in case)
+        Noise::Proportional { floor: 1e-4, b: 0.01 }
+    } else {
+        // 0.5 % of the peak (issue 42's additive case)
+        Noise::Additive { fraction: 5e-3 }
+    }
+}
+
+fn study(kind: Kind, proportional: bool, seeds: std::ops::Range<u64>) -> Tally {
+    let mut t = Tally::default();
+    let tag = 4200 + 10 * kind as u64 + u64::from(proportional);
+    for seed in seeds {
+        let support = SUPPORTS[(seed % 3) as usize];
+        let (x_in, x_out) = positions(tag, seed);
+        let beam = Beam::new(support, 5, 2.0 * std::f64::consts::PI * 1.0e4, x_in, x_out, 0.3);
+        let rec = record(beam, kind, noise_of(proportional), 3, tag, seed);
+        t.records += 1;
+        t.visible += rec.visible.len();
+        let Ok(id) = identify(&rec.data, &IdentifySettings::default()) else {
+            t.failed += 1;
+            continue;
+        };
+        let near = |w: f64, m: f64| (w - m).abs() < 0.05 * m;
+        t.false_modes +=
+            id.modes.iter().filter(|m| !rec.beam.modes.iter().any(|b| near(m.omega_rad_s, b.omega))).count();
+        let verbose = std::env::var("IDENTIFY_VERBOSE").is_ok();
+        if verbose {
+            println!("seed {seed} {support:?} x_in {x_in:.3} x_out {x_out:.3}: noise {:?}", id.noise_model);
+        }
+        for v in &rec.visible {
+            let Some(m) = id.modes.iter().find(|m| near(m.omega_rad_s, v.omega)) else {
+                if verbose {
+                    println!("  missed {v:?}");
+                }
+                continue;
+            };
+            t.found += 1;
+            if verbose {
+                let zw = (m.omega_rad_s - v.omega) / m.omega_sd_rad_s;
+                println!("  omega {:.1}: z omega {zw:.2}, z zeta {:.2}", v.omega, (m.zeta - v.zeta) / m.zeta_sd);
+            }
+            for z in [(m.omega_rad_s - v.omega) / m.omega_sd_rad_s, (m.zeta - v.zeta) / m.zeta_sd] {
+                let z = if z.is_finite() { z.abs() } else { f64::INFINITY };
+                t.intervals += 1;
+                t.within_95 += usize::from(z <= 1.96);
+                t.within_3sd += usize::from(z <= 3.0);
+                t.worst_z = t.worst_z.max(z);
+            }
+        }
+    }
+    t
+}
+
+fn print(kind: Kind, proportional: bool, t: &Tally) {
+    let f = |a: usize, b: usize| if b == 0 { f64::NAN } else { a as f64 / b as f64 };
+    println!(
+        "{kind:?}/{}: records {} failed {} | visible {} found {} ({:.3}) false {} | 95% cover {:.3}, 3sd cover {:.3} ({} intervals), worst |z| {:.1}",
+        if proportional { "proportional" } else { "additive" },
+        t.records,
+        t.failed,
+        t.visible,
+        t.found,
+        f(t.found, t.visible),
+        t.false_modes,
+        f(t.within_95, t.intervals),
+        f(t.within_3sd, t.intervals),
+        t.intervals,
+        t.worst_z
+    );
+}
+
+fn seeds() -> u64 {
+    std::env::var("IDENTIFY_SEEDS").ok().and_then(|s| s.parse().ok()).unwrap_or(100)
+}
+
+#[test]
+#[ignore = "coverage study (minutes): result in tests/identify_coverage.md"]
+fn coverage_study() {
+    let n = seeds();
+    let only = std::env::var("IDENTIFY_KINDS").unwrap_or_default();
+    for kind in [Kind::Complex, Kind::Magnitude, Kind::Psd, Kind::Time] {
+        if !only.is_empty() && !only.contains(&format!("{kind:?}")) {
+            continue;
+        }
+        for proportional in [false, true] {
+            let t = study(kind, proportional, 0..n);
+            print(kind, proportional, &t);
+        }
+    }
+}
+
+/// One record of the subset, seed 0, simply supported: every visible mode
+/// is found, no false mode is reported, each ω and ζ lies within 3.5 of its
+/// reported sd (two-sided miss 4.7e-4 per interval under a correct sd; with
+/// about 8 intervals per record a false failure has probability ≈ 0.4 %),
+/// and the noise model named matches the generator's.
+fn subset_record(kind: Kind, proportional: bool) {
+    let tag = 4200 + 10 * kind as u64 + u64::from(proportional);
+    let (x_in, x_out) = positions(tag, 0);
+    let beam = Beam::new(Support::SimplySupported, 5, 2.0 * std::f64::consts::PI * 1.0e4, x_in, x_out, 0.3);
+    let rec = record(beam, kind, noise_of(proportional), 3, tag, 0);
+    let id = identify(&rec.data, &IdentifySettings::default()).unwrap();
+    let near = |w: f64, m: f64| (w - m).abs() < 0.05 * m;
+    assert!(!rec.visible.is_empty());
+    for m in &id.modes {
+        assert!(rec.beam.modes.iter().any(|b| near(m.omega_rad_s, b.omega)), "{kind:?}: false mode {m:?}");
+    }
+    for v in &rec.visible {
+        let m = id.modes.iter().find(|m| near(m.omega_rad_s, v.omega));
+        let m = m.unwrap_or_else(|| panic!("{kind:?} proportional={proportional}: mode at {} not found", v.omega));
+        let zw = (m.omega_rad_s - v.omega) / m.omega_sd_rad_s;
+        let zz = (m.zeta - v.zeta) / m.zeta_sd;
+        println!("{kind:?} proportional={proportional}: z omega {zw:.2}, z zeta {zz:.2}");
+        assert!(zw.abs() <= 3.5 && zz.abs() <= 3.5, "{kind:?} proportional={proportional}: {m:?} vs {v:?}");
+    }
+    let expected = if proportional { "additive_plus_proportional" } else { "uniform" };
+    assert_eq!(id.noise_model.kind, expected, "{kind:?}");
+}
+
+/// CI-sized subset: the complex sweep under both noise kinds.
+#[test]
+fn ci_subset_complex_sweep_under_both_noise_kinds() {
+    subset_record(Kind::Complex, false);
+    subset_record(Kind::Complex, true);
+}
+
+/// A ring-down with proportional noise (a² + b²y²): a known false mode
+/// (issue 42 item 2, not fixed): a pole at 942 107 rad/s, ζ = 0.0013,
+/// residue SNR 7.2, between true modes 3 and 4, is reported as a mode.
+#[test]
+#[ignore = "known failure: a false mode at 942 107 rad/s passes the residue-SNR filter (issue 42 item 2)"]
+fn ci_subset_ring_down_with_proportional_noise() {
+    subset_record(Kind::Time, true);
+}
+
+/// A known detection failure (issue 42 item 2, not fixed): this ring-down
+/// with additive noise loses its mode 1 (ω = 62 832 rad/s), which stands
+/// well above 20 noise sd.
+#[test]
+#[ignore = "known failure: ring-down detection loses mode 1 (issue 42 item 2)"]
+fn ci_subset_ring_down_with_additive_noise() {
+    subset_record(Kind::Time, false);
+}
