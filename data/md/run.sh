@@ -18,6 +18,8 @@ for case in "$@"; do
     cl11) set -- cl 47 4741 400000 0 ;;
     *) echo "unknown case $case (cc7 cl7 cc11 cl11)" >&2; exit 2 ;;
   esac
+  printf 'support %s\ncells %s\nseed %s\nnequil 30000\nnprod %s\nnnve %s\nevery 20\ntau 5.0\n' \
+    "$1" "$2" "$3" "${NPROD:-$4}" "${NNVE:-$5}" > "work/$case.params"
   python3 make_tube.py 5 "$2" 1.42 "work/$case.data" > "work/$case.geometry"
   nice -n 10 "$LMP" -in in.tube -log "work/$case.log" -screen none \
     -var data "work/$case.data" -var cells "$2" -var support "$1" -var seed "$3" \

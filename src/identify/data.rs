@@ -7,6 +7,7 @@
 //! | `omega_rad_s,h_abs_m_per_n` | receptance magnitude only |
 //! | `omega_rad_s,psd_m2_s_per_rad` | displacement power spectral density |
 //! | `time_s,displacement_m` | free decay / impulse response, uniform sampling |
+//! | `time_s,thermal_<name>_m[,…]` | thermal motion, uniform sampling: turned into the PSD record ([`thermal`]) |
 //!
 //! Accepted layout (what lab software writes): comma-separated, the header
 //! line first with exactly those names; LF or CRLF line endings; spaces or
@@ -29,6 +30,9 @@
 use num_complex::Complex64;
 
 use crate::error::InputError;
+
+#[path = "thermal.rs"]
+mod thermal;
 
 /// Fewest rows any record may have (the smallest fit, one mode and a
 /// constant, has 5 real parameters).
@@ -92,8 +96,11 @@ impl Measurement {
             .iter()
             .map(str::to_string)
             .collect();
-        let kind = kind_of(&header)?;
-        let names = HEADERS[kind];
+        // a thermal-motion record (thermal.rs) is read like a time record with more columns
+        let thermal = thermal::is_thermal(&header);
+        let kind = if thermal { 3 } else { kind_of(&header)? };
+        let names: Vec<&str> =
+            if thermal { header.iter().map(String::as_str).collect() } else { HEADERS[kind].to_vec() };
         let mut columns: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
         for (r, record) in reader.records().enumerate() {
             let row = r + 1;
@@ -140,6 +147,9 @@ impl Measurement {
             }
             _ => {
                 check_uniform(&x)?;
+                if thermal {
+                    return thermal::psd_record(&x, &std::iter::once(y).chain(cols).collect::<Vec<_>>());
+                }
                 Self::Time { time_s: x, displacement_m: y }
             }
         })
