@@ -6,7 +6,8 @@ usage: convert.py CASE ENSEMBLE     (e.g. convert.py cc7 langevin)
 reads work/CASE.log, work/CASE.ENSEMBLE.ave (fix ave/time, slice centres of mass in A),
 work/CASE.ENSEMBLE.force (1000-step means of the clamps' axial forces in eV/A).
 
-The CSV has the header time_s,slice1_y_m,slice1_z_m,slice2_y_m,slice2_z_m,slice3_y_m,slice3_z_m:
+The CSV has the header time_s,thermal_slice1_y_m,…,thermal_slice3_z_m (the thermal-motion
+record `nanobeam identify` reads):
 the transverse centre-of-mass coordinates of three one-cell slices (20 atoms) in metres,
 sampled every `every` steps; the slices' positions along the tube are in the provenance.
 A run stopped before its planned end gives a shorter record: only complete lines are kept
@@ -71,7 +72,7 @@ def main():
     rows = read_ave(f"work/{case}.{ens}.ave")
     dt_s = every * TIMESTEP_PS * 1e-12
     with gzip.GzipFile(f"{case}.{ens}.csv.gz", "wb", mtime=0) as gz:
-        out = ["time_s,slice1_y_m,slice1_z_m,slice2_y_m,slice2_z_m,slice3_y_m,slice3_z_m\n"]
+        out = ["time_s,thermal_slice1_y_m,thermal_slice1_z_m,thermal_slice2_y_m,thermal_slice2_z_m,thermal_slice3_y_m,thermal_slice3_z_m\n"]
         for r in rows:
             t = r[0] * TIMESTEP_PS * 1e-12
             out.append("%.6e," % t + ",".join("%.5e" % (v * 1e-10) for v in r[1:]) + "\n")
@@ -99,7 +100,7 @@ def main():
         w = p.write
         w(f"# provenance of {case}.{ens}.csv.gz, written by convert.py from the LAMMPS log\n")
         w(f"record: {case}.{ens}.csv.gz\n")
-        w("columns: time_s, then slice{1,2,3}_{y,z}_m: transverse centre-of-mass coordinates (m) of each slice\n")
+        w("columns: time_s, then thermal_slice{1,2,3}_{y,z}_m: transverse centre-of-mass coordinates (m) of each slice\n")
         w("tube: {chirality: '(5,5)', atoms: %d, clamped_atoms: %d, mobile_atoms: %d}\n"
           % (counts["all"], counts["clampL"] + counts["clampR"], counts["mobile"]))
         w(f"support: {support}\n")

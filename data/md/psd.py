@@ -11,8 +11,8 @@ surroundings.
 
 Segment length: a Langevin bath of damping time tau gives every line a half-power width
 1/tau in omega (1/(2 pi tau) in Hz); the segment is the shortest power of two in samples
-whose bin spacing is at most half that width (T_seg >= 4 pi tau), so that each line spans
-two or more bins. Hann window, 50 % overlap, mean removed per segment.
+whose bin spacing is at most a quarter of that width (T_seg >= 8 pi tau), so that each line
+spans four or more bins (identify needs three samples in a half-power band). Hann window, 50 % overlap, mean removed per segment.
 """
 import gzip
 import math
@@ -44,8 +44,8 @@ def main():
         data = np.loadtxt(f, delimiter=",")
     t = data[:, 0]
     dt = t[1] - t[0]
-    cols = [header.index(f"slice{slice_no}_y_m"), header.index(f"slice{slice_no}_z_m")]
-    nseg = 2 ** math.ceil(math.log2(4 * math.pi * tau / dt))
+    cols = [header.index(f"thermal_slice{slice_no}_y_m"), header.index(f"thermal_slice{slice_no}_z_m")]
+    nseg = 2 ** math.ceil(math.log2(8 * math.pi * tau / dt))
     if nseg > len(t):
         sys.exit(f"record of {len(t)} samples shorter than one segment ({nseg} samples = {nseg * dt:.3e} s)")
     psd, segments = None, 0

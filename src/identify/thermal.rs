@@ -28,10 +28,12 @@ use crate::error::InputError;
 /// 8 averages the PSD's relative standard deviation is ≈ 1/√8 ≈ 0.35.
 pub const MIN_AVERAGES: usize = 8;
 
-/// Fewest bins a line must span at half power for its width (the damping)
-/// to be measured rather than set by the window (a Hann window's own
-/// half-power width is 1.44 bins).
-pub const MIN_LINE_BINS: f64 = 3.0;
+/// Fewest bins a line must span at half power: identification needs ≥ 3
+/// samples in each half-power band (an interval of w bins holds ⌊w⌋ of
+/// them), and the width measured on a noisy estimate (here from the line's
+/// top) is itself uncertain, hence one bin of margin. A Hann window's own
+/// half-power width is 1.44 bins: a line that narrow is unresolved.
+pub const MIN_LINE_BINS: f64 = 4.0;
 
 /// Shortest segment considered, in samples.
 const MIN_SEGMENT: usize = 64;
@@ -76,11 +78,12 @@ pub fn psd_record(time_s: &[f64], columns: &[Vec<f64>]) -> Result<Measurement, I
                 format!("a record of {record_s:.3e} s"),
                 format!(
                     "a record that resolves its lines: the line at {:.4e} Hz spans {width:.1} bins of {:.3e} Hz \
-                     (segments of {:.3e} s, {MIN_AVERAGES} averages), fewer than {MIN_LINE_BINS}; a record of \
-                     at least {:.3e} s ({:.0}x longer) gives segments fine enough",
+                     (segments of {:.3e} s, {} averages), fewer than {MIN_LINE_BINS}; a record of \
+                     at least {:.3e} s ({:.1}x longer) gives segments fine enough",
                     f_hz,
                     1.0 / (finest as f64 * dt),
                     finest as f64 * dt,
+                    averages(finest),
                     record_s * 2.0 * MIN_LINE_BINS / width,
                     2.0 * MIN_LINE_BINS / width
                 ),
