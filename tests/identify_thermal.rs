@@ -122,7 +122,7 @@ fn an_unresolved_line_is_refused_naming_the_record_length() {
 fn only_thermal_columns_make_a_thermal_record() {
     let phi = ar2(0.99, 0.3);
     let col = series(phi, 4096, 4);
-    let free = csv(&[col.clone()]).replace("thermal_c0_m", "displacement_m");
+    let free = csv(std::slice::from_ref(&col)).replace("thermal_c0_m", "displacement_m");
     assert!(matches!(Measurement::from_csv(&free).unwrap(), Measurement::Time { .. }));
     let mixed = csv(&[col.clone(), col]).replace("thermal_c1_m", "displacement_m");
     assert!(Measurement::from_csv(&mixed).is_err());

@@ -1,6 +1,6 @@
 #!/bin/sh
 # Run the MD cases of data/md one after another: ./run.sh CASE [CASE ...]
-# CASE is one of cc7 cl7 cc11 cl11 (support, nominal free length in nm). Outputs go to
+# CASE is one of cc7 cl7 cc11 cl11 (support, nominal free length in nm) or cc7nve. Outputs go to
 # data/md/work/ (ignored by git); convert.py turns them into the committed records.
 # Each LAMMPS process is serial and runs under nice: the machine is shared.
 # NPROD / NNVE in the environment override the case's production lengths (steps), e.g. to
@@ -16,7 +16,9 @@ for case in "$@"; do
     cl7)  set -- cl 31 4721 500000 0 ;;
     cc11) set -- cc 49 4731 450000 0 ;;
     cl11) set -- cl 47 4741 400000 0 ;;
-    *) echo "unknown case $case (cc7 cl7 cc11 cl11)" >&2; exit 2 ;;
+    # cc7 again with another seed: 20 ps in the bath, then an NVE production (undamped lines)
+    cc7nve) set -- cc 33 4751 20000 120000 ;;
+    *) echo "unknown case $case (cc7 cl7 cc11 cl11 cc7nve)" >&2; exit 2 ;;
   esac
   printf 'support %s\ncells %s\nseed %s\nnequil 30000\nnprod %s\nnnve %s\nevery 20\ntau 5.0\n' \
     "$1" "$2" "$3" "${NPROD:-$4}" "${NNVE:-$5}" > "work/$case.params"

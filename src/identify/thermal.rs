@@ -162,15 +162,26 @@ fn welch(columns: &[Vec<f64>], seg: usize) -> Vec<f64> {
 
 /// The narrowest clear line of a PSD: (bin of its maximum, half-power width
 /// in bins, interpolated). A clear line is a local maximum over ±2 bins that
-/// stands 10× above the smallest value within ±16 bins. None when there is
-/// no clear line.
+/// stands 10× above the median of the PSD within ±25 % of its frequency
+/// (at least ±8 bins). That floor scales with the frequency, not with the
+/// resolution, so a well-resolved line (quality factor ≳ 4) stands clear at
+/// every segment length; a noise bump on the flank of a line does not (its
+/// neighbourhood holds the flank), and neither does one on a flat floor (with
+/// 8 averages an estimate exceeds 10× its mean with probability < 1e-9).
+/// Bins 0 and 1, emptied by removing each segment's mean through the Hann
+/// window's ±2-bin main lobe, are left out. None when there is no clear line.
 fn narrowest_line(p: &[f64]) -> Option<(usize, f64)> {
     let mut best: Option<(usize, f64)> = None;
-    for i in 2..p.len().saturating_sub(2) {
+    let mut scratch = Vec::with_capacity(p.len());
+    for i in 4..p.len().saturating_sub(2) {
         if p[i - 2..=i + 2].iter().any(|&v| v > p[i]) {
             continue;
         }
-        let floor = p[i.saturating_sub(16)..(i + 17).min(p.len())].iter().copied().fold(f64::INFINITY, f64::min);
+        let reach = (i / 4).max(8);
+        scratch.clear();
+        scratch.extend_from_slice(&p[i.saturating_sub(reach).max(2)..(i + reach + 1).min(p.len())]);
+        let mid = scratch.len() / 2;
+        let floor = *scratch.select_nth_unstable_by(mid, f64::total_cmp).1;
         if p[i] < 10.0 * floor {
             continue;
         }
