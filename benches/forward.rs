@@ -37,6 +37,7 @@ fn beam(n_iv: usize) -> BeamSpec {
         point_mass: None,
         axial_force_n: 0.0,
         shear_deformation: None,
+        section: None,
     }
 }
 

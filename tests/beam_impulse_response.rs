@@ -24,6 +24,7 @@ fn fourier_transform_of_the_impulse_response_is_the_receptance() {
         point_mass: None,
         axial_force_n: 0.0,
         shear_deformation: None,
+        section: None,
     };
     let modes = modal(&beam, 8).unwrap();
     let w_top = modes.modes.last().unwrap().omega_rad_s;

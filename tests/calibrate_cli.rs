@@ -23,6 +23,7 @@ fn truth_beam() -> BeamSpec {
         point_mass: None,
         axial_force_n: 0.0,
         shear_deformation: None,
+        section: None,
     }
 }
 

@@ -923,6 +923,7 @@ mod tests {
             point_mass: mass.map(|(mass_kg, x_nm)| PointMass { mass_kg, x_nm }),
             axial_force_n: 0.0,
             shear_deformation: None,
+            section: None,
         }
     }
 

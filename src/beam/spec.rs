@@ -73,7 +73,9 @@ pub struct PointMass {
 pub struct ShearDeformation {
     /// Poisson's ratio ν, −1 < ν ≤ 0.5 (isotropic elasticity).
     pub poisson_ratio: f64,
-    /// Timoshenko shear coefficient κ, 0 < κ ≤ 1 (solid circle: 6(1+ν)/(7+6ν) ≈ 0.9).
+    /// Timoshenko shear coefficient κ, 0 < κ ≤ 1. Omitted in YAML: the
+    /// section's ([`BeamSpec::default_shear_coefficient`]; solid circle
+    /// 6(1+ν)/(7+6ν) ≈ 0.88, thin tube 2(1+ν)/(4+3ν) ≈ 0.52 at ν = 0.2).
     pub shear_coefficient: f64,
 }
 
@@ -84,16 +86,54 @@ impl ShearDeformation {
     }
 }
 
+/// The cross-section when it is not the default solid circle of
+/// `diameter_nm` (YAML: `section: { tube: { wall_nm: 0.34 } }`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Section {
+    /// A circular tube whose mean (mid-wall) diameter is the beam's `diameter_nm`.
+    pub tube: Tube,
+}
+
+/// A circular tube of mean diameter d (the beam's `diameter_nm`) and wall t:
+/// the annulus between radii (d − t)/2 and (d + t)/2, so A = π d t and
+/// I = π d t (d² + t²)/8 exactly. A carbon nanotube is a tube with the
+/// conventional wall t = 0.34 nm (graphite's interlayer spacing).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Tube {
+    /// Wall thickness t in nm, 0 < t < `diameter_nm`.
+    pub wall_nm: f64,
+}
+
+/// Timoshenko shear coefficient of a solid circle, 6(1 + ν)/(7 + 6ν)
+/// (G. R. Cowper, J. Appl. Mech. 33 (1966) 335–340, Table 1).
+pub fn solid_circle_shear_coefficient(poisson_ratio: f64) -> f64 {
+    6.0 * (1.0 + poisson_ratio) / (7.0 + 6.0 * poisson_ratio)
+}
+
+/// Timoshenko shear coefficient of a thin-walled circular tube,
+/// 2(1 + ν)/(4 + 3ν) (Cowper 1966, Table 1; his hollow-circle formula as the
+/// radius ratio → 1). The thin-wall limit is used for every tube, not
+/// Cowper's thick annulus: a nanotube's wall is one atomic layer whose shear
+/// flow is that of a thin shell; t = 0.34 nm only sets its bending stiffness.
+pub fn thin_tube_shear_coefficient(poisson_ratio: f64) -> f64 {
+    2.0 * (1.0 + poisson_ratio) / (4.0 + 3.0 * poisson_ratio)
+}
+
 fn is_zero(v: &f64) -> bool {
     *v == 0.0
 }
 
-/// A beam as written in YAML.
+/// A beam as written in YAML. Read through [`BeamSpecYaml`], which lets
+/// `shear_deformation.shear_coefficient` default to the section's
+/// ([`BeamSpec::default_shear_coefficient`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(from = "BeamSpecYaml")]
 pub struct BeamSpec {
     pub length_nm: f64,
-    /// Solid circular section: A = πd²/4, I = πd⁴/64.
+    /// Solid circular section (default): the diameter, A = πd²/4, I = πd⁴/64.
+    /// With a tube [`section`](Self::section): the tube's mean diameter.
     pub diameter_nm: f64,
     pub youngs_modulus_pa: f64,
     pub density_kg_m3: f64,
@@ -124,6 +164,74 @@ pub struct BeamSpec {
     /// Shear deformation and rotary inertia (Timoshenko beam; default off).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shear_deformation: Option<ShearDeformation>,
+    /// The section's shape when not a solid circle (default: solid circle).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub section: Option<Section>,
+}
+
+/// [`BeamSpec`] as read from YAML: the same fields, with the shear
+/// coefficient optional (its default depends on the section, a sibling
+/// field, so it is resolved after the whole beam is read).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BeamSpecYaml {
+    length_nm: f64,
+    diameter_nm: f64,
+    youngs_modulus_pa: f64,
+    density_kg_m3: f64,
+    support: Support,
+    elements: usize,
+    #[serde(default)]
+    nonlocal_e0a_nm: f64,
+    #[serde(default)]
+    viscous_damping_n_s_m2: f64,
+    #[serde(default)]
+    internal_variables: Vec<InternalVariable>,
+    #[serde(default)]
+    support_rotational_stiffness_n_m_rad: f64,
+    #[serde(default)]
+    point_mass: Option<PointMass>,
+    #[serde(default)]
+    axial_force_n: f64,
+    #[serde(default)]
+    shear_deformation: Option<ShearDeformationYaml>,
+    #[serde(default)]
+    section: Option<Section>,
+}
+
+/// [`ShearDeformation`] as read from YAML: κ may be omitted.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ShearDeformationYaml {
+    poisson_ratio: f64,
+    #[serde(default)]
+    shear_coefficient: Option<f64>,
+}
+
+impl From<BeamSpecYaml> for BeamSpec {
+    fn from(y: BeamSpecYaml) -> Self {
+        let mut beam = BeamSpec {
+            length_nm: y.length_nm,
+            diameter_nm: y.diameter_nm,
+            youngs_modulus_pa: y.youngs_modulus_pa,
+            density_kg_m3: y.density_kg_m3,
+            support: y.support,
+            elements: y.elements,
+            nonlocal_e0a_nm: y.nonlocal_e0a_nm,
+            viscous_damping_n_s_m2: y.viscous_damping_n_s_m2,
+            internal_variables: y.internal_variables,
+            support_rotational_stiffness_n_m_rad: y.support_rotational_stiffness_n_m_rad,
+            point_mass: y.point_mass,
+            axial_force_n: y.axial_force_n,
+            shear_deformation: None,
+            section: y.section,
+        };
+        beam.shear_deformation = y.shear_deformation.map(|sd| ShearDeformation {
+            poisson_ratio: sd.poisson_ratio,
+            shear_coefficient: sd.shear_coefficient.unwrap_or_else(|| beam.default_shear_coefficient(sd.poisson_ratio)),
+        });
+        beam
+    }
 }
 
 /// Largest element count accepted. The banded eigen path (Newton–Maehly on
@@ -241,6 +349,7 @@ impl BeamSpec {
             point_mass: None,
             axial_force_n: 0.0,
             shear_deformation: None,
+            section: None,
         }
     }
 
@@ -250,6 +359,16 @@ impl BeamSpec {
     pub fn validate_fields(&self) -> Result<(), InputError> {
         in_window("length_nm", self.length_nm, false)?;
         in_window("diameter_nm", self.diameter_nm, false)?;
+        if let Some(Section { tube }) = &self.section {
+            in_window("section.tube.wall_nm", tube.wall_nm, false)?;
+            if tube.wall_nm >= self.diameter_nm {
+                return Err(InputError::new(
+                    "section.tube.wall_nm",
+                    fmt_num(tube.wall_nm),
+                    format!("0 < wall_nm < diameter_nm = {} (the tube's mean diameter)", fmt_num(self.diameter_nm)),
+                ));
+            }
+        }
         in_window("youngs_modulus_pa", self.youngs_modulus_pa, false)?;
         in_window("density_kg_m3", self.density_kg_m3, false)?;
         // a clamped-clamped single element has no free DOF (every node fixed)
@@ -434,16 +553,35 @@ impl BeamSpec {
         m
     }
 
-    /// Cross-section area in m².
+    /// Cross-section area in m²: πd²/4 (solid circle) or π d t (tube).
     pub fn area_m2(&self) -> f64 {
         let d = self.diameter_nm * 1e-9;
-        std::f64::consts::PI * d * d / 4.0
+        match &self.section {
+            None => std::f64::consts::PI * d * d / 4.0,
+            Some(Section { tube }) => std::f64::consts::PI * d * tube.wall_nm * 1e-9,
+        }
     }
 
-    /// Second moment of area in m⁴.
+    /// Second moment of area in m⁴: πd⁴/64 (solid circle) or π d t (d² + t²)/8 (tube).
     pub fn inertia_m4(&self) -> f64 {
         let d = self.diameter_nm * 1e-9;
-        std::f64::consts::PI * d.powi(4) / 64.0
+        match &self.section {
+            None => std::f64::consts::PI * d.powi(4) / 64.0,
+            Some(Section { tube }) => {
+                let t = tube.wall_nm * 1e-9;
+                std::f64::consts::PI * d * t * (d * d + t * t) / 8.0
+            }
+        }
+    }
+
+    /// The Timoshenko shear coefficient of this beam's section for Poisson's
+    /// ratio ν (Cowper 1966): the default κ when shear deformation is turned
+    /// on without one.
+    pub fn default_shear_coefficient(&self, poisson_ratio: f64) -> f64 {
+        match self.section {
+            None => solid_circle_shear_coefficient(poisson_ratio),
+            Some(_) => thin_tube_shear_coefficient(poisson_ratio),
+        }
     }
 
     /// Parses YAML (unknown fields rejected) and validates. Parse errors are

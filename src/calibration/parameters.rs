@@ -273,15 +273,12 @@ fn point_mass_mut(beam: &mut BeamSpec) -> &mut PointMass {
 /// in-plane 0.16–0.19). Only G = E/(2(1 + ν)) depends on it, through κG.
 pub const DEFAULT_POISSON_RATIO: f64 = 0.2;
 
-/// Default shear coefficient likewise: the solid circle's 6(1+ν)/(7+6ν) at ν = 0.2
-/// (Cowper, J. Appl. Mech. 33 (1966) 335–340).
-pub const DEFAULT_SHEAR_COEFFICIENT: f64 = 6.0 * 1.2 / 8.2;
-
+/// Shear deformation as a calibration turns it on: ν = [`DEFAULT_POISSON_RATIO`]
+/// and the section's shear coefficient at that ν (`BeamSpec::default_shear_coefficient`:
+/// solid circle or thin tube, Cowper 1966).
 fn shear_mut(beam: &mut BeamSpec) -> &mut ShearDeformation {
-    beam.shear_deformation.get_or_insert(ShearDeformation {
-        poisson_ratio: DEFAULT_POISSON_RATIO,
-        shear_coefficient: DEFAULT_SHEAR_COEFFICIENT,
-    })
+    let shear_coefficient = beam.default_shear_coefficient(DEFAULT_POISSON_RATIO);
+    beam.shear_deformation.get_or_insert(ShearDeformation { poisson_ratio: DEFAULT_POISSON_RATIO, shear_coefficient })
 }
 
 /// The prior's support must lie in the parameter's physical range: [0, ∞)

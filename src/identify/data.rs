@@ -7,6 +7,7 @@
 //! | `omega_rad_s,h_abs_m_per_n` | receptance magnitude only |
 //! | `omega_rad_s,psd_m2_s_per_rad` | displacement power spectral density |
 //! | `time_s,displacement_m` | free decay / impulse response, uniform sampling |
+//! | `time_s,thermal_<name>_m[,…]` | thermal motion, uniform sampling: turned into the PSD record ([`super::thermal`]) |
 //!
 //! Lab units are accepted under their own names ([`UNIT_ALIASES`]):
 //! `frequency_hz` for `omega_rad_s`, `h_db_re_1_m_per_n` for
@@ -143,8 +144,10 @@ impl Measurement {
             .map(str::to_string)
             .collect();
         let alias = |n: &str| UNIT_ALIASES.iter().find(|a| a.0 == n).copied();
+        // a thermal-motion record (`thermal`) is read like a time record with more columns
+        let thermal = super::thermal::is_thermal(&header);
         let canonical: Vec<String> = header.iter().map(|n| alias(n).map_or(n.clone(), |a| a.1.to_string())).collect();
-        let kind = kind_of(&canonical)?;
+        let kind = if thermal { 3 } else { kind_of(&canonical)? };
         // the names in messages are the record's own
         let shown: Vec<&str> = header.iter().map(String::as_str).collect();
         let names: &[&str] = &shown;
@@ -220,6 +223,11 @@ impl Measurement {
             _ => {
                 check_uniform(&x)?;
                 check_not_all_zero(names[1], y.iter().all(|&v| v == 0.0), y.len())?;
+                if thermal {
+                    let segments: Vec<Vec<f64>> = std::iter::once(y).chain(cols).collect();
+                    let (omega_rad_s, psd_m2_s_per_rad) = super::thermal::psd_of(&x, &segments)?;
+                    return Ok(Self::Psd { omega_rad_s, psd_m2_s_per_rad });
+                }
                 Self::Time { time_s: x, displacement_m: y }
             }
         })

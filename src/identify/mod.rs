@@ -34,6 +34,7 @@ pub mod noise;
 pub mod pencil;
 pub mod refine;
 pub mod stabilisation;
+pub mod thermal;
 
 use num_complex::Complex64;
 use rayon::prelude::*;

@@ -1,0 +1,129 @@
+//! Thermal-motion records (`time_s,thermal_<name>_m,…`) read into the PSD
+//! record by `identify::data` (Welch, `src/identify/thermal.rs`).
+//!
+//! Generator: a second-order autoregressive process x_k = φ1 x_{k−1} +
+//! φ2 x_{k−2} + e_k (a sampled damped oscillator driven by white noise),
+//! seeded ChaCha8 Gaussian noise, written here. References independent of the
+//! code under test: the AR(2) variance and autocorrelation in closed form
+//! (Box & Jenkins, *Time Series Analysis*, §3.2.4), its spectral peak
+//! cos ωΔt = φ1(φ2 − 1)/(4φ2), and Bartlett's formula for the standard error
+//! of a sample variance.
+
+use nanobeam::identify::data::Measurement;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, StandardNormal};
+
+const DT: f64 = 2e-14;
+
+/// AR(2) with poles at r·e^{±iθ}: (φ1, φ2).
+fn ar2(r: f64, theta: f64) -> (f64, f64) {
+    (2.0 * r * theta.cos(), -r * r)
+}
+
+fn series(phi: (f64, f64), n: usize, seed: u64) -> Vec<f64> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (mut a, mut b) = (0.0, 0.0);
+    // 20 000 samples of burn-in: the start's transient decays as r^k (r^20000 < 1e-80 at r = 0.99)
+    (0..n + 20_000)
+        .map(|_| {
+            let e: f64 = StandardNormal.sample(&mut rng);
+            let x = phi.0 * a + phi.1 * b + 1e-12 * e;
+            b = a;
+            a = x;
+            x
+        })
+        .skip(20_000)
+        .collect()
+}
+
+fn csv(columns: &[Vec<f64>]) -> String {
+    let mut s = String::from("time_s");
+    for i in 0..columns.len() {
+        s.push_str(&format!(",thermal_c{i}_m"));
+    }
+    s.push('\n');
+    for k in 0..columns[0].len() {
+        s.push_str(&format!("{:.9e}", k as f64 * DT));
+        for c in columns {
+            s.push_str(&format!(",{:.9e}", c[k]));
+        }
+        s.push('\n');
+    }
+    s
+}
+
+fn psd(text: &str) -> (Vec<f64>, Vec<f64>) {
+    match Measurement::from_csv(text).unwrap() {
+        Measurement::Psd { omega_rad_s, psd_m2_s_per_rad } => (omega_rad_s, psd_m2_s_per_rad),
+        other => panic!("not a PSD record: {other:?}"),
+    }
+}
+
+/// ∫S dω over the one-sided PSD is the variance (γ0 of the AR(2), closed
+/// form), and the PSD peaks at the AR(2) spectral peak.
+#[test]
+fn welch_psd_of_two_columns_has_the_variance_and_the_peak_of_the_process() {
+    let (r, theta) = (0.99, 0.3);
+    let phi = ar2(r, theta);
+    let n = 1 << 15;
+    let cols = [series(phi, n, 1), series(phi, n, 2)];
+    let (omega, s) = psd(&csv(&cols));
+    let d_omega = omega[1] - omega[0];
+    let total: f64 = s.iter().sum::<f64>() * d_omega;
+    // γ0 = (1 − φ2) σ² / ((1 + φ2)((1 − φ2)² − φ1²)), σ = 1e-12
+    let sigma2 = 1e-24;
+    let gamma0 = (1.0 - phi.1) * sigma2 / ((1.0 + phi.1) * ((1.0 - phi.1).powi(2) - phi.0 * phi.0));
+    // Bartlett: var(sample variance)/γ0² ≈ (2/N) Σ_{k∈ℤ} ρ_k², ρ from the AR(2) recursion;
+    // two independent columns of N samples each → N_total = 2N. The Hann-weighted Welch average
+    // uses the samples less evenly (effective count ≈ N·(Σw)²/(nΣw²) ≈ 0.9N with 50 % overlap);
+    // 5 standard errors on that count bound a false failure at < 1e-6.
+    let mut rho = vec![1.0, phi.0 / (1.0 - phi.1)];
+    for k in 2..5000 {
+        let next = phi.0 * rho[k - 1] + phi.1 * rho[k - 2];
+        rho.push(next);
+    }
+    let sum_rho2 = 2.0 * rho.iter().map(|p| p * p).sum::<f64>() - 1.0;
+    let se = (2.0 * sum_rho2 / (0.9 * 2.0 * n as f64)).sqrt();
+    assert!((total / gamma0 - 1.0).abs() < 5.0 * se, "∫S dω = {total:e}, γ0 = {gamma0:e}, se {se:.3}");
+    // peak: cos(ωΔt) = φ1(φ2 − 1)/(4φ2); the PSD's argmax may sit anywhere within the line's
+    // top, whose half-power half-width is ≈ (1 − r)/Δt: that is the tolerance
+    let w_peak = (phi.0 * (phi.1 - 1.0) / (4.0 * phi.1)).acos() / DT;
+    let k = (0..s.len()).max_by(|&a, &b| s[a].total_cmp(&s[b])).unwrap();
+    assert!((omega[k] - w_peak).abs() < (1.0 - r) / DT, "argmax {:e} vs {w_peak:e}", omega[k]);
+    // the chosen segment resolves the line: half-power width 2(1 − r)/Δt spans ≥ 4 bins
+    // (thermal::MIN_LINE_BINS), and not by a factor 2 more than needed (the segment is the
+    // shortest that keeps it so; the width's estimate may sit ±25 % off the true one)
+    let bins = 2.0 * (1.0 - r) / DT / d_omega;
+    assert!((4.0..=2.0 * 4.0 * 1.25).contains(&bins), "line spans {bins} bins of {d_omega:e}");
+}
+
+/// A line narrower than the finest resolution (a sinusoid: no width at
+/// all) is refused, and the message names a longer record.
+#[test]
+fn an_unresolved_line_is_refused_naming_the_record_length() {
+    let n = 1 << 12;
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    let col: Vec<f64> = (0..n)
+        .map(|k| {
+            let e: f64 = StandardNormal.sample(&mut rng);
+            1e-11 * (0.7 * k as f64).sin() + 1e-15 * e
+        })
+        .collect();
+    let e = Measurement::from_csv(&csv(&[col])).unwrap_err().to_string();
+    assert!(e.starts_with("invalid time_s = a record of"), "{e}");
+    assert!(e.contains("a record of at least"), "{e}");
+    assert!(!e.contains('\n'));
+}
+
+/// `time_s,displacement_m` stays the free-decay record; a header mixing
+/// thermal and other columns is not a thermal record.
+#[test]
+fn only_thermal_columns_make_a_thermal_record() {
+    let phi = ar2(0.99, 0.3);
+    let col = series(phi, 4096, 4);
+    let free = csv(std::slice::from_ref(&col)).replace("thermal_c0_m", "displacement_m");
+    assert!(matches!(Measurement::from_csv(&free).unwrap(), Measurement::Time { .. }));
+    let mixed = csv(&[col.clone(), col]).replace("thermal_c1_m", "displacement_m");
+    assert!(Measurement::from_csv(&mixed).is_err());
+}
