@@ -11,7 +11,7 @@
 //! ([`CliError::Input`]); a numerical or output failure raises
 //! `nanobeam.NumericalError` ([`CliError::Failure`]). The work runs on a
 //! worker thread while the calling thread waits without the GIL and checks
-//! Python's signals every [`SIGNAL_POLL`] ([`run_interruptible`]).
+//! Python's signals every 50 ms (`run_interruptible`).
 
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
@@ -209,8 +209,12 @@ fn frf_arrays(
 
 /// One variable for Python: name, dimensions (name, length), values as f64 bytes.
 type PyVariable = (String, Vec<(String, usize)>, Py<PyBytes>);
+/// String attributes: (name, value).
+type Attributes = Vec<(String, String)>;
 /// One group for Python: name, attributes, variables.
-type PyGroup = (String, Vec<(String, String)>, Vec<PyVariable>);
+type PyGroup = (String, Attributes, Vec<PyVariable>);
+/// A calibration for Python: the `--json` summary, the groups, the root attributes.
+type PyCalibration = (String, Vec<PyGroup>, Attributes);
 
 fn groups_to_py(py: Python<'_>, idata: &InferenceData) -> Vec<PyGroup> {
     idata
@@ -235,7 +239,7 @@ fn calibrate_groups(
     py: Python<'_>,
     measured_path: Option<String>,
     measured_text: Option<String>,
-) -> PyResult<(String, Vec<PyGroup>, Vec<(String, String)>)> {
+) -> PyResult<PyCalibration> {
     let source = Source::new(measured_path, measured_text, "measured")?;
     let (summary, idata) = run_interruptible(py, move || {
         let data = source.measured()?;
@@ -340,7 +344,8 @@ fn read_csv(path: &Path) -> Result<String, CliError> {
 /// examples without a YAML package).
 #[pyfunction]
 fn yaml_to_json(text: &str) -> PyResult<String> {
-    let value: serde_json::Value = nanobeam::error::parse_yaml(text).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let value: serde_json::Value =
+        nanobeam::error::parse_yaml(text).map_err(|e| PyValueError::new_err(e.to_string()))?;
     Ok(value.to_string())
 }
 
