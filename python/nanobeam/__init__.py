@@ -35,7 +35,7 @@ import numpy as np
 from . import _nanobeam
 from ._nanobeam import NumericalError, __version__
 
-__all__ = ["modal", "frf", "calibrate", "diagnose", "identify", "NumericalError", "__version__"]
+__all__ = ["modal", "frf", "calibrate", "diagnose", "identify", "read_yaml", "NumericalError", "__version__"]
 
 PathOrDict = Union[str, "os.PathLike[str]", Mapping]
 
@@ -290,3 +290,11 @@ def identify(
         )
     )
     return (doc["measured"], doc["identification"]) if return_identification else doc["measured"]
+
+
+def read_yaml(path: Union[str, "os.PathLike[str]"]) -> Dict[str, Any]:
+    """A YAML file as a dict, read by the library's YAML parser (no YAML
+    package needed): e.g. a BEAM.yaml or MEASURED.yaml to edit before
+    calling :func:`calibrate`, or the CLI's ``identify`` output."""
+    with open(os.fspath(path), encoding="utf-8") as f:
+        return json.loads(_nanobeam.yaml_to_json(f.read()))
