@@ -131,7 +131,9 @@ pub fn read_beam(path: &Path) -> Result<BeamSpec, CliError> {
 /// serde reports unknown variants/fields inside its message; lift the
 /// offending name into `value` and the expected set into `allowed` so the one
 /// line reads `invalid support = hinged: allowed one of `simply-supported`, …`.
-pub(crate) fn name_serde_value(mut e: InputError) -> InputError {
+/// Public so that other front ends (the Python package) that parse YAML text
+/// themselves print the CLI's line.
+pub fn name_serde_value(mut e: InputError) -> InputError {
     for key in ["unknown variant `", "unknown field `"] {
         if let Some(start) = e.allowed.find(key) {
             let rest = &e.allowed[start + key.len()..];

@@ -1,0 +1,300 @@
+"""nanobeam from Python: nonlocal viscoelastic nanobeams.
+
+The functions mirror the ``nanobeam`` command line and call the same Rust
+library, so the same input and seed give the same numbers, bit for bit:
+
+* :func:`modal` -- ``nanobeam modal BEAM.yaml --json``;
+* :func:`frf` -- ``nanobeam frf ...`` as numpy arrays;
+* :func:`calibrate` -- ``nanobeam calibrate MEASURED.yaml``: the groups of
+  ``inference_data.nc`` as an ``arviz.InferenceData`` built in memory (a dict
+  of numpy arrays when ArviZ is not installed);
+* :func:`diagnose` -- ``nanobeam diagnose MEASURED.yaml --json``;
+* :func:`identify` -- ``nanobeam identify DATA.csv --beam BEAM.yaml``: the
+  measured-data structure, ready for :func:`calibrate` and :func:`diagnose`.
+
+Inputs are the documented YAML structures as Python dicts (lengths in nm,
+everything else SI, the unit in every field name) or paths to the files.
+
+Errors: bad input raises ``ValueError`` with the one line the CLI prints
+(exit code 2); a numerical failure raises :class:`NumericalError` (exit code 1).
+The work runs without the GIL; Ctrl-C raises ``KeyboardInterrupt`` within
+50 ms (the computation itself then finishes in the background and its result
+is dropped).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import warnings
+from collections.abc import Mapping
+from typing import Any, Dict, Optional, Tuple, Union
+
+import numpy as np
+
+from . import _nanobeam
+from ._nanobeam import NumericalError, __version__
+
+__all__ = ["modal", "frf", "calibrate", "diagnose", "identify", "read_yaml", "NumericalError", "__version__"]
+
+PathOrDict = Union[str, "os.PathLike[str]", Mapping]
+
+
+def _plain(obj: Any) -> Any:
+    """JSON fallback for numpy scalars and arrays inside input dicts."""
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    raise TypeError(f"{type(obj).__name__} is not a number, string, list or dict")
+
+
+def _source(obj: Any, what: str) -> Tuple[Optional[str], Optional[str]]:
+    """(path, text): a path is read by the library as the CLI reads it; a dict
+    becomes JSON text, which is YAML, parsed by the same code as a file."""
+    if isinstance(obj, (str, os.PathLike)):
+        return os.fspath(obj), None
+    if isinstance(obj, Mapping):
+        return None, json.dumps(obj, default=_plain)
+    raise TypeError(f"{what}: expected a path or a dict, got {type(obj).__name__}")
+
+
+def _array(raw: bytes, shape: Tuple[int, ...] = (-1,)) -> np.ndarray:
+    return np.frombuffer(raw, dtype="<f8").reshape(shape).astype(np.float64)
+
+
+def modal(beam: PathOrDict, modes: int = 3) -> Dict[str, Any]:
+    """Natural frequencies and damping ratios of a beam (``nanobeam modal --json``).
+
+    Parameters
+    ----------
+    beam : dict or path
+        The beam description (the BEAM.yaml structure).
+    modes : int
+        Number of physical modes (1 to the mesh's free DOFs).
+
+    Returns
+    -------
+    dict
+        ``{"modes": [{"mode", "omega_rad_s", "zeta", "pole_re_rad_s",
+        "pole_im_rad_s"}, ...]}``, plus ``"overdamped_modes"`` when a physical
+        mode has no oscillatory pair (mode numbers are physical).
+    """
+    path, text = _source(beam, "beam")
+    return json.loads(_nanobeam.modal_json(path, text, int(modes)))
+
+
+def frf(
+    beam: PathOrDict,
+    *,
+    input_x_nm: float,
+    output_x_nm: float,
+    from_rad_s: float,
+    to_rad_s: float,
+    points: int,
+    log: bool = False,
+) -> Dict[str, np.ndarray]:
+    """Receptance between a point force and a point displacement (``nanobeam frf``).
+
+    The frequency grid is linear (or logarithmic with ``log=True``) from
+    ``from_rad_s`` to ``to_rad_s`` inclusive, ``points`` frequencies.
+
+    Returns
+    -------
+    dict of numpy arrays
+        ``omega_rad_s``, ``h_m_per_n`` (complex receptance, m/N),
+        ``magnitude_m_per_n`` and ``phase_rad``: the columns of ``--json``.
+    """
+    path, text = _source(beam, "beam")
+    w, re, im = _nanobeam.frf_arrays(
+        path,
+        text,
+        float(input_x_nm),
+        float(output_x_nm),
+        float(from_rad_s),
+        float(to_rad_s),
+        int(points),
+        bool(log),
+    )
+    h = _array(re) + 1j * _array(im)
+    return {
+        "omega_rad_s": _array(w),
+        "h_m_per_n": h,
+        "magnitude_m_per_n": np.abs(h),
+        "phase_rad": np.angle(h),
+    }
+
+
+def _idata_dict(groups) -> Dict[str, Dict[str, np.ndarray]]:
+    return {
+        name: {v: _array(raw, tuple(n for _, n in dims)) for v, dims, raw in variables}
+        for name, _attrs, variables in groups
+    }
+
+
+def _idata_arviz(az, groups, attributes):
+    import xarray as xr
+
+    datasets = {}
+    for name, attrs, variables in groups:
+        data_vars = {}
+        coords: Dict[str, np.ndarray] = {}
+        for v, dims, raw in variables:
+            shape = tuple(n for _, n in dims)
+            data_vars[v] = ([d for d, _ in dims], _array(raw, shape))
+            for d, n in dims:
+                coords.setdefault(d, np.arange(n, dtype=np.int64))
+        datasets[name] = xr.Dataset(data_vars, coords=coords, attrs=dict(attrs))
+    idata = az.InferenceData(**datasets)
+    return idata
+
+
+def calibrate(
+    measured: PathOrDict,
+    *,
+    return_summary: bool = False,
+    use_arviz: Optional[bool] = None,
+):
+    """Bayesian calibration (DRAM) against measured modal data (``nanobeam calibrate``).
+
+    The sampler settings, the seed and the parameters come from the
+    measured-data structure, as for the CLI; the draws are the CLI's, bit for
+    bit, at any thread count.
+
+    Parameters
+    ----------
+    measured : dict or path
+        The measured-data structure (MEASURED.yaml): beam, modes, optional
+        held_out_modes, mode_scans, parameters and sampler.
+    return_summary : bool
+        Also return the summary the CLI prints with ``--json``.
+    use_arviz : bool or None
+        ``None`` (default): an ``arviz.InferenceData`` when ArviZ imports, else
+        a dict; ``False``: always the dict; ``True``: ArviZ is required.
+
+    Returns
+    -------
+    arviz.InferenceData or dict
+        The groups of ``inference_data.nc`` (``posterior``, ``sample_stats``,
+        ``log_likelihood``, ``observed_data``, ``prior``) with the same
+        variables, dimensions, draws and attributes; without ArviZ a dict
+        ``{group: {variable: ndarray}}``. With ``return_summary=True`` a
+        tuple ``(idata, summary)``.
+
+    Calibration warnings (frozen chains, R-hat, ESS) are issued as Python
+    warnings, and are in ``summary["warnings"]``.
+    """
+    path, text = _source(measured, "measured")
+    summary_text, groups, attributes = _nanobeam.calibrate_groups(path, text)
+    summary = json.loads(summary_text)
+    for w in summary.get("warnings", []):
+        warnings.warn(w, RuntimeWarning, stacklevel=2)
+    az = None
+    if use_arviz is None or use_arviz:
+        try:
+            import arviz as az  # noqa: F811
+        except ImportError:
+            if use_arviz:
+                raise
+            az = None
+    idata = _idata_arviz(az, groups, attributes) if az is not None else _idata_dict(groups)
+    return (idata, summary) if return_summary else idata
+
+
+def diagnose(
+    measured: PathOrDict,
+    *,
+    samples: Optional[int] = None,
+    thorough: bool = False,
+) -> Dict[str, Any]:
+    """Model diagnosis: misfit checks, candidate causes by evidence, gain (``nanobeam diagnose --json``).
+
+    Parameters
+    ----------
+    measured : dict or path
+        The measured-data structure: beam, at least 3 modes, optional
+        held_out_modes and mode_scans, parameters, sampler (its seed is used).
+    samples : int, optional
+        TMCMC samples per stage per model (default 400, or 1000 with ``thorough``).
+    thorough : bool
+        The library's longer default runs instead of the validated quick settings.
+
+    Returns
+    -------
+    dict
+        The structure ``nanobeam diagnose --json`` prints (``misfit_detected``,
+        ``cause``, ``causes``, ``explained``, ``gain``, ``candidates``,
+        ``alternatives``, ``next_measurement``, ...).
+    """
+    path, text = _source(measured, "measured")
+    return json.loads(
+        _nanobeam.diagnose_json(path, text, None if samples is None else int(samples), bool(thorough))
+    )
+
+
+def _csv_text(columns: Mapping) -> str:
+    names = list(columns)
+    cols = [np.asarray(columns[n], dtype=np.float64).ravel() for n in names]
+    if len({len(c) for c in cols}) > 1:
+        raise ValueError("invalid data: allowed columns of one length")
+    rows = (",".join(repr(float(x)) for x in row) for row in zip(*cols))
+    return ",".join(names) + "\n" + "\n".join(rows) + "\n"
+
+
+def identify(
+    data: Union[str, "os.PathLike[str]", Mapping],
+    beam: PathOrDict,
+    *,
+    modes: Optional[int] = None,
+    first_mode: Optional[int] = None,
+    max_order: int = 40,
+    return_identification: bool = False,
+):
+    """Modal identification of a lab record (``nanobeam identify DATA.csv --beam BEAM.yaml``).
+
+    Parameters
+    ----------
+    data : path or dict
+        The record: a CSV path, or a dict ``{column name: 1-D array}`` with the
+        CSV's columns (the header names the kind, e.g. ``omega_rad_s,
+        h_re_m_per_n, h_im_m_per_n`` for a complex receptance).
+    beam : dict or path
+        The nominal beam: copied into the result, and used to number the modes.
+    modes, first_mode, max_order :
+        As ``--modes``, ``--first-mode``, ``--max-order``.
+
+    Returns
+    -------
+    dict
+        The measured-data structure (``beam`` and ``modes``), ready for
+        :func:`calibrate` and :func:`diagnose`. With
+        ``return_identification=True`` a tuple ``(measured, identification)``
+        where ``identification`` is what ``--json`` prints.
+    """
+    if isinstance(data, Mapping):
+        data_path, data_text = None, _csv_text(data)
+    elif isinstance(data, (str, os.PathLike)):
+        data_path, data_text = os.fspath(data), None
+    else:
+        raise TypeError(f"data: expected a path or a dict of columns, got {type(data).__name__}")
+    beam_path, beam_text = _source(beam, "beam")
+    doc = json.loads(
+        _nanobeam.identify_json(
+            data_path,
+            data_text,
+            beam_path,
+            beam_text,
+            None if modes is None else int(modes),
+            None if first_mode is None else int(first_mode),
+            int(max_order),
+        )
+    )
+    return (doc["measured"], doc["identification"]) if return_identification else doc["measured"]
+
+
+def read_yaml(path: Union[str, "os.PathLike[str]"]) -> Dict[str, Any]:
+    """A YAML file as a dict, read by the library's YAML parser (no YAML
+    package needed): e.g. a BEAM.yaml or MEASURED.yaml to edit before
+    calling :func:`calibrate`, or the CLI's ``identify`` output."""
+    with open(os.fspath(path), encoding="utf-8") as f:
+        return json.loads(_nanobeam.yaml_to_json(f.read()))

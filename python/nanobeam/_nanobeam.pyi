@@ -1,0 +1,39 @@
+"""The compiled half (PyO3); use the functions of ``nanobeam`` instead."""
+
+from typing import List, Optional, Tuple
+
+__version__: str
+
+class NumericalError(Exception): ...
+
+def modal_json(beam_path: Optional[str], beam_text: Optional[str], modes: int) -> str: ...
+def frf_arrays(
+    beam_path: Optional[str],
+    beam_text: Optional[str],
+    input_x_nm: float,
+    output_x_nm: float,
+    from_rad_s: float,
+    to_rad_s: float,
+    points: int,
+    log: bool,
+) -> Tuple[bytes, bytes, bytes]: ...
+def calibrate_groups(
+    measured_path: Optional[str], measured_text: Optional[str]
+) -> Tuple[
+    str,
+    List[Tuple[str, List[Tuple[str, str]], List[Tuple[str, List[Tuple[str, int]], bytes]]]],
+    List[Tuple[str, str]],
+]: ...
+def diagnose_json(
+    measured_path: Optional[str], measured_text: Optional[str], samples: Optional[int], thorough: bool
+) -> str: ...
+def identify_json(
+    data_path: Optional[str],
+    data_text: Optional[str],
+    beam_path: Optional[str],
+    beam_text: Optional[str],
+    modes: Optional[int],
+    first_mode: Optional[int],
+    max_order: int,
+) -> str: ...
+def yaml_to_json(text: str) -> str: ...

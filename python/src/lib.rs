@@ -1,0 +1,363 @@
+//! `nanobeam._nanobeam`: the compiled half of the Python package (PyO3).
+//!
+//! Each function mirrors one CLI command of `nanobeam::cli` and calls the
+//! library the way that command does, so its numbers, its seeds' draws and
+//! its error lines are the CLI's. Results cross into Python as JSON text (the
+//! structures the CLI prints with `--json`) or as little-endian `f64` bytes
+//! (numpy arrays); the Python half (`nanobeam/__init__.py`) turns them into
+//! dicts, numpy arrays and `arviz.InferenceData`.
+//!
+//! Conventions: bad input raises `ValueError` with the CLI's one-line message
+//! ([`CliError::Input`]); a numerical or output failure raises
+//! `nanobeam.NumericalError` ([`CliError::Failure`]). The work runs on a
+//! worker thread while the calling thread waits without the GIL and checks
+//! Python's signals every 50 ms (`run_interruptible`).
+
+use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::time::Duration;
+
+use nanobeam::beam::{frf_each, max_frequency_rad_s, modal, BeamError, BeamSpec, MAX_OMEGA_TILDE};
+use nanobeam::calibration::identified::{measured_file, number_modes};
+use nanobeam::calibration::output::{inference_data, InferenceContext};
+use nanobeam::calibration::{calibrate, BeamPosterior, CalibrateOptions, MeasuredData, ModeObservation};
+use nanobeam::cli::{self, CliError};
+use nanobeam::error::{fmt_num, InputError};
+use nanobeam::identify::{identify, IdentifySettings, Measurement};
+use nanobeam::report::inference_data::InferenceData;
+use pyo3::create_exception;
+use pyo3::exceptions::{PyException, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyBytes;
+
+create_exception!(
+    _nanobeam,
+    NumericalError,
+    PyException,
+    "A numerical failure on valid input (the CLI's exit code 1): a solver that did not converge, \
+     chains that cannot sample, a model that fails at every prior draw."
+);
+
+/// How often the waiting thread looks at Python's signals (Ctrl-C): short
+/// enough to feel immediate, long enough to cost nothing.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// Stack of the worker thread: the size of a main thread's on Linux, which
+/// is what the CLI runs the same code on.
+const WORKER_STACK: usize = 8 << 20;
+
+fn to_py(e: CliError) -> PyErr {
+    match e {
+        CliError::Input(_) => PyValueError::new_err(e.to_string()),
+        CliError::Failure(_) => NumericalError::new_err(e.to_string()),
+    }
+}
+
+/// Runs `work` on a worker thread; the calling thread releases the GIL and
+/// waits, checking Python's signals every [`SIGNAL_POLL`]. A pending
+/// `KeyboardInterrupt` (or any signal handler's exception) is raised at once;
+/// the worker then runs to its end in the background and its result is
+/// dropped (the library has no cancellation point, and nothing it computes
+/// is written anywhere, so nothing partial is left behind).
+fn run_interruptible<T, F>(py: Python<'_>, work: F) -> PyResult<T>
+where
+    T: Send + 'static,
+    F: FnOnce() -> Result<T, CliError> + Send + 'static,
+{
+    let (tx, rx) = mpsc::channel();
+    std::thread::Builder::new()
+        .name("nanobeam".into())
+        .stack_size(WORKER_STACK)
+        .spawn(move || {
+            let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(work));
+            // The receiver is gone only after an interrupt: the result is not wanted.
+            let _ = tx.send(result);
+        })
+        .map_err(|e| NumericalError::new_err(format!("error: cannot start a worker thread: {e}")))?;
+    let mut rx = rx;
+    loop {
+        // moved in and out: a `Receiver` is `Send` but not `Sync`
+        let (back, received) = py.allow_threads(move || {
+            let r = rx.recv_timeout(SIGNAL_POLL);
+            (rx, r)
+        });
+        rx = back;
+        match received {
+            Ok(Ok(result)) => return result.map_err(to_py),
+            Ok(Err(panic)) => {
+                let what = panic
+                    .downcast_ref::<&str>()
+                    .map(|s| s.to_string())
+                    .or_else(|| panic.downcast_ref::<String>().cloned())
+                    .unwrap_or_default();
+                return Err(NumericalError::new_err(format!("error: internal failure: {what}")));
+            }
+            Err(mpsc::RecvTimeoutError::Timeout) => py.check_signals()?,
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(NumericalError::new_err("error: internal failure: the worker thread vanished"))
+            }
+        }
+    }
+}
+
+/// Where a YAML document comes from: a path (read as the CLI reads it) or
+/// the text the Python side made of a dict.
+enum Source {
+    Path(PathBuf),
+    Text(String),
+}
+
+impl Source {
+    fn new(path: Option<String>, text: Option<String>, what: &str) -> PyResult<Self> {
+        match (path, text) {
+            (Some(p), None) => Ok(Source::Path(p.into())),
+            (None, Some(t)) => Ok(Source::Text(t)),
+            _ => Err(PyValueError::new_err(format!("invalid {what}: allowed a path or a dict"))),
+        }
+    }
+
+    fn beam(&self) -> Result<BeamSpec, CliError> {
+        match self {
+            Source::Path(p) => cli::read_beam(p),
+            Source::Text(t) => BeamSpec::from_yaml(t).map_err(|e| CliError::Input(cli::name_serde_value(e))),
+        }
+    }
+
+    fn measured(&self) -> Result<MeasuredData, CliError> {
+        match self {
+            Source::Path(p) => cli::read_measured(p),
+            Source::Text(t) => MeasuredData::from_yaml(t).map_err(|e| CliError::Input(cli::name_serde_value(e))),
+        }
+    }
+}
+
+/// `nanobeam modal BEAM.yaml --modes K --json`: the JSON text.
+#[pyfunction]
+#[pyo3(signature = (beam_path, beam_text, modes))]
+fn modal_json(py: Python<'_>, beam_path: Option<String>, beam_text: Option<String>, modes: usize) -> PyResult<String> {
+    let source = Source::new(beam_path, beam_text, "beam")?;
+    run_interruptible(py, move || {
+        let beam = source.beam()?;
+        let dofs = beam.free_dofs();
+        if modes == 0 || modes > dofs {
+            return Err(InputError::new(
+                "--modes",
+                modes,
+                format!("1..={dofs} (physical modes of this mesh: its free DOFs)"),
+            )
+            .into());
+        }
+        let result = modal(&beam, modes)?;
+        Ok(cli::modal::json(&result))
+    })
+}
+
+fn f64_bytes(values: &[f64]) -> Vec<u8> {
+    values.iter().flat_map(|v| v.to_le_bytes()).collect()
+}
+
+/// `nanobeam frf`: (ω, Re H, Im H) as little-endian f64 bytes.
+#[pyfunction]
+#[pyo3(signature = (beam_path, beam_text, input_x_nm, output_x_nm, from_rad_s, to_rad_s, points, log))]
+#[allow(clippy::too_many_arguments)]
+fn frf_arrays(
+    py: Python<'_>,
+    beam_path: Option<String>,
+    beam_text: Option<String>,
+    input_x_nm: f64,
+    output_x_nm: f64,
+    from_rad_s: f64,
+    to_rad_s: f64,
+    points: usize,
+    log: bool,
+) -> PyResult<(Py<PyBytes>, Py<PyBytes>, Py<PyBytes>)> {
+    let source = Source::new(beam_path, beam_text, "beam")?;
+    let args = cli::frf::FrfArgs {
+        beam: PathBuf::new(),
+        input_x_nm,
+        output_x_nm,
+        from_rad_s,
+        to_rad_s,
+        points,
+        log,
+        json: false,
+        csv: false,
+    };
+    let (w, re, im) = run_interruptible(py, move || {
+        // the CLI's order: the beam, the grid, the frequency bound, then the solves
+        let beam = source.beam()?;
+        let grid = cli::frf::grid(&args)?;
+        let max_w = max_frequency_rad_s(&beam)?;
+        if args.to_rad_s > max_w {
+            return Err(InputError::new(
+                "--to-rad-s",
+                fmt_num(args.to_rad_s),
+                format!("<= {max_w:e} ({MAX_OMEGA_TILDE:e} x omega_ref of this beam)"),
+            )
+            .into());
+        }
+        let (mut re, mut im) = (Vec::with_capacity(grid.len()), Vec::with_capacity(grid.len()));
+        frf_each(&beam, args.input_x_nm, args.output_x_nm, grid.iter().copied(), |_, z| {
+            re.push(z.re);
+            im.push(z.im);
+            Ok::<(), BeamError>(())
+        })?;
+        Ok((f64_bytes(&grid), f64_bytes(&re), f64_bytes(&im)))
+    })?;
+    Ok((PyBytes::new(py, &w).unbind(), PyBytes::new(py, &re).unbind(), PyBytes::new(py, &im).unbind()))
+}
+
+/// One variable for Python: name, dimensions (name, length), values as f64 bytes.
+type PyVariable = (String, Vec<(String, usize)>, Py<PyBytes>);
+/// String attributes: (name, value).
+type Attributes = Vec<(String, String)>;
+/// One group for Python: name, attributes, variables.
+type PyGroup = (String, Attributes, Vec<PyVariable>);
+/// A calibration for Python: the `--json` summary, the groups, the root attributes.
+type PyCalibration = (String, Vec<PyGroup>, Attributes);
+
+fn groups_to_py(py: Python<'_>, idata: &InferenceData) -> Vec<PyGroup> {
+    idata
+        .groups
+        .iter()
+        .map(|g| {
+            let vars = g
+                .variables
+                .iter()
+                .map(|v| (v.name.clone(), v.dims.clone(), PyBytes::new(py, &f64_bytes(&v.values)).unbind()))
+                .collect();
+            (g.name.clone(), g.attributes.clone(), vars)
+        })
+        .collect()
+}
+
+/// `nanobeam calibrate MEASURED.yaml --json --out DIR`: the `--json` summary
+/// text, and the groups and root attributes of `inference_data.nc`.
+#[pyfunction]
+#[pyo3(signature = (measured_path, measured_text))]
+fn calibrate_groups(
+    py: Python<'_>,
+    measured_path: Option<String>,
+    measured_text: Option<String>,
+) -> PyResult<PyCalibration> {
+    let source = Source::new(measured_path, measured_text, "measured")?;
+    let (summary, idata) = run_interruptible(py, move || {
+        let data = source.measured()?;
+        let result = calibrate(&data, &CalibrateOptions { progress: false })?;
+        let posterior = BeamPosterior::new(&data, data.parameters.clone());
+        let ctx = InferenceContext { posterior: &posterior, seed: data.sampler.seed };
+        let idata = inference_data(&result, &ctx);
+        idata.validate()?;
+        let summary = serde_json::to_string(&result.json()).expect("summary serialises");
+        Ok((summary, idata))
+    })?;
+    let groups = groups_to_py(py, &idata);
+    Ok((summary, groups, idata.attributes))
+}
+
+/// `nanobeam diagnose MEASURED.yaml --json [--samples N] [--thorough]`: the JSON text.
+#[pyfunction]
+#[pyo3(signature = (measured_path, measured_text, samples, thorough))]
+fn diagnose_json(
+    py: Python<'_>,
+    measured_path: Option<String>,
+    measured_text: Option<String>,
+    samples: Option<usize>,
+    thorough: bool,
+) -> PyResult<String> {
+    let source = Source::new(measured_path, measured_text, "measured")?;
+    run_interruptible(py, move || {
+        let args = cli::diagnose::DiagnoseArgs {
+            measured: PathBuf::new(),
+            out: None,
+            json: true,
+            samples,
+            thorough,
+            quick: false,
+        };
+        // the CLI's order: the settings, then the file
+        let settings = cli::diagnose::settings(&args);
+        settings.validate()?;
+        let data = source.measured()?;
+        let run = nanobeam::diagnose::diagnose_run(&data, &settings)?;
+        Ok(serde_json::to_string(&run.diagnosis).expect("plain data"))
+    })
+}
+
+/// `nanobeam identify DATA.csv --beam BEAM.yaml`: `{"measured": <the
+/// measured-data file>, "identification": <the `--json` output>}` as JSON text.
+#[pyfunction]
+#[pyo3(signature = (data_path, data_text, beam_path, beam_text, modes, first_mode, max_order))]
+#[allow(clippy::too_many_arguments)]
+fn identify_json(
+    py: Python<'_>,
+    data_path: Option<String>,
+    data_text: Option<String>,
+    beam_path: Option<String>,
+    beam_text: Option<String>,
+    modes: Option<usize>,
+    first_mode: Option<usize>,
+    max_order: usize,
+) -> PyResult<String> {
+    let beam_source = Source::new(beam_path, beam_text, "beam")?;
+    let data_source = Source::new(data_path, data_text, "data")?;
+    run_interruptible(py, move || {
+        if max_order < 4 {
+            return Err(InputError::new("--max-order", max_order, ">= 4").into());
+        }
+        let beam = beam_source.beam()?;
+        let text = match &data_source {
+            Source::Path(p) => read_csv(p)?,
+            Source::Text(t) => t.clone(),
+        };
+        let record = Measurement::from_csv(&text)?;
+        let id = identify(&record, &IdentifySettings { modes, max_order })?;
+        let omegas: Vec<f64> = id.modes.iter().map(|m| m.omega_rad_s).collect();
+        let numbers = number_modes(&beam, &omegas, first_mode)?;
+        let observations: Vec<ModeObservation> = id
+            .modes
+            .iter()
+            .zip(&numbers)
+            .map(|(m, &mode)| ModeObservation {
+                mode,
+                omega_rad_s: m.omega_rad_s,
+                omega_sd_rad_s: m.omega_sd_rad_s,
+                zeta: m.zeta,
+                zeta_sd: m.zeta_sd,
+            })
+            .collect();
+        let file = measured_file(beam, observations.clone())?;
+        let doc = serde_json::json!({
+            "measured": file,
+            "identification": { "modes": observations, "identification": id },
+        });
+        Ok(serde_json::to_string(&doc).expect("plain data"))
+    })
+}
+
+fn read_csv(path: &Path) -> Result<String, CliError> {
+    std::fs::read_to_string(path)
+        .map_err(|e| InputError::new("DATA.csv", path.display(), format!("a readable CSV file ({e})")).into())
+}
+
+/// YAML text → JSON text (for reading the CLI's YAML output in tests and
+/// examples without a YAML package).
+#[pyfunction]
+fn yaml_to_json(text: &str) -> PyResult<String> {
+    let value: serde_json::Value =
+        nanobeam::error::parse_yaml(text).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok(value.to_string())
+}
+
+#[pymodule]
+fn _nanobeam(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("NumericalError", m.py().get_type::<NumericalError>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_function(wrap_pyfunction!(modal_json, m)?)?;
+    m.add_function(wrap_pyfunction!(frf_arrays, m)?)?;
+    m.add_function(wrap_pyfunction!(calibrate_groups, m)?)?;
+    m.add_function(wrap_pyfunction!(diagnose_json, m)?)?;
+    m.add_function(wrap_pyfunction!(identify_json, m)?)?;
+    m.add_function(wrap_pyfunction!(yaml_to_json, m)?)?;
+    Ok(())
+}
