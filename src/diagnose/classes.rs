@@ -234,14 +234,18 @@ pub struct NominalScales {
 impl NominalScales {
     /// Scales of `beam` with e0a = 0, no damping, no extensions, for modes 1..=`max_mode`.
     pub fn of(beam: &BeamSpec, max_mode: usize) -> Result<Self, BeamError> {
-        let elastic = BeamSpec::elastic(
-            beam.length_nm,
-            beam.diameter_nm,
-            beam.youngs_modulus_pa,
-            beam.density_kg_m3,
-            beam.support,
-            beam.elements,
-        );
+        // the same section as the beam's (a tube's A and I, not a solid circle's)
+        let elastic = BeamSpec {
+            section: beam.section,
+            ..BeamSpec::elastic(
+                beam.length_nm,
+                beam.diameter_nm,
+                beam.youngs_modulus_pa,
+                beam.density_kg_m3,
+                beam.support,
+                beam.elements,
+            )
+        };
         let modes = crate::beam::modal(&elastic, max_mode)?.modes;
         let buckling_load_n = crate::beam::buckling_load_n(&elastic)?.abs();
         Ok(Self {
