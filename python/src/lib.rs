@@ -18,12 +18,10 @@ use std::sync::mpsc;
 use std::time::Duration;
 
 use nanobeam::beam::{frf_each, max_frequency_rad_s, modal, BeamError, BeamSpec, MAX_OMEGA_TILDE};
-use nanobeam::calibration::identified::{measured_file, number_modes};
 use nanobeam::calibration::output::{inference_data, InferenceContext};
-use nanobeam::calibration::{calibrate, BeamPosterior, CalibrateOptions, MeasuredData, ModeObservation};
+use nanobeam::calibration::{calibrate, BeamPosterior, CalibrateOptions, MeasuredData};
 use nanobeam::cli::{self, CliError};
 use nanobeam::error::{fmt_num, InputError};
-use nanobeam::identify::{identify, IdentifySettings, Measurement};
 use nanobeam::report::inference_data::InferenceData;
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyValueError};
@@ -306,27 +304,14 @@ fn identify_json(
             return Err(InputError::new("--max-order", max_order, ">= 4").into());
         }
         let beam = beam_source.beam()?;
+        cli::identify::check_first_mode(first_mode, &beam)?;
         let text = match &data_source {
             Source::Path(p) => read_csv(p)?,
             Source::Text(t) => t.clone(),
         };
-        let record = Measurement::from_csv(&text)?;
-        let id = identify(&record, &IdentifySettings { modes, max_order })?;
-        let omegas: Vec<f64> = id.modes.iter().map(|m| m.omega_rad_s).collect();
-        let numbers = number_modes(&beam, &omegas, first_mode)?;
-        let observations: Vec<ModeObservation> = id
-            .modes
-            .iter()
-            .zip(&numbers)
-            .map(|(m, &mode)| ModeObservation {
-                mode,
-                omega_rad_s: m.omega_rad_s,
-                omega_sd_rad_s: m.omega_sd_rad_s,
-                zeta: m.zeta,
-                zeta_sd: m.zeta_sd,
-            })
-            .collect();
-        let file = measured_file(beam, observations.clone())?;
+        // the CLI's own identification, numbering and checks
+        let cli::identify::Identified { identification: id, observations, file } =
+            cli::identify::identify_record(beam, &text, modes, max_order, first_mode)?;
         let doc = serde_json::json!({
             "measured": file,
             "identification": { "modes": observations, "identification": id },

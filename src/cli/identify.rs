@@ -13,6 +13,7 @@ use serde::Serialize;
 
 use crate::beam::BeamSpec;
 use crate::calibration::identified::{measured_file, number_modes, to_yaml, EXTRA_PREDICTED};
+use crate::calibration::measured::MeasuredFile;
 use crate::calibration::ModeObservation;
 use crate::cli::{read_beam, write_out, CliError};
 use crate::error::InputError;
@@ -84,7 +85,7 @@ fn out_error(flag: &str, path: &Path, e: ReportError) -> CliError {
 /// `--first-mode` against the beam before anything is computed: at least 1,
 /// and at most the number of physical modes the `--beam` mesh has (its free
 /// DOFs), since the lowest identified mode is one of them.
-fn check_first_mode(first: Option<usize>, beam: &BeamSpec) -> Result<(), CliError> {
+pub fn check_first_mode(first: Option<usize>, beam: &BeamSpec) -> Result<(), CliError> {
     let dofs = beam.free_dofs();
     match first {
         Some(f) if f == 0 || f > dofs => Err(InputError::new(
@@ -131,6 +132,51 @@ fn record_error(e: InputError, record: &Measurement) -> CliError {
     CliError::Input(e)
 }
 
+/// A lab record identified, numbered against the nominal beam and turned into
+/// a measured-data file: what `nanobeam identify` writes and the Python front
+/// returns, computed by [`identify_record`] for both.
+pub struct Identified {
+    /// The poles, their σ and the fitted noise model.
+    pub identification: Identification,
+    /// The identified modes under their physical mode numbers.
+    pub observations: Vec<ModeObservation>,
+    /// The measured-data file of `beam` and `observations`.
+    pub file: MeasuredFile,
+}
+
+/// The record `text` (CSV) identified with at most `max_order` poles (`modes`
+/// of them if given), numbered against `beam` (from `first_mode` if given)
+/// and made a measured-data file. The caller has checked `max_order` and
+/// [`check_first_mode`] against the beam before reading the record; the
+/// identified count is checked against `first_mode` here.
+pub fn identify_record(
+    beam: BeamSpec,
+    text: &str,
+    modes: Option<usize>,
+    max_order: usize,
+    first_mode: Option<usize>,
+) -> Result<Identified, CliError> {
+    let record = Measurement::from_csv(text)?;
+    let id = identify(&record, &IdentifySettings { modes, max_order })?;
+    check_first_mode_fits(first_mode, id.modes.len(), &beam)?;
+    let omegas: Vec<f64> = id.modes.iter().map(|m| m.omega_rad_s).collect();
+    let numbers = number_modes(&beam, &omegas, first_mode)?;
+    let observations: Vec<ModeObservation> = id
+        .modes
+        .iter()
+        .zip(&numbers)
+        .map(|(m, &mode)| ModeObservation {
+            mode,
+            omega_rad_s: m.omega_rad_s,
+            omega_sd_rad_s: m.omega_sd_rad_s,
+            zeta: m.zeta,
+            zeta_sd: m.zeta_sd,
+        })
+        .collect();
+    let file = measured_file(beam, observations.clone()).map_err(|e| record_error(e, &record))?;
+    Ok(Identified { identification: id, observations, file })
+}
+
 pub fn run(args: &IdentifyArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
     if args.max_order < 4 {
         return Err(InputError::new("--max-order", args.max_order, ">= 4").into());
@@ -146,24 +192,8 @@ pub fn run(args: &IdentifyArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
     check_first_mode(args.first_mode, &beam)?;
     let text = std::fs::read_to_string(&args.data)
         .map_err(|e| InputError::new("DATA.csv", args.data.display(), format!("a readable CSV file ({e})")))?;
-    let record = Measurement::from_csv(&text)?;
-    let id = identify(&record, &IdentifySettings { modes: args.modes, max_order: args.max_order })?;
-    check_first_mode_fits(args.first_mode, id.modes.len(), &beam)?;
-    let omegas: Vec<f64> = id.modes.iter().map(|m| m.omega_rad_s).collect();
-    let numbers = number_modes(&beam, &omegas, args.first_mode)?;
-    let observations: Vec<ModeObservation> = id
-        .modes
-        .iter()
-        .zip(&numbers)
-        .map(|(m, &mode)| ModeObservation {
-            mode,
-            omega_rad_s: m.omega_rad_s,
-            omega_sd_rad_s: m.omega_sd_rad_s,
-            zeta: m.zeta,
-            zeta_sd: m.zeta_sd,
-        })
-        .collect();
-    let file = measured_file(beam, observations.clone()).map_err(|e| record_error(e, &record))?;
+    let Identified { identification: id, observations, file } =
+        identify_record(beam, &text, args.modes, args.max_order, args.first_mode)?;
     let comment = format!(
         "nanobeam identify {}: {} record, {} modes; sds from the fit (residual noise sd {:.4e}, {} residuals, {} parameters)",
         args.data.display(),
