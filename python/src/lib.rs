@@ -17,11 +17,11 @@ use std::path::{Path, PathBuf};
 use std::sync::mpsc;
 use std::time::Duration;
 
-use nanobeam::beam::{frf_each, max_frequency_rad_s, modal, BeamError, BeamSpec, MAX_OMEGA_TILDE};
+use nanobeam::beam::{frf_each, modal, BeamError, BeamSpec};
 use nanobeam::calibration::output::{inference_data, InferenceContext};
 use nanobeam::calibration::{calibrate, BeamPosterior, CalibrateOptions, MeasuredData};
 use nanobeam::cli::{self, CliError};
-use nanobeam::error::{fmt_num, InputError};
+use nanobeam::error::InputError;
 use nanobeam::report::inference_data::InferenceData;
 use pyo3::create_exception;
 use pyo3::exceptions::{PyException, PyValueError};
@@ -185,15 +185,7 @@ fn frf_arrays(
         // the CLI's order: the beam, the grid, the frequency bound, then the solves
         let beam = source.beam()?;
         let grid = cli::frf::grid(&args)?;
-        let max_w = max_frequency_rad_s(&beam)?;
-        if args.to_rad_s > max_w {
-            return Err(InputError::new(
-                "--to-rad-s",
-                fmt_num(args.to_rad_s),
-                format!("<= {max_w:e} ({MAX_OMEGA_TILDE:e} x omega_ref of this beam)"),
-            )
-            .into());
-        }
+        cli::frf::check_top_frequency(&beam, args.to_rad_s)?;
         let (mut re, mut im) = (Vec::with_capacity(grid.len()), Vec::with_capacity(grid.len()));
         frf_each(&beam, args.input_x_nm, args.output_x_nm, grid.iter().copied(), |_, z| {
             re.push(z.re);

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use clap::Args;
 use serde::Serialize;
 
-use crate::beam::{frf_each, max_frequency_rad_s, BeamError, MAX_OMEGA_TILDE};
+use crate::beam::{frf_each, max_frequency_rad_s, BeamError, BeamSpec, MAX_OMEGA_TILDE};
 use crate::cli::{read_beam, CliError};
 use crate::error::{fmt_num, InputError};
 
@@ -89,18 +89,25 @@ pub fn grid(args: &FrfArgs) -> Result<Vec<f64>, InputError> {
     Ok((0..args.points).map(|i| grid_point(args, i)).collect())
 }
 
-pub fn run(args: &FrfArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
-    let beam = read_beam(&args.beam)?;
-    check_grid(args)?;
-    let max_w = max_frequency_rad_s(&beam)?;
-    if args.to_rad_s > max_w {
+/// `--to-rad-s` within the band the FRF solver is tested on for this beam
+/// ([`MAX_OMEGA_TILDE`] × its reference frequency); shared with the Python front.
+pub fn check_top_frequency(beam: &BeamSpec, to_rad_s: f64) -> Result<(), CliError> {
+    let max_w = max_frequency_rad_s(beam)?;
+    if to_rad_s > max_w {
         return Err(InputError::new(
             "--to-rad-s",
-            fmt_num(args.to_rad_s),
+            fmt_num(to_rad_s),
             format!("<= {max_w:e} ({MAX_OMEGA_TILDE:e} x omega_ref of this beam)"),
         )
         .into());
     }
+    Ok(())
+}
+
+pub fn run(args: &FrfArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
+    let beam = read_beam(&args.beam)?;
+    check_grid(args)?;
+    check_top_frequency(&beam, args.to_rad_s)?;
     let mut w = std::io::BufWriter::with_capacity(1 << 16, out);
     let io = |e: std::io::Error| BeamError::Numerical(format!("cannot write output: {e}"));
     if args.csv {
