@@ -9,10 +9,10 @@ use nanobeam::diagnose::{
     diagnose, diagnose_run, report, synthetic, Alternative, BoundHit, DiagnoseError, DiagnoseSettings,
 };
 
-/// `nanobeam diagnose` at its default settings; returns the exit code and stderr.
-fn run_cli(input: &Path, out: &Path, json: bool) -> (i32, String) {
+/// `nanobeam diagnose` at its default settings and `flags`; returns the exit code and stderr.
+fn run_cli(input: &Path, out: &Path, json: bool, flags: &[&str]) -> (i32, String) {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_nanobeam"));
-    cmd.arg("diagnose").arg(input).arg("--out").arg(out);
+    cmd.arg("diagnose").arg(input).arg("--out").arg(out).args(flags);
     if json {
         cmd.arg("--json");
     }
@@ -62,7 +62,7 @@ fn cli_exits_2_and_leaves_out_dir_untouched_on_bad_input() {
     std::fs::write(out.join("sentinel"), "x").unwrap();
     // a directory nanobeam wrote before (its marker), so the bad file is what gets refused
     std::fs::write(out.join(".nanobeam-output"), "").unwrap();
-    let (code, stderr) = run_cli(&input, &out, true);
+    let (code, stderr) = run_cli(&input, &out, true, &[]);
     assert_eq!(code, 2);
     assert_eq!(stderr.lines().count(), 1, "one line: {stderr}");
     assert!(stderr.contains("modes"), "{stderr}");
@@ -77,7 +77,7 @@ fn report_directory_is_written_and_json_is_shaped() {
     let input = dir.path().join("m.yaml");
     std::fs::write(&input, serde_yaml::to_string(&case.file).unwrap()).unwrap();
     let out = dir.path().join("out");
-    assert_eq!(run_cli(&input, &out, false).0, 0);
+    assert_eq!(run_cli(&input, &out, false, &["--samples", "60"]).0, 0);
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     for f in ["report.md", "diagnosis.json", "residuals.svg", "probabilities.svg"] {
         assert!(out.join(f).is_file(), "{f} missing");
@@ -121,27 +121,30 @@ fn report_directory_is_written_and_json_is_shaped() {
     }
     assert!(["omega", "zeta"].contains(&v["misfit"][0]["quantity"].as_str().unwrap()));
     assert!(["importance", "tmcmc"].contains(&c["log_evidence_method"].as_str().unwrap()));
-    // the CLI's default is the library's quick settings (what the hidden-effect suite validates)
+    // the CLI runs the library's quick settings (what the hidden-effect suite
+    // validates; that no flag selects them is `cli::diagnose`'s unit test) with
+    // `--samples` the only change: the same diagnosis, byte for byte
     let data = case.data();
-    let mut run = diagnose_run(&data, &DiagnoseSettings::quick()).unwrap();
+    let settings = DiagnoseSettings { samples: 60, ..DiagnoseSettings::quick() };
+    let mut run = diagnose_run(&data, &settings).unwrap();
     // (as text: serde_json's default float parsing may be 1 ulp off)
     let written = std::fs::read_to_string(out.join("diagnosis.json")).unwrap();
     assert!(
         written == serde_json::to_string_pretty(&run.diagnosis).unwrap() + "\n",
-        "the default is not DiagnoseSettings::quick()"
+        "the CLI's diagnosis is not the library's at DiagnoseSettings::quick() with 60 samples"
     );
     // alternatives with no modal measurement to separate them: the report says so
     let d = &mut run.diagnosis;
     d.alternatives.clear();
     d.alternatives.push(Alternative { extension: "viscous-damping".into(), log_bayes_factor_gap: 0.5, misfits: true });
     d.next_measurement = None;
-    let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
+    let text = report::markdown(&run, &data, &settings).unwrap();
     assert!(text.contains("| viscous-damping | 0.5 | no: the misfit test rejects it |"), "{text}");
     assert!(text.contains("**Next measurement:** none needed: every alternative misfits."), "{text}");
     assert!(text.contains("An alternative that misfits is no explanation"), "{text}");
     let d = &mut run.diagnosis;
     d.alternatives[0].misfits = false;
-    let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
+    let text = report::markdown(&run, &data, &settings).unwrap();
     assert!(text.contains("| viscous-damping | 0.5 | yes |"), "{text}");
     assert!(!text.contains("An alternative that misfits is no explanation"), "{text}");
     assert!(text.contains("**Next measurement:** none of this kind"), "{text}");
@@ -150,7 +153,7 @@ fn report_directory_is_written_and_json_is_shaped() {
     let d = &mut run.diagnosis;
     d.alternatives[0].misfits = true;
     d.alternatives.push(Alternative { extension: "baseline-beta".into(), log_bayes_factor_gap: 0.4, misfits: false });
-    let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
+    let text = report::markdown(&run, &data, &settings).unwrap();
     assert!(text.contains("| baseline-beta (noise larger than the stated sds, no cause) | 0.4 | yes |"), "{text}");
     assert!(text.contains("**Next measurement:** repeat the measured modes to estimate their scatter"), "{text}");
     assert!(!text.contains("none needed: every alternative misfits"), "{text}");
@@ -162,7 +165,7 @@ fn report_directory_is_written_and_json_is_shaped() {
     let assessed = d.gain.extension.clone();
     let c = d.candidates.iter_mut().find(|c| c.extension == assessed).expect("the assessed model is a candidate");
     c.map_on_prior_bound.push(BoundHit { parameter: "shear_coefficient".into(), map: 0.3000016, bound: 0.3 });
-    let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
+    let text = report::markdown(&run, &data, &settings).unwrap();
     assert!(text.contains("`shear_coefficient` = 0.3000016 on its prior bound 0.3"), "{text}");
     // this case's assessed model has no mass; with a folded mass position the
     // report says the position is known only up to its mirror image
@@ -170,7 +173,7 @@ fn report_directory_is_written_and_json_is_shaped() {
     let d = &mut run.diagnosis;
     let c = d.candidates.iter_mut().find(|c| c.extension == assessed).expect("the assessed model is a candidate");
     c.point_mass_x_mirror_ambiguous = true;
-    let text = report::markdown(&run, &data, &DiagnoseSettings::quick()).unwrap();
+    let text = report::markdown(&run, &data, &settings).unwrap();
     assert!(text.contains("a mass at 8 nm − x fits the data equally well"), "{text}");
     // a fitted mode scan: the data line names it, its points get rows of their own and residual labels
     let mut scanned = data.clone();
@@ -179,7 +182,7 @@ fn report_directory_is_written_and_json_is_shaped() {
     let check = Check { mode: 2, quantity: "relative_amplitude", x_nm: Some(5.6), z: 0.5, ppp: 0.6, leverage: 0.1 };
     run.diagnosis.misfit.push(check);
     run.diagnosis.gain.misfit_after.push(check);
-    let text = report::markdown(&run, &scanned, &DiagnoseSettings::quick()).unwrap();
+    let text = report::markdown(&run, &scanned, &settings).unwrap();
     assert!(text.contains("; scan of mode 2: 2 points, drive at 7.80 nm)"), "{text}");
     assert!(text.contains("| 2 | relative_amplitude at 5.60 nm | 0.5 |"), "{text}");
     let figures = report::figures(&run).unwrap();

@@ -127,6 +127,66 @@ fn first_seed_of_every_single_cause_is_named_and_clean_data_raise_no_alarm() {
     assert_eq!(t.singles_right, t.singles, "singles {}/{}", t.singles_right, t.singles);
     assert_eq!(t.false_alarms, 0);
     assert_eq!(t.decided_wrong, 0, "a decided cause that is not a true cause");
+    if let Some(d) = t.diagnoses.get(&100) {
+        the_suggested_measurement_separates_the_rival(100, d);
+    }
+}
+
+/// The measurement `next_measurement` suggests must separate the two models
+/// it was chosen for, checked on seed 100's diagnosis (its first one, made by
+/// the test above, not repeated).
+///
+/// Seed 100 hides an extra relaxation; its data cannot separate it from a
+/// support spring (`support-rotational-stiffness` within the alternative
+/// margin), and since the search extends every single cause within the
+/// margin, the spring with an attached mass is an alternative too: the
+/// closest rival, which the suggestion must separate. The suggested
+/// observable is measured on the truth with the measurement noise the
+/// suggestion assumed (`OMEGA_REL_SD`, `ZETA_REL_SD`; one keyed normal draw),
+/// the other quantity of that mode given an sd 1e3 times larger so that only
+/// the suggested quantity informs; the diagnosis re-run on the extended data
+/// must select the truth with the rival beyond the margin. A separation of s
+/// predictive sds is worth ≈ s²/2 nats, so the check needs s ≳ 2.5 (asserted
+/// first) to clear the 3-nat margin.
+fn the_suggested_measurement_separates_the_rival(seed: u64, d: &Diagnosis) {
+    let settings = DiagnoseSettings::quick();
+    let case = generate_hidden(seed, &Hidden::causes(&[ExtraRelaxation]));
+    let truth = ExtraRelaxation.name();
+    println!("seed {seed} before: cause {} alternatives {:?} next {:?}", d.cause, d.alternatives, d.next_measurement);
+    assert_eq!(d.cause, truth);
+    let next = d.next_measurement.as_ref().expect("an alternative within the margin has a next measurement");
+    let rival = Model::from_name(&next.between[1]).expect("a model name");
+    assert!(!rival.causes().contains(&ExtraRelaxation), "{next:?}");
+    assert!(d.alternatives.iter().any(|a| a.extension == next.between[1]), "{next:?}");
+    assert!(next.separation_sd > 2.5, "{next:?}");
+
+    let mode = modal(&case.truth_beam, next.mode).unwrap().mode(next.mode).copied().expect("oscillatory mode");
+    let e: f64 = StandardNormal.sample(&mut stream(seed, Purpose::SyntheticCase, [1, 0]));
+    let (omega_sd, zeta_sd) = (OMEGA_REL_SD * mode.omega_rad_s, ZETA_REL_SD * mode.zeta);
+    let observation = if next.quantity == "omega" {
+        ModeObservation {
+            mode: next.mode,
+            omega_rad_s: mode.omega_rad_s + e * omega_sd,
+            omega_sd_rad_s: omega_sd,
+            zeta: mode.zeta,
+            zeta_sd: 1e3 * zeta_sd,
+        }
+    } else {
+        ModeObservation {
+            mode: next.mode,
+            omega_rad_s: mode.omega_rad_s,
+            omega_sd_rad_s: 1e3 * omega_sd,
+            zeta: mode.zeta + e * zeta_sd,
+            zeta_sd,
+        }
+    };
+    let mut file = case.file.clone();
+    file.modes.push(observation);
+    file.modes.sort_by_key(|m| m.mode);
+    let after = diagnose(&MeasuredData::from_file(file).unwrap(), &settings).unwrap();
+    println!("seed {seed} after: cause {} alternatives {:?}", after.cause, after.alternatives);
+    assert_eq!(after.cause, truth);
+    assert!(after.alternatives.iter().all(|a| a.extension != next.between[1]), "{:?}", after.alternatives);
 }
 
 /// The first pair has both causes named; the first foreign effect is `unexplained`.
@@ -219,6 +279,8 @@ struct Tally {
     pairs_noise_free_named: usize,
     /// Those named on the noisy data and on the noise-free data.
     pairs_named_both_ways: usize,
+    /// Every case's first diagnosis, by seed (for checks that build on one).
+    diagnoses: BTreeMap<u64, Diagnosis>,
 }
 
 /// The mode-shape advice checked on the truth: when one of the two models
@@ -403,6 +465,7 @@ fn tally(cases: Vec<(u64, Hidden)>, follow: Follow, noise_free: NoiseFree) -> Ta
     let mut confusion: BTreeMap<(String, String), usize> = BTreeMap::new();
     let mut t = Tally::default();
     for (seed, hidden, z, d, secs, after, shape, expected, scan_gap) in &results {
+        t.diagnoses.insert(*seed, d.clone());
         let truth = hidden.label();
         let got = verdict(d);
         *confusion.entry((truth.clone(), got.clone())).or_default() += 1;

@@ -109,4 +109,15 @@ mod tests {
         let fewer = DiagnoseSettings { samples: 77, ..DiagnoseSettings::quick() };
         assert_eq!(settings(&args(false, false, Some(77))), fewer);
     }
+
+    /// The command line as clap parses it: no flag is the validated settings
+    /// (what `tests/diagnose_cli.rs` relies on when it runs the binary with
+    /// fewer samples and compares it with the library at those samples).
+    #[test]
+    fn the_parsed_command_line_without_flags_is_the_quick_settings() {
+        use clap::Parser;
+        let cli = crate::cli::Cli::try_parse_from(["nanobeam", "diagnose", "m.yaml"]).expect("a valid command line");
+        let crate::cli::Command::Diagnose(a) = cli.command else { panic!("parsed as another command") };
+        assert_eq!(settings(&a), DiagnoseSettings::quick());
+    }
 }
