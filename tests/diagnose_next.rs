@@ -17,13 +17,15 @@
 //! beyond the 3-nat margin. A separation of s predictive sds is worth ≈ s²/2
 //! nats, so the test needs s ≳ 2.5 (asserted first).
 
+mod synthetic;
+
 use rand_distr::{Distribution, StandardNormal};
 
 use nanobeam::bayes::rng::{stream, Purpose};
 use nanobeam::beam::modal;
 use nanobeam::calibration::{MeasuredData, ModeObservation};
-use nanobeam::diagnose::synthetic::{generate_hidden, Hidden, OMEGA_REL_SD, ZETA_REL_SD};
 use nanobeam::diagnose::{diagnose, DiagnoseSettings, Model, ModelClass};
+use synthetic::{generate_hidden, Hidden, OMEGA_REL_SD, ZETA_REL_SD};
 
 #[test]
 fn the_suggested_measurement_separates_the_pair() {
