@@ -1,13 +1,13 @@
 //! Bad input and the output directory of `diagnose`.
 
+mod synthetic;
+
 use std::path::Path;
 use std::process::Command;
 
 use nanobeam::calibration::{MeasuredData, ModeScan, ScanPoint};
 use nanobeam::diagnose::ppc::Check;
-use nanobeam::diagnose::{
-    diagnose, diagnose_run, report, synthetic, Alternative, BoundHit, DiagnoseError, DiagnoseSettings,
-};
+use nanobeam::diagnose::{diagnose, diagnose_run, report, Alternative, BoundHit, DiagnoseError, DiagnoseSettings};
 
 /// `nanobeam diagnose` at its default settings and `flags`; returns the exit code and stderr.
 fn run_cli(input: &Path, out: &Path, json: bool, flags: &[&str]) -> (i32, String) {

@@ -44,6 +44,8 @@
 //! cores (2026-11-24), half CI's ~15-min budget; the whole suite runs with
 //! `cargo test --test diagnose_hidden -- --ignored --nocapture`.
 
+mod synthetic;
+
 use std::collections::BTreeMap;
 use std::time::Instant;
 
@@ -55,9 +57,9 @@ use nanobeam::bayes::rng::{stream, Purpose};
 use nanobeam::beam::modal;
 use nanobeam::calibration::{MeasuredData, ModeObservation, ModeScan};
 use nanobeam::diagnose::next::ShapeMeasurement;
-use nanobeam::diagnose::synthetic::{generate_hidden, Foreign, Hidden, SyntheticCase, OMEGA_REL_SD, ZETA_REL_SD};
 use nanobeam::diagnose::{decided_causes, diagnose, DiagnoseSettings, Diagnosis, Model, ModelClass};
 
+use synthetic::{generate_hidden, Foreign, Hidden, SyntheticCase, OMEGA_REL_SD, ZETA_REL_SD};
 use ModelClass::*;
 
 const PAIRS: [[ModelClass; 2]; 8] = [

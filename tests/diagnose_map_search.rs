@@ -3,10 +3,12 @@
 //! relaxation + mass posterior that TMCMC and the global prior-draw search
 //! both pass by.
 
+mod synthetic;
+
 use nanobeam::bayes::Posterior;
 use nanobeam::diagnose::evidence::run_model;
-use nanobeam::diagnose::synthetic::{generate_hidden, Hidden};
 use nanobeam::diagnose::{model_posterior, DiagnoseSettings, Model, ModelClass, NominalScales};
+use synthetic::{generate_hidden, Hidden};
 
 /// Largest shortfall of the MAP's log-likelihood below the exact fit that
 /// still counts as having found the mode. Every prior of these models is

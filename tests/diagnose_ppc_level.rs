@@ -32,14 +32,16 @@
 //! b = 8, h = 0.85, which no test of a single residual can see). Asserted: power
 //! at 8σ ≥ 0.5 and the curve does not fall by more than its Monte Carlo error.
 
+mod synthetic;
+
 use rayon::prelude::*;
 
 use nanobeam::bayes::rng::child_seed;
 use nanobeam::bayes::rng::Purpose;
 use nanobeam::diagnose::evidence::run_model;
 use nanobeam::diagnose::ppc::sidak_level;
-use nanobeam::diagnose::synthetic::{generate_hidden, Hidden};
 use nanobeam::diagnose::{fitted_checks, model_posterior, DiagnoseSettings, Model, NominalScales};
+use synthetic::{generate_hidden, Hidden};
 
 const REPLICATES: u64 = 200;
 const POWER_REPLICATES: u64 = 60;

@@ -1,6 +1,8 @@
 //! `nanobeam identify`: the command end to end, bad input, and a hidden
 //! effect found from a simulated sweep (sweep → identify → diagnose).
 
+mod synthetic;
+
 use std::path::Path;
 use std::process::Command;
 
@@ -8,7 +10,7 @@ use nanobeam::bayes::rng::{stream, Purpose};
 use nanobeam::beam::{frf, modal};
 use nanobeam::calibration::identified::{measured_file, number_modes};
 use nanobeam::calibration::{MeasuredData, ModeObservation};
-use nanobeam::diagnose::{diagnose, synthetic, DiagnoseSettings, ModelClass};
+use nanobeam::diagnose::{diagnose, DiagnoseSettings, ModelClass};
 use nanobeam::identify::{identify, IdentifySettings, Measurement};
 use num_complex::Complex64;
 use rand_distr::{Distribution, StandardNormal};

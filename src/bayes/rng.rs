@@ -30,12 +30,12 @@ pub enum Purpose {
     TmcmcMove = 6,
     /// Child seed of one model class in a diagnosis `[class, 0]`.
     ModelClass = 7,
-    /// Hidden-effect generator: which effect a case carries `[0, 0]`.
+    /// Hidden-effect generator of the tests (`tests/synthetic/mod.rs`, not shipped): which effect a case carries `[0, 0]`.
     SyntheticEffect = 8,
     /// Hidden-effect generator: the truth and its noise `[0, 0]`.
     SyntheticCase = 9,
     /// Hidden-effect generator: start points of the base fit that sizes an effect `[0, 0]`, of
-    /// the fit of catalogue model k (`synthetic::catalogue_models` order) to a foreign effect `[1 + k, 0]`.
+    /// the fit of catalogue model k (the generator's `catalogue_models` order) to a foreign effect `[1 + k, 0]`.
     SyntheticBaseFit = 10,
     /// Measurement noise of synthetic reference data `[case, replicate]`.
     MeasurementNoise = 11,

@@ -3,13 +3,16 @@
 //!
 //! Map: `spec` (YAML contract) → `element` (A3–A7) → `model` (assembly,
 //! supports, extensions, nondimensional scaling) → poles by `state_space`
-//! (A15, reference) or `modal` (exact decoupled families via `eigen` +
-//! `family`, or Rayleigh-quotient iteration on T(s) when the extensions couple the modes) →
+//! (A15, reference; `state_space_modal` turns them into modes) or `modal`
+//! (exact decoupled families via `eigen` + `family`, or, in `coupled`,
+//! Rayleigh-quotient iteration on T(s) when the extensions couple the modes;
+//! the result types in `modal_result`) →
 //! `frf` (direct banded solves); `time_response` (impulse response by the
 //! exact matrix exponential of the state space).
 
 pub(crate) mod band;
 mod buckling;
+mod coupled;
 pub(crate) mod dual;
 pub(crate) mod eigen;
 pub mod element;
@@ -17,21 +20,23 @@ mod error;
 pub(crate) mod family;
 mod frf;
 mod modal;
+mod modal_result;
 pub(crate) mod model;
 pub mod spec;
 mod spectrum;
 mod state_space;
+mod state_space_modal;
 mod time_response;
 
 pub use buckling::buckling_load_n;
 pub use error::BeamError;
 pub use frf::{frf, frf_each, frf_points, max_frequency_rad_s, MAX_OMEGA_TILDE};
-pub use modal::{
-    modal, modal_observables, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode, SolverPath,
-};
+pub use modal::{modal, modal_observables, ModalSolver};
+pub use modal_result::{ModalResult, Mode, SolverPath};
 pub use spec::{BeamSpec, InternalVariable, PointMass, ShearDeformation, Support};
 pub use spectrum::{
     certificates as spectrum_certificates, direct_eigenvalues, interpolated_eigenvalues,
     Certificate as SpectrumCertificate, CERTIFIED_TOL,
 };
+pub use state_space_modal::{modal_state_space, poles_state_space};
 pub use time_response::impulse_response;

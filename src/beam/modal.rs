@@ -22,75 +22,26 @@
 //! (it is not relaxed by G). Then `general_path` solves T(s)x = 0 pole by pole
 //! (nonlinear Rayleigh-quotient iteration).
 //!
-//! # What is reported
-//! Physical mode r is modal family r: the r-th eigenpair of the undamped,
-//! relaxed pencil (K̃ + K̃_spring, M̃) (for an undamped or lightly damped
-//! beam the same order as increasing |s|). Its oscillatory pair (the Im > 0
-//! member; with several internal variables the pair of largest |s|) gives
-//! ωᵣ = |sᵣ| (34), ζᵣ = −Re sᵣ/|sᵣ| (35). A family without a complex pair is
-//! an overdamped mode: it keeps its number and is reported with its real
-//! poles in [`ModalResult::overdamped`], so a measured "mode 2" is always
-//! physical mode 2. All real poles (relaxation, overdamped) of families
-//! 1..=n_modes are also listed in `real_poles_rad_s`.
+//! # Files
+//! This file holds the cached solver: [`ModalSolver`] with its eigenpair
+//! cache, the interpolated and direct decoupled paths (b), and the dispatch
+//! ([`ModalSolver::solve`]). The result types are in `modal_result.rs`, the
+//! coupled path (c) in `coupled.rs`, and the state-space path (a), the
+//! reference and fallback, in `state_space_modal.rs`.
 
 use std::collections::HashMap;
 
-use num_complex::Complex64;
-use serde::{Deserialize, Serialize};
-
-use crate::beam::band::{ldl_factor_for_inverse_iteration, ldl_solve, BandLu, ShiftedLdl, SymBand};
+use crate::beam::band::{ShiftedLdl, SymBand};
+use crate::beam::coupled::{general_path, Poles};
 use crate::beam::dual::Dual;
 use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
-use crate::beam::family::{decoupled_family_roots_into, family_roots, Roots, REAL_TOL};
+use crate::beam::family::{decoupled_family_roots_into, family_roots, Roots};
+use crate::beam::modal_result::{assemble, check_mode_count, oscillatory_pair, ModalResult, SolverPath};
 use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
 use crate::beam::spec::BeamSpec;
 use crate::beam::spectrum::SpectrumTable;
-use crate::beam::{state_space, BeamError};
-use crate::error::InputError;
-
-/// One oscillatory mode.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Mode {
-    /// 1-based index in order of increasing |s|.
-    pub mode: usize,
-    /// ωᵣ = |sᵣ| (eq. 34), rad/s.
-    pub omega_rad_s: f64,
-    /// ζᵣ = −Re(sᵣ)/|sᵣ| (eq. 35).
-    pub zeta: f64,
-    /// The pole with Im > 0, rad/s.
-    pub pole: Complex64,
-}
-
-/// An overdamped mode: its family has only real poles.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct OverdampedMode {
-    /// Physical mode number (1-based family index).
-    pub mode: usize,
-    /// The family's real poles in rad/s, sorted by magnitude.
-    pub poles_rad_s: Vec<f64>,
-}
-
-/// Physical modes 1..=n_modes: oscillatory ones in `modes`, overdamped ones
-/// in `overdamped` (each number in exactly one of them), and separately the
-/// real poles of those modal families.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ModalResult {
-    /// Oscillatory modes in increasing mode number (gaps where overdamped).
-    pub modes: Vec<Mode>,
-    /// Negative reals in rad/s, sorted by magnitude.
-    pub real_poles_rad_s: Vec<f64>,
-    /// Overdamped modes in increasing mode number.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub overdamped: Vec<OverdampedMode>,
-}
-
-impl ModalResult {
-    /// Oscillatory physical mode `number` (1-based); `None` when it is
-    /// overdamped or was not computed.
-    pub fn mode(&self, number: usize) -> Option<&Mode> {
-        self.modes.iter().find(|m| m.mode == number)
-    }
-}
+use crate::beam::state_space_modal::state_space_modal;
+use crate::beam::BeamError;
 
 /// Reusable solver: caches the unit mesh integrals (they depend only on the
 /// element count and the supports) and the pencil eigenpairs, so a call with
@@ -130,18 +81,6 @@ pub struct ModalSolver {
     last_interpolated: bool,
     lambdas: Vec<f64>,
     roots: Vec<Roots>,
-}
-
-/// Which method produced the last [`ModalSolver::modal`] result.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum SolverPath {
-    /// (b) exact decoupling into family polynomials.
-    Decoupled,
-    /// (c) coupling extensions: nonlinear Rayleigh-quotient iteration on T(s)
-    /// from each family's one-term approximation.
-    CoupledRqi,
-    /// (a) the state-space reference, used because (b)/(c) failed numerically.
-    StateSpaceFallback,
 }
 
 /// Grid start pencils kept per solver (≈ 6 kB each for 6 modes of a
@@ -382,7 +321,7 @@ impl ModalSolver {
         let (path, result) = if model.decouples() {
             (SolverPath::Decoupled, decoupled_path(&model, n_modes, eigen))
         } else {
-            (SolverPath::CoupledRqi, general_path(&model, n_modes, eigen, poles))
+            (SolverPath::CoupledRqi, coupled_path(&model, n_modes, eigen, poles))
         };
         *last_path = Some(path);
         match result {
@@ -485,25 +424,6 @@ impl ModalSolver {
     }
 }
 
-/// Which poles the coupled path (c) solves for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Poles {
-    /// Every pole of the requested families (what [`ModalSolver::modal`] reports).
-    All,
-    /// The oscillatory pairs only (what [`ModalSolver::observables`] needs).
-    /// Real relaxation poles are not modes; a slow relaxation (Ω̃ ≪ ω̃₁) gives
-    /// every family a real pole near −Ω̃/(1 + Δ), equal to leading order for
-    /// all families, and RQI from two of those starts can land on one pole:
-    /// the coupled path then fails and the dense state space (~25·dim³ flops,
-    /// dim = 2n + N·n) takes over for poles no observable uses.
-    Oscillatory,
-}
-
-/// The oscillatory member of a family: the Im > 0 root of largest |s|.
-fn oscillatory_pair(family: &[Complex64]) -> Option<Complex64> {
-    family.iter().copied().filter(|s| s.im > 0.0).max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()))
-}
-
 thread_local! {
     /// One reusable solver per thread for [`modal`]: its caches (mesh
     /// integrals, pencil eigenpairs) change how fast a result comes, never its
@@ -530,63 +450,6 @@ pub fn modal_observables(beam: &BeamSpec, modes: &[usize], n_modes: usize, out: 
     })
 }
 
-/// Modal parameters from the eigenvalues of the state matrix (A15) (reference).
-pub fn modal_state_space(beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
-    beam.validate()?;
-    let mesh = UnitMesh::for_beam(beam);
-    let model = ScaledModel::new(beam, &mesh);
-    check_mode_count(n_modes, model.n())?;
-    state_space_modal(&model, n_modes)
-}
-
-/// Every pole of the state matrix (A15) in rad/s, sorted by |s| then Im s.
-/// Count (2 + N)·n, n = free DOFs, N = number of internal variables.
-pub fn poles_state_space(beam: &BeamSpec) -> Result<Vec<Complex64>, BeamError> {
-    beam.validate()?;
-    let mesh = UnitMesh::for_beam(beam);
-    let model = ScaledModel::new(beam, &mesh);
-    Ok(state_space::scaled_poles(&model)?.into_iter().map(|p| p * model.omega_ref).collect())
-}
-
-fn check_mode_count(n_modes: usize, n: usize) -> Result<(), BeamError> {
-    if n_modes == 0 || n_modes > n {
-        return Err(InputError::new("n_modes", n_modes, format!("1..={n} (free DOFs of this mesh)")).into());
-    }
-    Ok(())
-}
-
-/// Physical modes 1..=n_modes from the roots of families 1..=n_modes (in
-/// eigenpair order): each family's oscillatory pair (largest |s| if there
-/// are several) or, without one, an overdamped mode with its real roots.
-fn assemble<F: std::ops::Deref<Target = [Complex64]>>(families: &[F], n_modes: usize, omega_ref: f64) -> ModalResult {
-    let mut modes = Vec::with_capacity(n_modes);
-    let mut overdamped = Vec::new();
-    for (j, fam) in families.iter().take(n_modes).enumerate() {
-        match oscillatory_pair(fam) {
-            Some(s) => {
-                // |s̃| in scaled units (O(1)..O(1e6): no overflow in the square,
-                // so no hypot), then to rad/s
-                let r = s.norm_sqr().sqrt();
-                modes.push(Mode { mode: j + 1, omega_rad_s: r * omega_ref, zeta: -s.re / r, pole: s * omega_ref });
-            }
-            None => {
-                let mut poles: Vec<f64> = fam.iter().filter(|s| s.im == 0.0).map(|s| s.re * omega_ref).collect();
-                poles.sort_by(|a, b| a.abs().total_cmp(&b.abs()));
-                overdamped.push(OverdampedMode { mode: j + 1, poles_rad_s: poles });
-            }
-        }
-    }
-    let mut real: Vec<f64> = families
-        .iter()
-        .take(n_modes)
-        .flat_map(|f| f.iter())
-        .filter(|s| s.im == 0.0)
-        .map(|s| s.re * omega_ref)
-        .collect();
-    real.sort_by(|a, b| a.abs().total_cmp(&b.abs()));
-    ModalResult { modes, real_poles_rad_s: real, overdamped }
-}
-
 /// Path (b): exact decoupling.
 fn decoupled_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -> Result<ModalResult, BeamError> {
     let params = model.pencil_params();
@@ -596,311 +459,17 @@ fn decoupled_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -
     Ok(assemble(&families, n_modes, model.omega_ref))
 }
 
-/// (a, b, c_φ) of one family's equation, the eigenvector φ it came from and
-/// φ's energy forms (k, m, m_b, k_s) (see [`ScaledModel::forms`]).
-type FamilyApproximation = ((f64, f64, f64), Vec<f64>, Forms);
-
-/// Energy forms xᵀK̃x, xᵀM̃x, xᵀM̃_beam x, xᵀK̃_spring x of one vector.
-type Forms = (f64, f64, f64, f64);
-
-/// One-term modal approximation of family j of a coupled model: with φ the
-/// eigenvector of (K + K_spring, M) for λ, the family equation
-/// s² + c_φ s + a + b G(s) = 0 with b = φᵀKφ/φᵀMφ, a = λ − b = φᵀK_springφ/φᵀMφ,
-/// c_φ = c̃·φᵀM_beamφ/φᵀMφ. Exact when the model decouples.
-fn family_approximations(
-    model: &ScaledModel,
-    count: usize,
-    eigen: &mut EigenCache,
-) -> Result<Vec<FamilyApproximation>, BeamError> {
-    let kt = model.k_total();
-    let pairs = eigen.lowest(model.mesh, &model.pencil_params(), &kt, &model.m, model.point_mass.as_ref(), count)?;
-    Ok(pairs
-        .iter()
-        .map(|p| {
-            let forms @ (k, m, mb, ks) = model.forms(&p.vector);
-            ((ks / m, k / m, model.c * mb / m), p.vector.clone(), forms)
-        })
-        .collect())
-}
-
-/// Path (c): the poles of T̃(s̃) = s̃²M̃ + s̃c̃M̃_beam + K̃_spring + G(s̃)K̃ one by
-/// one, each by nonlinear Rayleigh-quotient iteration from the one-term
-/// approximation of its family (root and eigenvector of (K̃ + K̃_spring, M̃)).
-/// Any failure → the caller falls back to (a).
-fn general_path(
+/// Path (c): the lowest eigenpairs of (K̃ + K̃_spring, M̃) from the cache,
+/// then the poles by RQI on T(s) (`coupled.rs`).
+fn coupled_path(
     model: &ScaledModel,
     n_modes: usize,
     eigen: &mut EigenCache,
     poles: Poles,
 ) -> Result<ModalResult, BeamError> {
-    {
-        let count = n_modes;
-        let approx = family_approximations(model, count, eigen)?;
-        let mut found: Vec<Complex64> = Vec::new();
-        let mut families = Vec::with_capacity(count);
-        for ((a, b, c), phi, forms) in &approx {
-            let starts = family_roots(*a, *b, *c, &model.ivs)?;
-            let mut fam = Vec::with_capacity(starts.len());
-            let wanted = |s: &Complex64| s.im > 0.0 || (s.im == 0.0 && poles == Poles::All);
-            for s0 in starts.iter().copied().filter(wanted) {
-                // Real poles cluster (one per family within [−Ωᵢ, −Ωᵢ/(1+Δᵢ)]) next
-                // next to the n-fold poles of det T at −Ωᵢ, where methods on det T crawl;
-                // nonlinear Rayleigh-quotient iteration from the family's vector
-                // φ picks the family's own root instead.
-                let s =
-                    if s0.im == 0.0 { nonlinear_rqi(model, s0, phi)? } else { complex_rqi(model, s0, phi, *forms)? };
-                // a start from the one-term model is within a few % of its pole;
-                // a jump of more than half its size means another pole was hit,
-                // and so does landing on a pole found already.
-                if (s - s0).norm() > 0.5 * s0.norm() {
-                    return Err(BeamError::numerical("RQI left its start's neighbourhood"));
-                }
-                if found.iter().any(|f| (s - f).norm() <= 1e-8 * s.norm()) {
-                    return Err(BeamError::numerical("two starts converged to the same pole"));
-                }
-                if s0.im == 0.0 {
-                    found.push(s);
-                    fam.push(s);
-                } else {
-                    if s.im.abs() <= REAL_TOL * s.norm() {
-                        return Err(BeamError::numerical("complex start converged to a real pole"));
-                    }
-                    let s = Complex64::new(s.re, s.im.abs());
-                    found.push(s);
-                    found.push(s.conj());
-                    fam.push(s);
-                    fam.push(s.conj());
-                }
-            }
-            families.push(fam);
-        }
-        Ok(assemble(&families, n_modes, model.omega_ref))
-    }
-}
-
-/// The outer stop of [`complex_rqi`]: the same argument as `RQI_TOL` in
-/// `eigen.rs` — a move ≤ 1e-6·|s| means the vector was within ~1e-3 before the
-/// step, and the cubic rate leaves an error ≲ 1e-18·|s| after it.
-const COMPLEX_RQI_TOL: f64 = 1e-6;
-const COMPLEX_RQI_MAX_STEPS: usize = 8;
-
-/// Complex nonlinear Rayleigh-quotient iteration for an oscillatory pole:
-/// x ← T(s)⁻¹T'(s)x, then s ← the root next to s of the Rayleigh functional
-/// xᵀT(s)x = 0 (element-energy forms, so no cancellation of assembled
-/// entries). T is complex symmetric, so with the transpose (not the
-/// conjugate) the left eigenvector is the right one and the iteration
-/// converges cubically, as RQI does for real symmetric pencils. The solves
-/// use the unpivoted band LDLᵀ: its result is checked by the convergence of s
-/// (and by the caller's neighbourhood tests), with the state space behind it.
-///
-/// `forms` are φ's (computed with φ): the forms of the real start, which are
-/// bitwise those of φ as a complex vector (every imaginary part is 0), and
-/// the first step's T'(s)φ skips the products of its zero imaginary part.
-fn complex_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64], forms: Forms) -> Result<Complex64, BeamError> {
-    let n = model.n();
-    let mut x: Vec<Complex64> = phi.iter().map(|&v| Complex64::new(v, 0.0)).collect();
-    let c = |v: f64| Complex64::new(v, 0.0);
-    let mut s = functional_root(model, (c(forms.0), c(forms.1), c(forms.2), c(forms.3)), s0)?;
-    let mut real = true;
-    let mut t = Vec::with_capacity(model.k.data.len());
-    let (mut re, mut im, mut tmp) = (Vec::new(), Vec::new(), Vec::new());
-    for _ in 0..COMPLEX_RQI_MAX_STEPS {
-        let (g, dg) = model.relaxation(s);
-        // T(s) in band layout
-        t.clear();
-        t.extend(
-            model
-                .m
-                .data
-                .iter()
-                .zip(&model.m_beam.data)
-                .zip(&model.k.data)
-                .map(|((&m, &mb), &k)| s * s * m + s * (model.c * mb) + g * k),
-        );
-        if model.has_spring() {
-            for &i in &model.spring_dofs {
-                t[i * (model.k.kd + 1)] += model.spring;
-            }
-        }
-        if let Some(ka) = &model.k_axial {
-            t.iter_mut().zip(&ka.data).for_each(|(ti, &v)| *ti += v);
-        }
-        let tiny = Complex64::new(f64::EPSILON * (model.k.data[0] + s.norm_sqr() * model.m.data[0]), 0.0);
-        if !ldl_factor_for_inverse_iteration(&mut t, n, model.k.kd, tiny) {
-            return Err(BeamError::numerical("T(s) factorisation broke down in RQI"));
-        }
-        // y = T'(s) x = (2s M̃ + c̃ M̃_beam + G'(s) K̃) x, from real products of Re x and Im x
-        let mut y = vec![Complex64::new(0.0, 0.0); n];
-        re.clear();
-        re.extend(x.iter().map(|v| v.re));
-        im.clear();
-        im.extend(x.iter().map(|v| v.im));
-        for (mat, coef) in [(&model.m, 2.0 * s), (&model.m_beam, Complex64::new(model.c, 0.0)), (&*model.k, dg)] {
-            mat.mul_vec_into(&re, &mut tmp);
-            y.iter_mut().zip(&tmp).for_each(|(yi, v)| *yi += coef * v);
-            if !real {
-                mat.mul_vec_into(&im, &mut tmp);
-                y.iter_mut().zip(&tmp).for_each(|(yi, v)| *yi += coef * Complex64::new(0.0, *v));
-            }
-        }
-        real = false;
-        ldl_solve(&t, n, model.k.kd, &mut y);
-        let scale = y.iter().fold(0.0f64, |a, v| a.max(v.norm_sqr())).sqrt();
-        if !(scale.is_finite() && scale > 0.0) {
-            return Err(BeamError::numerical("RQI on T(s) broke down"));
-        }
-        y.iter_mut().for_each(|v| *v /= scale);
-        x = y;
-        let next = rayleigh_functional_root(model, &x, s)?;
-        let moved = (next - s).norm();
-        s = next;
-        if moved <= COMPLEX_RQI_TOL * s.norm() {
-            return Ok(s);
-        }
-    }
-    Err(BeamError::numerical("complex RQI did not converge"))
-}
-
-/// The root next to `start` of the Rayleigh functional
-/// f(s) = xᵀT(s)x = s²m + s c̃ m_b + k_s + G(s)k (scalar Newton), with the
-/// forms from element energies.
-fn rayleigh_functional_root(model: &ScaledModel, x: &[Complex64], start: Complex64) -> Result<Complex64, BeamError> {
-    functional_root(model, model.forms(x), start)
-}
-
-/// The root next to `start` of s²m + s c̃ m_b + k_s + G(s)k for given forms.
-fn functional_root(
-    model: &ScaledModel,
-    (k, m, mb, ks): (Complex64, Complex64, Complex64, Complex64),
-    start: Complex64,
-) -> Result<Complex64, BeamError> {
-    let mut s = start;
-    for _ in 0..50 {
-        let (g, dg) = model.relaxation(s);
-        let f = s * s * m + s * model.c * mb + ks + g * k;
-        let df = 2.0 * s * m + model.c * mb + dg * k;
-        let step = f / df;
-        if !step.is_finite() {
-            return Err(BeamError::numerical("non-finite Rayleigh-functional step"));
-        }
-        s -= step;
-        // quadratic convergence: a step at round-off level (4 eps) ends it
-        if step.norm_sqr() <= 16.0 * f64::EPSILON * f64::EPSILON * s.norm_sqr() {
-            return Ok(s);
-        }
-    }
-    Err(BeamError::numerical("Rayleigh functional: Newton did not converge"))
-}
-
-/// Nonlinear Rayleigh-quotient iteration for a real pole: s ← root of
-/// xᵀT(s)x = 0 (scalar Newton, element-energy forms), x ← T(s)⁻¹T'(s)x.
-fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Complex64, BeamError> {
-    let mut x: Vec<f64> = phi.to_vec();
-    let mut s = s0.re;
-    let spring = if model.has_spring() { model.spring } else { 0.0 };
-    for _ in 0..50 {
-        let (k, m, mb, ks) = model.forms(&x);
-        let mut moved = 0.0;
-        for _ in 0..3 {
-            let (g, dg) = model.relaxation(Complex64::new(s, 0.0));
-            let f = s * s * m + s * model.c * mb + ks + g.re * k;
-            let df = 2.0 * s * m + model.c * mb + dg.re * k;
-            let step = f / df;
-            if !step.is_finite() {
-                return Err(BeamError::numerical("non-finite nonlinear RQI step"));
-            }
-            s -= step;
-            moved += step.abs();
-        }
-        if moved <= 1e-14 * s.abs() {
-            return Ok(Complex64::new(s, 0.0));
-        }
-        let (g, dg) = model.relaxation(Complex64::new(s, 0.0));
-        let lu = BandLu::factor_kd(model.n(), model.k.kd, |i, j| {
-            let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
-            let ka = model.k_axial.as_ref().map_or(0.0, |ka| ka.get(i, j));
-            s * s * model.m.get(i, j) + s * model.c * model.m_beam.get(i, j) + ks + ka + g.re * model.k.get(i, j)
-        });
-        let Some(lu) = lu else { return Ok(Complex64::new(s, 0.0)) };
-        let (mx, mbx, kx) = (model.m.mul_vec(&x), model.m_beam.mul_vec(&x), model.k.mul_vec(&x));
-        let mut y: Vec<f64> = (0..model.n()).map(|i| 2.0 * s * mx[i] + model.c * mbx[i] + dg.re * kx[i]).collect();
-        lu.solve(&mut y);
-        let norm = y.iter().map(|v| v.abs()).fold(0.0, f64::max);
-        if !(norm.is_finite() && norm > 0.0) {
-            return Err(BeamError::numerical("nonlinear RQI broke down"));
-        }
-        x = y.iter().map(|v| v / norm).collect();
-    }
-    Err(BeamError::numerical("nonlinear RQI did not converge"))
-}
-
-/// Path (a) turned into modal parameters with physical numbers: family j
-/// (one-term approximation from the dense eigenvectors, exact when
-/// decoupled) has a pair or not; the k-th complex pole by |s| goes to the k-th
-/// family that has one, each real pole to the family whose one-term equation
-/// it satisfies best; the uncoupled poles −Ωᵢ of variables with Δᵢ = 0 are
-/// dropped.
-fn state_space_modal(model: &ScaledModel, n_modes: usize) -> Result<ModalResult, BeamError> {
-    let poles = state_space::scaled_poles(model)?;
-    let approx = dense_family_approximations(model)?;
-    let mut has_pair = Vec::with_capacity(n_modes);
-    for &(a, b, c) in approx.iter().take(n_modes) {
-        has_pair.push(family_roots(a, b, c, &model.ivs)?.iter().any(|s| s.im > 0.0));
-    }
-    let mut complex: Vec<Complex64> = poles.iter().copied().filter(|s| s.im > REAL_TOL * s.norm()).collect();
-    complex.sort_by(|a, b| a.norm().total_cmp(&b.norm()));
-    let uncoupled = |s: f64| model.ivs_all.iter().any(|&(d, om)| d == 0.0 && (s + om).abs() <= 1e-6 * om);
-    let mut families: Vec<Vec<Complex64>> = vec![Vec::new(); n_modes];
-    let mut next_pair = complex.iter();
-    for (j, &pair) in has_pair.iter().enumerate() {
-        if pair {
-            let s =
-                next_pair.next().ok_or_else(|| BeamError::numerical("state space has fewer pairs than families"))?;
-            families[j].push(*s);
-        }
-    }
-    for s in poles.iter().filter(|s| s.im.abs() <= REAL_TOL * s.norm()) {
-        let x = s.re;
-        if uncoupled(x) {
-            continue;
-        }
-        let sc = Complex64::new(x, 0.0);
-        let (g, _) = model.relaxation(sc);
-        let best = approx
-            .iter()
-            .enumerate()
-            .map(|(j, &(a, b, c))| (j, ((sc * sc + c * sc + a + b * g).norm() / (x * x + a + b))))
-            .min_by(|p, q| p.1.total_cmp(&q.1))
-            .map(|p| p.0);
-        if let Some(j) = best.filter(|&j| j < n_modes) {
-            families[j].push(Complex64::new(x, 0.0));
-        }
-    }
-    Ok(assemble(&families, n_modes, model.omega_ref))
-}
-
-/// (a, b, c) of every family from a dense symmetric eigen-decomposition.
-fn dense_family_approximations(model: &ScaledModel) -> Result<Vec<(f64, f64, f64)>, BeamError> {
-    let kt = model.k_total().to_dense();
-    let chol = nalgebra::Cholesky::new(model.m.to_dense())
-        .ok_or_else(|| BeamError::numerical("mass matrix is not positive definite"))?;
-    let l = chol.l();
-    let linv = l.clone().try_inverse().ok_or_else(|| BeamError::numerical("singular Cholesky factor"))?;
-    let c = &linv * kt * linv.transpose();
-    let eig = nalgebra::SymmetricEigen::new(c);
-    let phis = linv.transpose() * &eig.eigenvectors;
-    let k = model.k.to_dense();
-    let mb = model.m_beam.to_dense();
-    let mut out: Vec<(f64, f64, f64)> = (0..model.n())
-        .map(|j| {
-            let phi = phis.column(j);
-            let lam = eig.eigenvalues[j];
-            let b = (phi.transpose() * &k * phi)[(0, 0)];
-            (((lam - b).max(0.0)), b, model.c * (phi.transpose() * &mb * phi)[(0, 0)])
-        })
-        .collect();
-    out.sort_by(|x, y| (x.0 + x.1).total_cmp(&(y.0 + y.1)));
-    Ok(out)
+    let kt = model.k_total();
+    let pairs = eigen.lowest(model.mesh, &model.pencil_params(), &kt, &model.m, model.point_mass.as_ref(), n_modes)?;
+    general_path(model, n_modes, pairs, poles)
 }
 
 #[cfg(test)]

@@ -463,7 +463,7 @@ mod tests {
     /// `parameter_count` is what `add_extension` appends, for every class.
     #[test]
     fn parameter_count_matches_the_extension() {
-        let beam = crate::diagnose::synthetic::nominal_beam();
+        let beam = crate::beam::BeamSpec::elastic(8.0, 1.0, 1.0e12, 2300.0, crate::beam::Support::SimplySupported, 20);
         let scales = NominalScales::of(&beam, 5).unwrap();
         let base = ParameterSet::paper_n1();
         for c in ModelClass::CAUSES {

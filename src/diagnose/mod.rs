@@ -57,7 +57,6 @@ mod predictive;
 pub mod report;
 mod search;
 mod settings;
-pub mod synthetic;
 mod verdict;
 
 use std::collections::BTreeMap;

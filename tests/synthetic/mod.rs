@@ -16,21 +16,25 @@
 //! carries all its effects, and in a case of several causes each is grown
 //! further until the model of the other causes cannot absorb it either
 //! ([`generate_hidden`]).
+//!
+//! Test code, not part of the library: the integration tests that need
+//! hidden-effect data include it with `mod synthetic;`. It uses the library's
+//! public API only (the section-effect solver [`section_modes`] builds its
+//! own pencil from the public element integrals).
+#![allow(dead_code)] // each test binary uses part of it
 
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 
-use crate::bayes::rng::{stream, Purpose};
-use crate::bayes::Posterior;
-use crate::beam::{BeamSpec, InternalVariable, PointMass, ShearDeformation, Support};
-use crate::calibration::measured::MeasuredFile;
-use crate::calibration::{DramSettings, MeasuredData, ModeObservation, ParameterSet};
-
-use super::classes::model_parameters;
-use super::{model_posterior, Model, ModelClass, NominalScales};
-use crate::bayes::map::map_estimate;
-use crate::beam::{self, Mode};
+use nanobeam::bayes::map::map_estimate;
+use nanobeam::bayes::rng::{stream, Purpose};
+use nanobeam::bayes::Posterior;
+use nanobeam::beam::{self, BeamSpec, InternalVariable, Mode, PointMass, ShearDeformation, Support};
+use nanobeam::calibration::measured::MeasuredFile;
+use nanobeam::calibration::{DramSettings, MeasuredData, ModeObservation, ParameterSet};
+use nanobeam::diagnose::classes::model_parameters;
+use nanobeam::diagnose::{model_posterior, ClassPosterior, Model, ModelClass, NominalScales};
 use num_complex::Complex64;
 
 /// Minimum misfit, in measurement sds, the hidden effect must leave in the best base fit.
@@ -226,9 +230,9 @@ fn draw_shape(effect: Effect, clean: &[Mode], length_nm: f64, rng: &mut ChaCha8R
 
 /// A truth: the beam, and the effects that act on its modes rather than on a beam parameter.
 #[derive(Debug, Clone)]
-struct Truth {
-    beam: BeamSpec,
-    modal: Vec<(Foreign, [f64; 2], f64)>,
+pub struct Truth {
+    pub beam: BeamSpec,
+    pub modal: Vec<(Foreign, [f64; 2], f64)>,
 }
 
 /// Generates the case of `seed` hiding `hidden`. Every effect alone is grown
@@ -370,7 +374,7 @@ fn visible_effect(
     None
 }
 
-/// The truth with `effect` at `mag` (relative units of [`super::classes`]).
+/// The truth with `effect` at `mag` (relative units of `nanobeam::diagnose::classes`).
 fn with_effect(base: &Truth, effect: Effect, shape: [f64; 2], mag: f64, s: &NominalScales) -> Truth {
     let mut t = base.clone();
     let b = &mut t.beam;
@@ -390,7 +394,7 @@ fn with_effect(base: &Truth, effect: Effect, shape: [f64; 2], mag: f64, s: &Nomi
         Effect::Cause(ModelClass::AxialForce) => b.axial_force_n = shape[0] * mag * s.buckling_load_n,
         Effect::Cause(ModelClass::ShearDeformation) => {
             b.shear_deformation = Some(ShearDeformation {
-                poisson_ratio: crate::calibration::parameters::DEFAULT_POISSON_RATIO,
+                poisson_ratio: nanobeam::calibration::parameters::DEFAULT_POISSON_RATIO,
                 shear_coefficient: 1.0 / mag,
             })
         }
@@ -401,7 +405,7 @@ fn with_effect(base: &Truth, effect: Effect, shape: [f64; 2], mag: f64, s: &Nomi
 
 /// The first `n_modes` modes of `truth`: the beam's (through
 /// [`section_modes`] when a section effect is present), then its modal effects.
-fn predict(truth: &Truth, n_modes: usize) -> Result<Vec<Mode>, beam::BeamError> {
+pub fn predict(truth: &Truth, n_modes: usize) -> Result<Vec<Mode>, beam::BeamError> {
     let defects: Vec<(&[f64; 2], f64)> =
         truth.modal.iter().filter(|(f, ..)| *f == Foreign::LocalDefect).map(|(_, shape, mag)| (shape, *mag)).collect();
     let mut modes = if defects.is_empty() {
@@ -427,17 +431,20 @@ fn predict(truth: &Truth, n_modes: usize) -> Result<Vec<Mode>, beam::BeamError> 
 }
 
 /// The first `n_modes` modes of a beam whose element e has bending stiffness
-/// EI·`section[e]`: Hermite elements (A4–A6) with those factors (mass and
-/// Eringen's operator on the inertia unchanged), every element relaxing
-/// alike (eq. 8).
+/// EI·`section[e]`: Hermite elements (A4–A6, the library's public
+/// `beam::element` integrals) with those factors (mass and Eringen's
+/// operator on the inertia unchanged), every element relaxing alike (eq. 8).
 /// The product has no non-uniform section, so this is the generator's own
 /// truth, not a model the diagnosis could use. Only the base truth's
 /// mechanisms are allowed (nonlocality and internal variables): the pencil
 /// then decouples, each undamped eigenpair λ_j of (K̃, M̃) (dense Cholesky +
-/// symmetric eigensolver; 40 DOFs) giving the family s̃² + λ_j G(s̃) = 0 of
-/// `beam::family`, the relaxation factor G being the same in every element.
-fn section_modes(beam: &BeamSpec, section: &[f64], n_modes: usize) -> Result<Vec<Mode>, beam::BeamError> {
-    use crate::beam::{element, family, model};
+/// symmetric eigensolver; 40 DOFs) giving the family s̃² + λ_j G(s̃) = 0,
+/// the relaxation factor G being the same in every element. The family's
+/// roots come from the eigenvalues of its polynomial's companion matrix,
+/// polished by Newton ([`family_poles`]), not from the library's root solver,
+/// so the generator shares only the element integrals with what it tests.
+pub fn section_modes(beam: &BeamSpec, section: &[f64], n_modes: usize) -> Result<Vec<Mode>, beam::BeamError> {
+    use nanobeam::beam::element;
     let plain = beam.viscous_damping_n_s_m2 == 0.0
         && beam.support_rotational_stiffness_n_m_rad == 0.0
         && beam.axial_force_n == 0.0
@@ -446,18 +453,24 @@ fn section_modes(beam: &BeamSpec, section: &[f64], n_modes: usize) -> Result<Vec
     if !plain || section.len() != beam.elements {
         return Err(beam::BeamError::Numerical("a section effect combines with the base truth only".into()));
     }
-    let mesh = model::UnitMesh::new(beam.elements, beam.support);
-    let scaling = model::Scaling::new(beam);
-    let e2 = scaling.e_tilde * scaling.e_tilde;
+    let dof_map = dof_map(beam.elements, beam.support);
+    let n = dof_map.iter().flatten().count();
+    // the dimensionless scaling of the paper's equations: ẽ = e0a/L,
+    // ω_ref = √(EI/ρA)/L² (lengths in nm in the spec)
+    let l = beam.length_nm * 1e-9;
+    let ei = beam.youngs_modulus_pa * beam.inertia_m4();
+    let rho_a = beam.density_kg_m3 * beam.area_m2();
+    let omega_ref = (ei / rho_a).sqrt() / (l * l);
+    let e_tilde = beam.nonlocal_e0a_nm / beam.length_nm;
+    let e2 = e_tilde * e_tilde;
     let h = 1.0 / beam.elements as f64;
     let (ke, me, se) = (element::curvature_integral(h), element::mass_integral(h), element::slope_integral(h));
-    let n = mesh.n();
     let (mut k, mut m) = (nalgebra::DMatrix::<f64>::zeros(n, n), nalgebra::DMatrix::<f64>::zeros(n, n));
     for (e, &ei) in section.iter().enumerate() {
         for a in 0..4 {
-            let Some(i) = mesh.dof_map[2 * e + a] else { continue };
+            let Some(i) = dof_map[2 * e + a] else { continue };
             for b in 0..4 {
-                let Some(j) = mesh.dof_map[2 * e + b] else { continue };
+                let Some(j) = dof_map[2 * e + b] else { continue };
                 k[(i, j)] += ei * ke[a][b];
                 m[(i, j)] += me[a][b] + e2 * se[a][b];
             }
@@ -473,20 +486,110 @@ fn section_modes(beam: &BeamSpec, section: &[f64], n_modes: usize) -> Result<Vec
         .internal_variables
         .iter()
         .filter(|iv| iv.delta > 0.0)
-        .map(|iv| (iv.delta, iv.omega_rad_s / scaling.omega_ref))
+        .map(|iv| (iv.delta, iv.omega_rad_s / omega_ref))
         .collect();
     lambda
         .iter()
         .take(n_modes)
         .enumerate()
         .map(|(r, &lam)| {
-            let roots = family::family_roots(0.0, lam, 0.0, &ivs)?;
-            let s = roots
-                .iter()
-                .find(|s| s.im > 0.0)
+            let s = family_poles(lam, &ivs)
+                .into_iter()
+                .filter(|s| s.im > 0.0)
+                .max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()))
                 .ok_or_else(|| beam::BeamError::Numerical(format!("mode {} is overdamped", r + 1)))?;
-            let pole = s * scaling.omega_ref;
+            let pole = s * omega_ref;
             Ok(Mode { mode: r + 1, omega_rad_s: pole.norm(), zeta: -pole.re / pole.norm(), pole })
+        })
+        .collect()
+}
+
+/// Free DOF index of each global Hermite DOF (w, w′ per node) of `elements`
+/// elements on [0, 1], `None` where `support` fixes it: a pinned end fixes w,
+/// a clamped end w and w′, a free end nothing (the library numbers its free
+/// DOFs the same way, in global order, which the uniform-section test checks).
+fn dof_map(elements: usize, support: Support) -> Vec<Option<usize>> {
+    let last = elements;
+    let fixed: Vec<usize> = match support {
+        Support::SimplySupported => vec![0, 2 * last],
+        Support::ClampedClamped => vec![0, 1, 2 * last, 2 * last + 1],
+        Support::ClampedFree => vec![0, 1],
+        Support::ClampedPinned => vec![0, 1, 2 * last],
+    };
+    let mut next = 0;
+    (0..2 * (elements + 1))
+        .map(|g| {
+            (!fixed.contains(&g)).then(|| {
+                next += 1;
+                next - 1
+            })
+        })
+        .collect()
+}
+
+/// The roots of one family (scaled units), s̃²Πᵢ(s̃ + Ω̃ᵢ) + λ[Πᵢ(s̃ + Ω̃ᵢ) +
+/// Σᵢ Δᵢ s̃ Π_{k≠i}(s̃ + Ω̃ₖ)] = 0, i.e. s̃² + λG(s̃) = 0 with
+/// G(s̃) = 1 + Σᵢ Δᵢ s̃/(s̃ + Ω̃ᵢ): the eigenvalues of the companion matrix of
+/// the monic polynomial, each polished by Newton steps on the polynomial
+/// (Horner) until a step is at round-off level.
+pub fn family_poles(lambda: f64, ivs: &[(f64, f64)]) -> Vec<Complex64> {
+    // polynomials as coefficient vectors, lowest degree first
+    let mul = |p: &[f64], q: &[f64]| {
+        let mut out = vec![0.0; p.len() + q.len() - 1];
+        for (i, a) in p.iter().enumerate() {
+            for (j, b) in q.iter().enumerate() {
+                out[i + j] += a * b;
+            }
+        }
+        out
+    };
+    let prod = |skip: Option<usize>| {
+        ivs.iter().enumerate().filter(|(i, _)| Some(*i) != skip).fold(vec![1.0], |p, (_, &(_, om))| mul(&p, &[om, 1.0]))
+    };
+    let all = prod(None);
+    let mut poly = mul(&all, &[0.0, 0.0, 1.0]);
+    for (i, c) in all.iter().enumerate() {
+        poly[i] += lambda * c;
+    }
+    for (i, &(delta, _)) in ivs.iter().enumerate() {
+        for (j, c) in mul(&prod(Some(i)), &[0.0, 1.0]).iter().enumerate() {
+            poly[j] += lambda * delta * c;
+        }
+    }
+    let deg = poly.len() - 1;
+    let lead = poly[deg];
+    let mut companion = nalgebra::DMatrix::<f64>::zeros(deg, deg);
+    for i in 1..deg {
+        companion[(i, i - 1)] = 1.0;
+    }
+    for i in 0..deg {
+        companion[(i, deg - 1)] = -poly[i] / lead;
+    }
+    let horner = |s: Complex64| {
+        let (mut p, mut dp) = (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0));
+        for &c in poly.iter().rev() {
+            dp = dp * s + p;
+            p = p * s + c;
+        }
+        (p, dp)
+    };
+    companion
+        .complex_eigenvalues()
+        .iter()
+        .map(|&s0| {
+            let mut s = s0;
+            for _ in 0..20 {
+                let (p, dp) = horner(s);
+                let step = p / dp;
+                if !step.is_finite() {
+                    break;
+                }
+                s -= step;
+                if step.norm() <= 4.0 * f64::EPSILON * s.norm() {
+                    break;
+                }
+            }
+            s
         })
         .collect()
 }
@@ -525,7 +628,7 @@ fn coupled_pole(s: Complex64, detuning: f64, g: f64) -> Complex64 {
     w * best
 }
 
-fn observations(y: &[Mode]) -> Vec<ModeObservation> {
+pub fn observations(y: &[Mode]) -> Vec<ModeObservation> {
     y.iter()
         .enumerate()
         .map(|(r, m)| ModeObservation {
@@ -552,7 +655,7 @@ fn base_fit_max_z(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -
 
 /// Screens `starts` by log posterior, runs Nelder–Mead (600 iterations,
 /// simplex `sd`) from the best `restarts` and returns [`max_z`] at the best result.
-fn fit_max_z(post: &super::ClassPosterior, starts: Vec<Vec<f64>>, sd: &[f64], restarts: usize) -> f64 {
+fn fit_max_z(post: &ClassPosterior, starts: Vec<Vec<f64>>, sd: &[f64], restarts: usize) -> f64 {
     let mut scored: Vec<(f64, Vec<f64>)> = starts.into_iter().map(|u| (post.log_posterior(&u), u)).collect();
     scored.sort_by(|a, b| b.0.total_cmp(&a.0));
     let best = scored
@@ -565,7 +668,7 @@ fn fit_max_z(post: &super::ClassPosterior, starts: Vec<Vec<f64>>, sd: &[f64], re
 }
 
 /// Largest standardized residual of `post`'s data at `theta` (sampling coordinates).
-fn max_z(post: &super::ClassPosterior, theta: &[f64]) -> f64 {
+fn max_z(post: &ClassPosterior, theta: &[f64]) -> f64 {
     let Some(fit) = post.inner().predict(&post.to_inner(theta)) else { return f64::INFINITY };
     let obs = post.inner();
     obs.observed().iter().zip(obs.sd()).zip(&fit).map(|((y, sd), f)| ((y - f) / sd).abs()).fold(0.0, f64::max)
@@ -620,7 +723,7 @@ fn catalogue_fits(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -
 /// prior's width (0.05 in ln x for log-uniform priors). The random stream
 /// is keyed by the model's place in [`catalogue_models`], so a model's fit
 /// to the same data is the same wherever it is asked for.
-fn model_fit_max_z(model: &Model, y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -> f64 {
+pub fn model_fit_max_z(model: &Model, y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -> f64 {
     let iv = truth.internal_variables[0];
     let base_truth = [truth.nonlocal_e0a_nm, iv.delta, iv.omega_rad_s];
     let k = catalogue_models().iter().position(|m| m == model).expect("a catalogue model");
@@ -671,67 +774,4 @@ fn finish(seed: u64, truth: BeamSpec, y0: Vec<Mode>, hidden: Hidden, z: f64, rng
         sampler: Some(DramSettings { seed, ..DramSettings::default() }),
     };
     SyntheticCase { file, hidden, truth_beam: truth, base_fit_max_z: z, noise_free }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A truth of the generator's kind (nonlocal, one internal variable).
-    fn base_truth() -> BeamSpec {
-        let mut beam = nominal_beam();
-        beam.nonlocal_e0a_nm = 1.0;
-        beam.internal_variables = vec![InternalVariable { delta: 0.45, omega_rad_s: 3e11 }];
-        beam
-    }
-
-    /// A uniform section reproduces the product's solver: both solve the same
-    /// decoupled pencil, so they differ only by eigensolver rounding (dense
-    /// Cholesky route: ~κ(M̃)·ε relative on λ, κ ≈ 1e3 for 20 elements, so
-    /// ≤ 1e-12 on ω; ζ is a ratio of pole parts of the same size).
-    #[test]
-    fn uniform_section_reproduces_the_beam_solver() {
-        let beam = base_truth();
-        let ours = section_modes(&beam, &vec![1.0; beam.elements], 6).unwrap();
-        let theirs = beam::modal(&beam, 6).unwrap().modes;
-        for (a, b) in ours.iter().zip(&theirs) {
-            assert!((a.omega_rad_s / b.omega_rad_s - 1.0).abs() < 1e-10, "{a:?} vs {b:?}");
-            assert!((a.zeta / b.zeta - 1.0).abs() < 1e-9, "{a:?} vs {b:?}");
-        }
-    }
-
-    /// A defect and its mirror image about midspan give the same modes on a
-    /// simply supported beam (the uniform mesh mirrors too: equal to
-    /// rounding), and a defect lowers every frequency (less stiffness, same
-    /// mass: Rayleigh's quotient) by more than the 0.3 % noise at ε = 0.5.
-    /// Each cause of a generated pair leaves the best fit of the model of
-    /// the other cause ≥ [`MIN_SHIFT_SIGMA`] away, on the case's own
-    /// noise-free data and the truth's own base coordinates. Pair seed 300
-    /// (relaxation + spring) needed the spring grown ×3.375 past its size
-    /// alone, so this fails if the growth step is skipped.
-    #[test]
-    fn each_cause_of_a_pair_is_visible_against_the_other() {
-        use ModelClass::*;
-        let causes = [ExtraRelaxation, SupportRotationalStiffness];
-        let case = generate_hidden(300, &Hidden::causes(&causes));
-        let y0 = predict(&Truth { beam: case.truth_beam.clone(), modal: vec![] }, case.noise_free.len()).unwrap();
-        assert_eq!(observations(&y0), case.noise_free);
-        let s = NominalScales::of(&case.truth_beam, y0.len()).unwrap();
-        for c in causes {
-            let z = model_fit_max_z(&Model::with(&causes).without(c), &y0, &case.truth_beam, &s, 300);
-            assert!(z >= MIN_SHIFT_SIGMA, "{} absorbed by the other cause: {z:.2} sd", c.name());
-        }
-    }
-
-    #[test]
-    fn a_defect_softens_and_mirrors() {
-        let beam = base_truth();
-        let defect = |first: f64| Truth { beam: beam.clone(), modal: vec![(Foreign::LocalDefect, [first, 2.0], 0.5)] };
-        let clean = beam::modal(&beam, 6).unwrap().modes;
-        let (left, right) = (predict(&defect(3.0), 6).unwrap(), predict(&defect(15.0), 6).unwrap());
-        for ((a, b), c) in left.iter().zip(&right).zip(&clean) {
-            assert!((a.omega_rad_s / b.omega_rad_s - 1.0).abs() < 1e-10, "{a:?} vs {b:?}");
-            assert!(a.omega_rad_s < c.omega_rad_s * (1.0 - OMEGA_REL_SD), "{a:?} vs {c:?}");
-        }
-    }
 }

@@ -1,0 +1,265 @@
+//! Path (c), the coupled extensions: a support spring, a point mass with
+//! C > 0, an axial force or Timoshenko shear with C > 0 break the decoupling
+//! of `modal.rs` (D ∝ M and K_spring = 0). The poles of
+//! T̃(s̃) = s̃²M̃ + s̃c̃M̃_beam + K̃_spring + G(s̃)K̃ are then found one by one by
+//! nonlinear Rayleigh-quotient iteration on T(s), each from the one-term
+//! approximation of its family (root and eigenvector of (K̃ + K̃_spring, M̃);
+//! the eigenpairs come from the solver's cache). Any failure is
+//! [`BeamError::Numerical`], and the caller falls back to the state space.
+
+use num_complex::Complex64;
+
+use crate::beam::band::{ldl_factor_for_inverse_iteration, ldl_solve, BandLu};
+use crate::beam::eigen::EigenPair;
+use crate::beam::family::{family_roots, REAL_TOL};
+use crate::beam::modal_result::{assemble, ModalResult};
+use crate::beam::model::ScaledModel;
+use crate::beam::BeamError;
+
+/// Which poles the coupled path (c) solves for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Poles {
+    /// Every pole of the requested families (what [`crate::beam::ModalSolver::modal`] reports).
+    All,
+    /// The oscillatory pairs only (what [`crate::beam::ModalSolver::observables`] needs).
+    /// Real relaxation poles are not modes; a slow relaxation (Ω̃ ≪ ω̃₁) gives
+    /// every family a real pole near −Ω̃/(1 + Δ), equal to leading order for
+    /// all families, and RQI from two of those starts can land on one pole:
+    /// the coupled path then fails and the dense state space (~25·dim³ flops,
+    /// dim = 2n + N·n) takes over for poles no observable uses.
+    Oscillatory,
+}
+
+/// (a, b, c_φ) of one family's equation, the eigenvector φ it came from and
+/// φ's energy forms (k, m, m_b, k_s) (see [`ScaledModel::forms`]).
+type FamilyApproximation = ((f64, f64, f64), Vec<f64>, Forms);
+
+/// Energy forms xᵀK̃x, xᵀM̃x, xᵀM̃_beam x, xᵀK̃_spring x of one vector.
+type Forms = (f64, f64, f64, f64);
+
+/// One-term modal approximation of family j of a coupled model: with φ the
+/// eigenvector of (K + K_spring, M) for λ, the family equation
+/// s² + c_φ s + a + b G(s) = 0 with b = φᵀKφ/φᵀMφ, a = λ − b = φᵀK_springφ/φᵀMφ,
+/// c_φ = c̃·φᵀM_beamφ/φᵀMφ. Exact when the model decouples. `pairs` are the
+/// lowest eigenpairs of (K̃ + K̃_spring, M̃).
+fn family_approximations(model: &ScaledModel, pairs: &[EigenPair]) -> Vec<FamilyApproximation> {
+    pairs
+        .iter()
+        .map(|p| {
+            let forms @ (k, m, mb, ks) = model.forms(&p.vector);
+            ((ks / m, k / m, model.c * mb / m), p.vector.clone(), forms)
+        })
+        .collect()
+}
+
+/// Path (c): the poles of T̃(s̃) = s̃²M̃ + s̃c̃M̃_beam + K̃_spring + G(s̃)K̃ one by
+/// one, each by nonlinear Rayleigh-quotient iteration from the one-term
+/// approximation of its family (root and eigenvector of (K̃ + K̃_spring, M̃)).
+/// `pairs` are the lowest n_modes eigenpairs of (K̃ + K̃_spring, M̃).
+/// Any failure → the caller falls back to (a).
+pub(super) fn general_path(
+    model: &ScaledModel,
+    n_modes: usize,
+    pairs: &[EigenPair],
+    poles: Poles,
+) -> Result<ModalResult, BeamError> {
+    {
+        let count = n_modes;
+        let approx = family_approximations(model, pairs);
+        let mut found: Vec<Complex64> = Vec::new();
+        let mut families = Vec::with_capacity(count);
+        for ((a, b, c), phi, forms) in &approx {
+            let starts = family_roots(*a, *b, *c, &model.ivs)?;
+            let mut fam = Vec::with_capacity(starts.len());
+            let wanted = |s: &Complex64| s.im > 0.0 || (s.im == 0.0 && poles == Poles::All);
+            for s0 in starts.iter().copied().filter(wanted) {
+                // Real poles cluster (one per family within [−Ωᵢ, −Ωᵢ/(1+Δᵢ)]) next
+                // next to the n-fold poles of det T at −Ωᵢ, where methods on det T crawl;
+                // nonlinear Rayleigh-quotient iteration from the family's vector
+                // φ picks the family's own root instead.
+                let s =
+                    if s0.im == 0.0 { nonlinear_rqi(model, s0, phi)? } else { complex_rqi(model, s0, phi, *forms)? };
+                // a start from the one-term model is within a few % of its pole;
+                // a jump of more than half its size means another pole was hit,
+                // and so does landing on a pole found already.
+                if (s - s0).norm() > 0.5 * s0.norm() {
+                    return Err(BeamError::numerical("RQI left its start's neighbourhood"));
+                }
+                if found.iter().any(|f| (s - f).norm() <= 1e-8 * s.norm()) {
+                    return Err(BeamError::numerical("two starts converged to the same pole"));
+                }
+                if s0.im == 0.0 {
+                    found.push(s);
+                    fam.push(s);
+                } else {
+                    if s.im.abs() <= REAL_TOL * s.norm() {
+                        return Err(BeamError::numerical("complex start converged to a real pole"));
+                    }
+                    let s = Complex64::new(s.re, s.im.abs());
+                    found.push(s);
+                    found.push(s.conj());
+                    fam.push(s);
+                    fam.push(s.conj());
+                }
+            }
+            families.push(fam);
+        }
+        Ok(assemble(&families, n_modes, model.omega_ref))
+    }
+}
+
+/// The outer stop of [`complex_rqi`]: the same argument as `RQI_TOL` in
+/// `eigen.rs` — a move ≤ 1e-6·|s| means the vector was within ~1e-3 before the
+/// step, and the cubic rate leaves an error ≲ 1e-18·|s| after it.
+const COMPLEX_RQI_TOL: f64 = 1e-6;
+const COMPLEX_RQI_MAX_STEPS: usize = 8;
+
+/// Complex nonlinear Rayleigh-quotient iteration for an oscillatory pole:
+/// x ← T(s)⁻¹T'(s)x, then s ← the root next to s of the Rayleigh functional
+/// xᵀT(s)x = 0 (element-energy forms, so no cancellation of assembled
+/// entries). T is complex symmetric, so with the transpose (not the
+/// conjugate) the left eigenvector is the right one and the iteration
+/// converges cubically, as RQI does for real symmetric pencils. The solves
+/// use the unpivoted band LDLᵀ: its result is checked by the convergence of s
+/// (and by the caller's neighbourhood tests), with the state space behind it.
+///
+/// `forms` are φ's (computed with φ): the forms of the real start, which are
+/// bitwise those of φ as a complex vector (every imaginary part is 0), and
+/// the first step's T'(s)φ skips the products of its zero imaginary part.
+fn complex_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64], forms: Forms) -> Result<Complex64, BeamError> {
+    let n = model.n();
+    let mut x: Vec<Complex64> = phi.iter().map(|&v| Complex64::new(v, 0.0)).collect();
+    let c = |v: f64| Complex64::new(v, 0.0);
+    let mut s = functional_root(model, (c(forms.0), c(forms.1), c(forms.2), c(forms.3)), s0)?;
+    let mut real = true;
+    let mut t = Vec::with_capacity(model.k.data.len());
+    let (mut re, mut im, mut tmp) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..COMPLEX_RQI_MAX_STEPS {
+        let (g, dg) = model.relaxation(s);
+        // T(s) in band layout
+        t.clear();
+        t.extend(
+            model
+                .m
+                .data
+                .iter()
+                .zip(&model.m_beam.data)
+                .zip(&model.k.data)
+                .map(|((&m, &mb), &k)| s * s * m + s * (model.c * mb) + g * k),
+        );
+        if model.has_spring() {
+            for &i in &model.spring_dofs {
+                t[i * (model.k.kd + 1)] += model.spring;
+            }
+        }
+        if let Some(ka) = &model.k_axial {
+            t.iter_mut().zip(&ka.data).for_each(|(ti, &v)| *ti += v);
+        }
+        let tiny = Complex64::new(f64::EPSILON * (model.k.data[0] + s.norm_sqr() * model.m.data[0]), 0.0);
+        if !ldl_factor_for_inverse_iteration(&mut t, n, model.k.kd, tiny) {
+            return Err(BeamError::numerical("T(s) factorisation broke down in RQI"));
+        }
+        // y = T'(s) x = (2s M̃ + c̃ M̃_beam + G'(s) K̃) x, from real products of Re x and Im x
+        let mut y = vec![Complex64::new(0.0, 0.0); n];
+        re.clear();
+        re.extend(x.iter().map(|v| v.re));
+        im.clear();
+        im.extend(x.iter().map(|v| v.im));
+        for (mat, coef) in [(&model.m, 2.0 * s), (&model.m_beam, Complex64::new(model.c, 0.0)), (&*model.k, dg)] {
+            mat.mul_vec_into(&re, &mut tmp);
+            y.iter_mut().zip(&tmp).for_each(|(yi, v)| *yi += coef * v);
+            if !real {
+                mat.mul_vec_into(&im, &mut tmp);
+                y.iter_mut().zip(&tmp).for_each(|(yi, v)| *yi += coef * Complex64::new(0.0, *v));
+            }
+        }
+        real = false;
+        ldl_solve(&t, n, model.k.kd, &mut y);
+        let scale = y.iter().fold(0.0f64, |a, v| a.max(v.norm_sqr())).sqrt();
+        if !(scale.is_finite() && scale > 0.0) {
+            return Err(BeamError::numerical("RQI on T(s) broke down"));
+        }
+        y.iter_mut().for_each(|v| *v /= scale);
+        x = y;
+        let next = rayleigh_functional_root(model, &x, s)?;
+        let moved = (next - s).norm();
+        s = next;
+        if moved <= COMPLEX_RQI_TOL * s.norm() {
+            return Ok(s);
+        }
+    }
+    Err(BeamError::numerical("complex RQI did not converge"))
+}
+
+/// The root next to `start` of the Rayleigh functional
+/// f(s) = xᵀT(s)x = s²m + s c̃ m_b + k_s + G(s)k (scalar Newton), with the
+/// forms from element energies.
+fn rayleigh_functional_root(model: &ScaledModel, x: &[Complex64], start: Complex64) -> Result<Complex64, BeamError> {
+    functional_root(model, model.forms(x), start)
+}
+
+/// The root next to `start` of s²m + s c̃ m_b + k_s + G(s)k for given forms.
+fn functional_root(
+    model: &ScaledModel,
+    (k, m, mb, ks): (Complex64, Complex64, Complex64, Complex64),
+    start: Complex64,
+) -> Result<Complex64, BeamError> {
+    let mut s = start;
+    for _ in 0..50 {
+        let (g, dg) = model.relaxation(s);
+        let f = s * s * m + s * model.c * mb + ks + g * k;
+        let df = 2.0 * s * m + model.c * mb + dg * k;
+        let step = f / df;
+        if !step.is_finite() {
+            return Err(BeamError::numerical("non-finite Rayleigh-functional step"));
+        }
+        s -= step;
+        // quadratic convergence: a step at round-off level (4 eps) ends it
+        if step.norm_sqr() <= 16.0 * f64::EPSILON * f64::EPSILON * s.norm_sqr() {
+            return Ok(s);
+        }
+    }
+    Err(BeamError::numerical("Rayleigh functional: Newton did not converge"))
+}
+
+/// Nonlinear Rayleigh-quotient iteration for a real pole: s ← root of
+/// xᵀT(s)x = 0 (scalar Newton, element-energy forms), x ← T(s)⁻¹T'(s)x.
+fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Complex64, BeamError> {
+    let mut x: Vec<f64> = phi.to_vec();
+    let mut s = s0.re;
+    let spring = if model.has_spring() { model.spring } else { 0.0 };
+    for _ in 0..50 {
+        let (k, m, mb, ks) = model.forms(&x);
+        let mut moved = 0.0;
+        for _ in 0..3 {
+            let (g, dg) = model.relaxation(Complex64::new(s, 0.0));
+            let f = s * s * m + s * model.c * mb + ks + g.re * k;
+            let df = 2.0 * s * m + model.c * mb + dg.re * k;
+            let step = f / df;
+            if !step.is_finite() {
+                return Err(BeamError::numerical("non-finite nonlinear RQI step"));
+            }
+            s -= step;
+            moved += step.abs();
+        }
+        if moved <= 1e-14 * s.abs() {
+            return Ok(Complex64::new(s, 0.0));
+        }
+        let (g, dg) = model.relaxation(Complex64::new(s, 0.0));
+        let lu = BandLu::factor_kd(model.n(), model.k.kd, |i, j| {
+            let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
+            let ka = model.k_axial.as_ref().map_or(0.0, |ka| ka.get(i, j));
+            s * s * model.m.get(i, j) + s * model.c * model.m_beam.get(i, j) + ks + ka + g.re * model.k.get(i, j)
+        });
+        let Some(lu) = lu else { return Ok(Complex64::new(s, 0.0)) };
+        let (mx, mbx, kx) = (model.m.mul_vec(&x), model.m_beam.mul_vec(&x), model.k.mul_vec(&x));
+        let mut y: Vec<f64> = (0..model.n()).map(|i| 2.0 * s * mx[i] + model.c * mbx[i] + dg.re * kx[i]).collect();
+        lu.solve(&mut y);
+        let norm = y.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        if !(norm.is_finite() && norm > 0.0) {
+            return Err(BeamError::numerical("nonlinear RQI broke down"));
+        }
+        x = y.iter().map(|v| v / norm).collect();
+    }
+    Err(BeamError::numerical("nonlinear RQI did not converge"))
+}
