@@ -146,6 +146,7 @@ pub fn run_model(
     let mut map = map_from_best(&counted, &t, s)?;
     // the searches that posteriors multimodal by construction get, with
     // simplex steps one population sd per axis
+    s.control.check()?;
     if multimodal_by_construction(&posterior) {
         let sd = sample_sd(&t.samples, d);
         let searches = [global_map(&counted, &sd, s, seed), nested_map(&counted, &sd, s, seed, sub_models)];
@@ -168,6 +169,7 @@ pub fn run_model(
     let missed_peak =
         population_missed && log_evidence_laplace.is_some_and(|l| l - t.log_evidence > LAPLACE_DISAGREEMENT_NATS);
     let log_evidence_runs = vec![t.log_evidence];
+    s.control.check()?;
     let (importance, resampled) =
         importance_at(&counted, &map.theta, laplace.as_ref(), &t.samples, s, seed, [0, 0], population_missed);
     let (log_evidence, log_evidence_se) = chosen(&t, importance.as_ref());
