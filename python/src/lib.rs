@@ -90,6 +90,7 @@ impl Progress for Counts {
         s.done = (s.done + n).min(s.total);
     }
 
+    /// Nothing to do: the Python side closes its bar when the call returns.
     fn finish(&self) {}
 }
 
