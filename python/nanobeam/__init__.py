@@ -17,18 +17,21 @@ everything else SI, the unit in every field name) or paths to the files.
 
 Errors: bad input raises ``ValueError`` with the one line the CLI prints
 (exit code 2); a numerical failure raises :class:`NumericalError` (exit code 1).
-The work runs without the GIL; Ctrl-C raises ``KeyboardInterrupt`` within
-50 ms (the computation itself then finishes in the background and its result
-is dropped).
+The work runs without the GIL. Ctrl-C during :func:`calibrate` or
+:func:`diagnose` cancels the computation: ``KeyboardInterrupt`` is raised once
+the library has stopped (its samplers poll a cancellation flag at every step).
+Both take ``progress=``: a bar (``tqdm.auto`` when installed, else a text
+line on stderr), a callable, or nothing; see :func:`calibrate`.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import sys
 import warnings
 from collections.abc import Mapping
-from typing import Any, Dict, Optional, Tuple, Union
+from typing import Any, Callable, Dict, Optional, Tuple, Union
 
 import numpy as np
 
@@ -38,6 +41,71 @@ from ._nanobeam import NumericalError, __version__
 __all__ = ["modal", "frf", "calibrate", "diagnose", "identify", "read_yaml", "NumericalError", "__version__"]
 
 PathOrDict = Union[str, "os.PathLike[str]", Mapping]
+ProgressArg = Union[None, bool, Callable[[str, int, int], Any]]
+
+
+class _TextBar:
+    """Progress as one text line on stderr, rewritten in place (``\\r``):
+    what ``progress=True`` draws when tqdm is not installed."""
+
+    def __init__(self) -> None:
+        self._open = False
+
+    def __call__(self, unit: str, done: int, total: int) -> None:
+        sys.stderr.write(f"\r{done}/{total} {unit}")
+        sys.stderr.flush()
+        self._open = True
+
+    def close(self) -> None:
+        if self._open:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+            self._open = False
+
+
+class _TqdmBar:
+    """Progress as ``tqdm.auto`` bars (a notebook widget in Jupyter), one per phase."""
+
+    def __init__(self, tqdm) -> None:
+        self._tqdm = tqdm
+        self._bar = None
+        self._phase: Optional[Tuple[str, int]] = None
+
+    def __call__(self, unit: str, done: int, total: int) -> None:
+        if self._bar is None or self._phase != (unit, total):
+            self.close()
+            self._bar = self._tqdm(total=total, unit=f" {unit}")
+            self._phase = (unit, total)
+        self._bar.update(done - self._bar.n)
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None
+
+
+def _progress(progress: ProgressArg):
+    """(callback for the library, function to call when the call returns).
+
+    ``None`` (default): a bar when stderr is a terminal or the code runs in a
+    Jupyter kernel, as the CLI draws one only on a terminal; ``True``: a bar;
+    ``False``: nothing; a callable: called as ``progress(unit, done, total)``.
+    """
+    if progress is None:
+        progress = "ipykernel" in sys.modules or (hasattr(sys.stderr, "isatty") and sys.stderr.isatty())
+    if progress is False:
+        return None, lambda: None
+    if progress is True:
+        try:
+            from tqdm.auto import tqdm
+        except ImportError:
+            bar: Any = _TextBar()
+        else:
+            bar = _TqdmBar(tqdm)
+        return bar, bar.close
+    if callable(progress):
+        return progress, lambda: None
+    raise TypeError(f"progress: expected None, True, False or a callable, got {type(progress).__name__}")
 
 
 def _plain(obj: Any) -> Any:
@@ -154,6 +222,7 @@ def calibrate(
     *,
     return_summary: bool = False,
     use_arviz: Optional[bool] = None,
+    progress: ProgressArg = None,
 ):
     """Bayesian calibration (DRAM) against measured modal data (``nanobeam calibrate``).
 
@@ -180,12 +249,28 @@ def calibrate(
         variables, dimensions, draws and attributes; without ArviZ a dict
         ``{group: {variable: ndarray}}``. With ``return_summary=True`` a
         tuple ``(idata, summary)``.
+    progress : bool, callable or None
+        Progress of the chains' draws (the CLI's bar). ``None`` (default): a
+        bar when stderr is a terminal or in a Jupyter kernel; ``True``: a
+        ``tqdm.auto`` bar when tqdm is installed, else a text line on stderr;
+        ``False``: none; a callable is called as ``progress(unit, done,
+        total)`` (``unit`` ``"draws"``, ``done`` non-decreasing) on the
+        calling thread at most every 50 ms while the work runs. Progress never
+        changes a number. An exception the callable raises cancels the run
+        and is re-raised.
+
+    Ctrl-C cancels the run and raises ``KeyboardInterrupt`` once it has
+    stopped (within a few DRAM steps per chain).
 
     Calibration warnings (frozen chains, R-hat, ESS) are issued as Python
     warnings, and are in ``summary["warnings"]``.
     """
     path, text = _source(measured, "measured")
-    summary_text, groups, attributes = _nanobeam.calibrate_groups(path, text)
+    callback, close = _progress(progress)
+    try:
+        summary_text, groups, attributes = _nanobeam.calibrate_groups(path, text, callback)
+    finally:
+        close()
     summary = json.loads(summary_text)
     for w in summary.get("warnings", []):
         warnings.warn(w, RuntimeWarning, stacklevel=2)
@@ -206,6 +291,7 @@ def diagnose(
     *,
     samples: Optional[int] = None,
     thorough: bool = False,
+    progress: ProgressArg = None,
 ) -> Dict[str, Any]:
     """Model diagnosis: misfit checks, candidate causes by evidence, gain (``nanobeam diagnose --json``).
 
@@ -218,6 +304,12 @@ def diagnose(
         TMCMC samples per stage per model (default 400, or 1000 with ``thorough``).
     thorough : bool
         The library's longer default runs instead of the validated quick settings.
+    progress : bool, callable or None
+        As for :func:`calibrate`; the unit is ``"models"``: the models whose
+        evidence is done (the base, the beta baseline, every candidate).
+
+    Ctrl-C cancels the run and raises ``KeyboardInterrupt`` once it has
+    stopped (its TMCMC runs poll at every stage and sample).
 
     Returns
     -------
@@ -227,9 +319,12 @@ def diagnose(
         ``alternatives``, ``next_measurement``, ...).
     """
     path, text = _source(measured, "measured")
-    return json.loads(
-        _nanobeam.diagnose_json(path, text, None if samples is None else int(samples), bool(thorough))
-    )
+    callback, close = _progress(progress)
+    try:
+        text = _nanobeam.diagnose_json(path, text, None if samples is None else int(samples), bool(thorough), callback)
+    finally:
+        close()
+    return json.loads(text)
 
 
 def _csv_text(columns: Mapping) -> str:

@@ -1,7 +1,7 @@
 """Type stubs of the nanobeam package (see the module docstring of __init__.py)."""
 
 import os
-from typing import Any, Dict, Literal, Mapping, Optional, Tuple, Union, overload
+from typing import Any, Callable, Dict, Literal, Mapping, Optional, Tuple, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -9,6 +9,9 @@ import numpy.typing as npt
 __version__: str
 
 PathOrDict = Union[str, os.PathLike[str], Mapping[str, Any]]
+# None: a bar on a terminal or in Jupyter; True: a bar; False: none;
+# a callable: progress(unit, done, total) on the calling thread
+ProgressArg = Union[None, bool, Callable[[str, int, int], Any]]
 
 class NumericalError(Exception):
     """A numerical failure on valid input (the CLI's exit code 1)."""
@@ -30,17 +33,31 @@ def frf(
 
 @overload
 def calibrate(
-    measured: PathOrDict, *, return_summary: Literal[False] = ..., use_arviz: Optional[bool] = ...
+    measured: PathOrDict,
+    *,
+    return_summary: Literal[False] = ...,
+    use_arviz: Optional[bool] = ...,
+    progress: ProgressArg = ...,
 ) -> Any:
     """An ``arviz.InferenceData`` (a dict ``{group: {variable: ndarray}}`` without ArviZ)."""
 
 @overload
 def calibrate(
-    measured: PathOrDict, *, return_summary: Literal[True], use_arviz: Optional[bool] = ...
+    measured: PathOrDict,
+    *,
+    return_summary: Literal[True],
+    use_arviz: Optional[bool] = ...,
+    progress: ProgressArg = ...,
 ) -> Tuple[Any, Dict[str, Any]]:
     """``(idata, summary)``: the summary is what ``nanobeam calibrate --json`` prints."""
 
-def diagnose(measured: PathOrDict, *, samples: Optional[int] = ..., thorough: bool = ...) -> Dict[str, Any]:
+def diagnose(
+    measured: PathOrDict,
+    *,
+    samples: Optional[int] = ...,
+    thorough: bool = ...,
+    progress: ProgressArg = ...,
+) -> Dict[str, Any]:
     """The structure ``nanobeam diagnose --json`` prints."""
 
 @overload

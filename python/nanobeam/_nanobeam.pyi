@@ -1,6 +1,8 @@
 """The compiled half (PyO3); use the functions of ``nanobeam`` instead."""
 
-from typing import List, Optional, Tuple
+from typing import Any, Callable, List, Optional, Tuple
+
+ProgressCallback = Optional[Callable[[str, int, int], Any]]
 
 __version__: str
 
@@ -18,14 +20,18 @@ def frf_arrays(
     log: bool,
 ) -> Tuple[bytes, bytes, bytes]: ...
 def calibrate_groups(
-    measured_path: Optional[str], measured_text: Optional[str]
+    measured_path: Optional[str], measured_text: Optional[str], progress: ProgressCallback
 ) -> Tuple[
     str,
     List[Tuple[str, List[Tuple[str, str]], List[Tuple[str, List[Tuple[str, int]], bytes]]]],
     List[Tuple[str, str]],
 ]: ...
 def diagnose_json(
-    measured_path: Optional[str], measured_text: Optional[str], samples: Optional[int], thorough: bool
+    measured_path: Optional[str],
+    measured_text: Optional[str],
+    samples: Optional[int],
+    thorough: bool,
+    progress: ProgressCallback,
 ) -> str: ...
 def identify_json(
     data_path: Optional[str],

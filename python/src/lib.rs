@@ -10,13 +10,16 @@
 //! Conventions: bad input raises `ValueError` with the CLI's one-line message
 //! ([`CliError::Input`]); a numerical or output failure raises
 //! `nanobeam.NumericalError` ([`CliError::Failure`]). The work runs on a
-//! worker thread while the calling thread waits without the GIL and checks
-//! Python's signals every 50 ms (`run_interruptible`).
+//! worker thread while the calling thread waits without the GIL, checks
+//! Python's signals every 50 ms, cancels the library's [`Control`] on
+//! Ctrl-C and hands the worker's progress counts to a Python callback
+//! (`run_interruptible`).
 
 use std::path::{Path, PathBuf};
-use std::sync::mpsc;
+use std::sync::{mpsc, Arc, Mutex};
 use std::time::Duration;
 
+use nanobeam::bayes::{Control, Progress};
 use nanobeam::beam::{frf_each, modal, BeamError, BeamSpec};
 use nanobeam::calibration::output::{inference_data, InferenceContext};
 use nanobeam::calibration::{calibrate, BeamPosterior, CalibrateOptions, MeasuredData};
@@ -51,28 +54,101 @@ fn to_py(e: CliError) -> PyErr {
     }
 }
 
+/// The progress a worker reports ([`Progress`]), kept for the waiting
+/// thread: the worker only stores counts (it never touches Python), and the
+/// waiting thread, which holds the GIL between its waits, hands them to the
+/// Python callback.
+#[derive(Default)]
+struct Counts {
+    state: Mutex<PhaseCounts>,
+}
+
+/// The current phase: its number (a new phase is a new bar), unit, size and
+/// units done.
+#[derive(Debug, Default, Clone, Copy, PartialEq)]
+struct PhaseCounts {
+    phase: u64,
+    unit: &'static str,
+    total: u64,
+    done: u64,
+}
+
+impl Counts {
+    fn get(&self) -> PhaseCounts {
+        *self.state.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+impl Progress for Counts {
+    fn start(&self, unit: &'static str, total: u64) {
+        let mut s = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        *s = PhaseCounts { phase: s.phase + 1, unit, total, done: 0 };
+    }
+
+    fn advance(&self, n: u64) {
+        let mut s = self.state.lock().unwrap_or_else(|e| e.into_inner());
+        s.done = (s.done + n).min(s.total);
+    }
+
+    /// Nothing to do: the Python side closes its bar when the call returns.
+    fn finish(&self) {}
+}
+
+/// Hands the counts to `callback(unit, done, total)` when they changed since
+/// `last` (on the calling thread, with the GIL).
+fn report(py: Python<'_>, callback: Option<&PyObject>, counts: &Counts, last: &mut PhaseCounts) -> PyResult<()> {
+    let Some(cb) = callback else { return Ok(()) };
+    let now = counts.get();
+    if now != *last && now.phase > 0 {
+        *last = now;
+        cb.call1(py, (now.unit, now.done, now.total))?;
+    }
+    Ok(())
+}
+
+/// How a call's work is controlled from Python.
+enum Interrupt {
+    /// The library polls a [`Control`]: Ctrl-C cancels it, and the call
+    /// returns once the worker has stopped.
+    Cancel,
+    /// Work without cancellation points (modal, frf, identify: seconds at
+    /// most on valid input): Ctrl-C returns at once, the worker finishes in
+    /// the background and its result is dropped.
+    Abandon,
+}
+
 /// Runs `work` on a worker thread; the calling thread releases the GIL and
-/// waits, checking Python's signals every [`SIGNAL_POLL`]. A pending
-/// `KeyboardInterrupt` (or any signal handler's exception) is raised at once;
-/// the worker then runs to its end in the background and its result is
-/// dropped (the library has no cancellation point, and nothing it computes
-/// is written anywhere, so nothing partial is left behind).
-fn run_interruptible<T, F>(py: Python<'_>, work: F) -> PyResult<T>
+/// waits, checking Python's signals (and reporting progress to `callback`)
+/// every [`SIGNAL_POLL`].
+///
+/// A pending `KeyboardInterrupt` (or any exception a signal handler or the
+/// callback raises) with [`Interrupt::Cancel`] cancels the worker's
+/// [`Control`] and waits for the worker to stop (the samplers poll it at
+/// every step; [`nanobeam::bayes::control`]), then raises; a second signal
+/// during that wait raises at once and leaves the worker to stop alone.
+/// Nothing the library computes is written anywhere, so a cancelled call
+/// leaves nothing behind.
+fn run_interruptible<T, F>(py: Python<'_>, interrupt: Interrupt, callback: Option<PyObject>, work: F) -> PyResult<T>
 where
     T: Send + 'static,
-    F: FnOnce() -> Result<T, CliError> + Send + 'static,
+    F: FnOnce(Control) -> Result<T, CliError> + Send + 'static,
 {
+    let counts = Arc::new(Counts::default());
+    let control = Control::with_progress(counts.clone());
     let (tx, rx) = mpsc::channel();
-    std::thread::Builder::new()
+    let worker_control = control.clone();
+    let handle = std::thread::Builder::new()
         .name("nanobeam".into())
         .stack_size(WORKER_STACK)
         .spawn(move || {
-            let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(work));
-            // The receiver is gone only after an interrupt: the result is not wanted.
+            let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || work(worker_control)));
+            // The receiver is gone only after an abandoning interrupt: the result is not wanted.
             let _ = tx.send(result);
         })
         .map_err(|e| NumericalError::new_err(format!("error: cannot start a worker thread: {e}")))?;
     let mut rx = rx;
+    let mut last = PhaseCounts::default();
+    let mut interrupted: Option<PyErr> = None;
     loop {
         // moved in and out: a `Receiver` is `Send` but not `Sync`
         let (back, received) = py.allow_threads(move || {
@@ -80,21 +156,47 @@ where
             (rx, r)
         });
         rx = back;
-        match received {
-            Ok(Ok(result)) => return result.map_err(to_py),
-            Ok(Err(panic)) => {
+        let result = match received {
+            Ok(result) => result,
+            Err(mpsc::RecvTimeoutError::Timeout) => {
+                let polled = if interrupted.is_none() {
+                    report(py, callback.as_ref(), &counts, &mut last).and_then(|()| py.check_signals())
+                } else {
+                    py.check_signals()
+                };
+                if let Err(e) = polled {
+                    match (&interrupt, interrupted.is_some()) {
+                        (Interrupt::Cancel, false) => {
+                            control.cancel();
+                            interrupted = Some(e);
+                        }
+                        // a second interrupt while waiting, or nothing to wait for
+                        _ => return Err(e),
+                    }
+                }
+                continue;
+            }
+            Err(mpsc::RecvTimeoutError::Disconnected) => {
+                return Err(NumericalError::new_err("error: internal failure: the worker thread vanished"))
+            }
+        };
+        // the worker has sent its result: let it end, so no thread of this call outlives it
+        let _ = py.allow_threads(move || handle.join());
+        if let Some(e) = interrupted {
+            return Err(e);
+        }
+        report(py, callback.as_ref(), &counts, &mut last)?;
+        return match result {
+            Ok(result) => result.map_err(to_py),
+            Err(panic) => {
                 let what = panic
                     .downcast_ref::<&str>()
                     .map(|s| s.to_string())
                     .or_else(|| panic.downcast_ref::<String>().cloned())
                     .unwrap_or_default();
-                return Err(NumericalError::new_err(format!("error: internal failure: {what}")));
+                Err(NumericalError::new_err(format!("error: internal failure: {what}")))
             }
-            Err(mpsc::RecvTimeoutError::Timeout) => py.check_signals()?,
-            Err(mpsc::RecvTimeoutError::Disconnected) => {
-                return Err(NumericalError::new_err("error: internal failure: the worker thread vanished"))
-            }
-        }
+        };
     }
 }
 
@@ -134,7 +236,7 @@ impl Source {
 #[pyo3(signature = (beam_path, beam_text, modes))]
 fn modal_json(py: Python<'_>, beam_path: Option<String>, beam_text: Option<String>, modes: usize) -> PyResult<String> {
     let source = Source::new(beam_path, beam_text, "beam")?;
-    run_interruptible(py, move || {
+    run_interruptible(py, Interrupt::Abandon, None, move |_| {
         let beam = source.beam()?;
         let dofs = beam.free_dofs();
         if modes == 0 || modes > dofs {
@@ -181,7 +283,7 @@ fn frf_arrays(
         json: false,
         csv: false,
     };
-    let (w, re, im) = run_interruptible(py, move || {
+    let (w, re, im) = run_interruptible(py, Interrupt::Abandon, None, move |_| {
         // the CLI's order: the beam, the grid, the frequency bound, then the solves
         let beam = source.beam()?;
         let grid = cli::frf::grid(&args)?;
@@ -224,16 +326,17 @@ fn groups_to_py(py: Python<'_>, idata: &InferenceData) -> Vec<PyGroup> {
 /// `nanobeam calibrate MEASURED.yaml --json --out DIR`: the `--json` summary
 /// text, and the groups and root attributes of `inference_data.nc`.
 #[pyfunction]
-#[pyo3(signature = (measured_path, measured_text))]
+#[pyo3(signature = (measured_path, measured_text, progress))]
 fn calibrate_groups(
     py: Python<'_>,
     measured_path: Option<String>,
     measured_text: Option<String>,
+    progress: Option<PyObject>,
 ) -> PyResult<PyCalibration> {
     let source = Source::new(measured_path, measured_text, "measured")?;
-    let (summary, idata) = run_interruptible(py, move || {
+    let (summary, idata) = run_interruptible(py, Interrupt::Cancel, progress, move |control| {
         let data = source.measured()?;
-        let result = calibrate(&data, &CalibrateOptions { progress: false })?;
+        let result = calibrate(&data, &CalibrateOptions { control })?;
         let posterior = BeamPosterior::new(&data, data.parameters.clone());
         let ctx = InferenceContext { posterior: &posterior, seed: data.sampler.seed };
         let idata = inference_data(&result, &ctx);
@@ -247,16 +350,17 @@ fn calibrate_groups(
 
 /// `nanobeam diagnose MEASURED.yaml --json [--samples N] [--thorough]`: the JSON text.
 #[pyfunction]
-#[pyo3(signature = (measured_path, measured_text, samples, thorough))]
+#[pyo3(signature = (measured_path, measured_text, samples, thorough, progress))]
 fn diagnose_json(
     py: Python<'_>,
     measured_path: Option<String>,
     measured_text: Option<String>,
     samples: Option<usize>,
     thorough: bool,
+    progress: Option<PyObject>,
 ) -> PyResult<String> {
     let source = Source::new(measured_path, measured_text, "measured")?;
-    run_interruptible(py, move || {
+    run_interruptible(py, Interrupt::Cancel, progress, move |control| {
         let args = cli::diagnose::DiagnoseArgs {
             measured: PathBuf::new(),
             out: None,
@@ -266,8 +370,9 @@ fn diagnose_json(
             quick: false,
         };
         // the CLI's order: the settings, then the file
-        let settings = cli::diagnose::settings(&args);
+        let mut settings = cli::diagnose::settings(&args);
         settings.validate()?;
+        settings.control = control;
         let data = source.measured()?;
         let run = nanobeam::diagnose::diagnose_run(&data, &settings)?;
         Ok(serde_json::to_string(&run.diagnosis).expect("plain data"))
@@ -291,7 +396,7 @@ fn identify_json(
 ) -> PyResult<String> {
     let beam_source = Source::new(beam_path, beam_text, "beam")?;
     let data_source = Source::new(data_path, data_text, "data")?;
-    run_interruptible(py, move || {
+    run_interruptible(py, Interrupt::Abandon, None, move |_| {
         if max_order < 4 {
             return Err(InputError::new("--max-order", max_order, ">= 4").into());
         }

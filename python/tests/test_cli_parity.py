@@ -178,9 +178,17 @@ def test_diagnose_equals_cli(tmp_path):
     out = cli("diagnose", path, "--json", "--samples", "50")
     assert out.returncode == 0, out.stderr
     expected = json.loads(out.stdout)
-    got = nanobeam.diagnose(data, samples=50)
+    # with progress on: the CLI draws none (stderr is a pipe), so equality
+    # also says progress changes nothing
+    from test_control import Recorder
+
+    rec = Recorder()
+    got = nanobeam.diagnose(data, samples=50, progress=rec)
     assert got == expected
     assert got["cause"] == "attached-mass"
+    # the base, the beta baseline, 6 single causes and 15 pairs on a simply
+    # supported beam
+    rec.check("models", 23)
 
 
 def test_identify_equals_cli(tmp_path):

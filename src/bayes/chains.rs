@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use crate::bayes::dram::{check_chain_inputs, run_chain, ChainOutput, DramSettings};
 use crate::bayes::rng::{stream, Purpose};
-use crate::bayes::Posterior;
+use crate::bayes::{Control, Posterior};
 use crate::error::InputError;
 
 /// The RNG of chain `chain` under master seed `seed`: the keyed stream
@@ -16,7 +16,9 @@ pub fn chain_rng(seed: u64, chain: usize) -> ChaCha8Rng {
     stream(seed, Purpose::Chain, [chain as u64, 0])
 }
 
-/// Runs one chain per start state; `on_progress` receives step increments.
+/// Runs one chain per start state; `control` receives the states' progress
+/// and can stop every chain early ([`run_chain`]: the caller then discards
+/// the chains).
 /// Every start is checked as [`crate::bayes::dram::run_chain`] checks its one
 /// before any chain runs (so a bad start fails fast, not after the others).
 pub fn run_chains(
@@ -25,7 +27,7 @@ pub fn run_chains(
     c0_sd: &[f64],
     starts: &[Vec<f64>],
     seed: u64,
-    on_progress: Option<&(dyn Fn(usize) + Sync)>,
+    control: Option<&Control>,
 ) -> Result<Vec<ChainOutput>, InputError> {
     for start in starts {
         check_chain_inputs(settings, c0_sd, start)?;
@@ -35,7 +37,7 @@ pub fn run_chains(
         .enumerate()
         .map(|(c, start)| {
             let mut rng = chain_rng(seed, c);
-            run_chain(post, settings, c0_sd, start, &mut rng, on_progress)
+            run_chain(post, settings, c0_sd, start, &mut rng, control)
         })
         .collect()
 }

@@ -25,7 +25,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::StandardNormal;
 use serde::{Deserialize, Serialize};
 
-use crate::bayes::Posterior;
+use crate::bayes::{Control, Posterior};
 use crate::error::InputError;
 
 /// Sampler settings; every field defaults to the paper's §4.2 value.
@@ -421,7 +421,11 @@ impl RunningCovariance {
 }
 
 /// Runs one DRAM chain from `start` with initial proposal standard
-/// deviations `c0_sd` (C0 = diag(c0_sd²)). `on_step` is called every 256 states.
+/// deviations `c0_sd` (C0 = diag(c0_sd²)). With a `control`, its progress
+/// advances every 256 states (and by the remainder at the end), and the chain
+/// stops after the state at which it finds the control cancelled, returning
+/// the states so far: the caller, who cancelled, checks the control and
+/// discards them ([`crate::bayes::control`]).
 ///
 /// The settings are checked here ([`DramSettings::validate`]), not assumed:
 /// this is public, and a caller that skipped the check would otherwise get
@@ -435,7 +439,7 @@ pub fn run_chain(
     c0_sd: &[f64],
     start: &[f64],
     rng: &mut ChaCha8Rng,
-    on_step: Option<&(dyn Fn(usize) + Sync)>,
+    control: Option<&Control>,
 ) -> Result<ChainOutput, InputError> {
     check_chain_inputs(settings, c0_sd, start)?;
     let d = start.len();
@@ -513,11 +517,17 @@ pub fn run_chain(
                 out.covariance_failures += 1;
             }
         }
-        if let Some(cb) = on_step {
+        if let Some(control) = control {
             if n % 256 == 255 {
-                cb(256);
+                control.advance(256);
+            }
+            if control.is_cancelled() {
+                break;
             }
         }
+    }
+    if let Some(control) = control {
+        control.advance((out.draws.len() % 256) as u64);
     }
     // row-major C¹ (symmetric up to rounding: the Welford scatter is not)
     out.final_covariance = current_cov;

@@ -46,6 +46,9 @@ pub enum BayesError {
     /// Importance sampling: no draw has a finite log posterior.
     #[error("importance sampling: none of {draws} draws has a finite log posterior")]
     ImportanceNoFiniteDraw { draws: usize },
+    /// The caller cancelled the run ([`crate::bayes::Control::cancel`]).
+    #[error("{0}")]
+    Cancelled(#[from] crate::bayes::Cancelled),
 }
 
 impl BayesError {

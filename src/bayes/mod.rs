@@ -3,6 +3,7 @@
 //! vector ([`Posterior`]) and nothing else.
 
 pub mod chains;
+pub mod control;
 pub mod diagnostics;
 pub mod dram;
 pub mod error;
@@ -17,5 +18,6 @@ pub mod summary;
 pub mod tmcmc;
 pub mod transform;
 
+pub use control::{Cancelled, Control, Progress};
 pub use error::BayesError;
 pub use posterior::Posterior;

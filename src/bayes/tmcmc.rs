@@ -45,7 +45,7 @@ use serde::{Deserialize, Serialize};
 
 use super::error::BayesError;
 use super::rng::{stream, Purpose};
-use super::Posterior;
+use super::{Control, Posterior};
 use crate::error::InputError;
 
 /// Settings of [`tmcmc`].
@@ -148,6 +148,19 @@ fn finite_or_neg_inf(x: f64) -> f64 {
 
 /// Runs TMCMC on `posterior` (uses only `sample_prior`, `log_prior`, `log_likelihood`).
 pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcResult, BayesError> {
+    tmcmc_controlled(posterior, config, &Control::default())
+}
+
+/// [`tmcmc`] that polls `control` before each stage and before each
+/// sample's likelihood or moves within a stage ([`crate::bayes::control`]):
+/// once cancelled, the remaining samples of the stage are skipped and
+/// [`BayesError::Cancelled`] is returned. Not cancelled, the result is
+/// [`tmcmc`]'s, bit for bit.
+pub fn tmcmc_controlled(
+    posterior: &dyn Posterior,
+    config: &TmcmcConfig,
+    control: &Control,
+) -> Result<TmcmcResult, BayesError> {
     config.validate()?;
     let n = config.n_samples;
     let d = posterior.dim();
@@ -164,7 +177,18 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
     if let Some((index, s)) = samples.iter().enumerate().find(|(_, s)| s.len() != d) {
         return Err(BayesError::BadPriorSample { index, got: s.len(), expected: d });
     }
-    let mut loglik: Vec<f64> = samples.par_iter().map(|th| finite_or_neg_inf(posterior.log_likelihood(th))).collect();
+    let mut loglik: Vec<f64> =
+        samples
+            .par_iter()
+            .map(|th| {
+                if control.is_cancelled() {
+                    f64::NEG_INFINITY
+                } else {
+                    finite_or_neg_inf(posterior.log_likelihood(th))
+                }
+            })
+            .collect();
+    control.check()?;
     let mut logprior: Vec<f64> = samples.par_iter().map(|th| posterior.log_prior(th)).collect();
     let prior_sd = weighted_mean_cov(&samples, &vec![1.0 / n as f64; n]).1;
 
@@ -183,6 +207,7 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
             return Err(BayesError::TooManyStages { max_stages: config.max_stages, p });
         }
         stage += 1;
+        control.check()?;
         let l_max = loglik.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         if !l_max.is_finite() {
             return Err(BayesError::NoFiniteLikelihood { stage });
@@ -205,7 +230,8 @@ pub fn tmcmc(posterior: &dyn Posterior, config: &TmcmcConfig) -> Result<TmcmcRes
         let idx = resample(seed, stage, &wbar);
         let population = Population { samples: &samples, logprior: &logprior, loglik: &loglik };
         let walk = Walk { chol: &chol, beta, p: p_next, steps, seed, stage };
-        let moved = mh_moves(posterior, &population, &idx, &walk);
+        let moved = mh_moves(posterior, &population, &idx, &walk, control);
+        control.check()?;
         let accepted: usize = moved.iter().map(|m| m.3).sum();
         let rate = accepted as f64 / (n * steps) as f64;
         samples = Vec::with_capacity(n);
@@ -320,8 +346,16 @@ struct Walk<'a> {
 }
 
 /// Metropolis moves of every resampled parent `idx[i]`, in parallel, one
-/// stream per sample: (θ, log prior, log likelihood, accepted moves).
-fn mh_moves(posterior: &dyn Posterior, pop: &Population, idx: &[usize], w: &Walk) -> Vec<(Vec<f64>, f64, f64, usize)> {
+/// stream per sample: (θ, log prior, log likelihood, accepted moves). A
+/// sample that finds `control` cancelled is not moved (the caller discards
+/// the stage).
+fn mh_moves(
+    posterior: &dyn Posterior,
+    pop: &Population,
+    idx: &[usize],
+    w: &Walk,
+    control: &Control,
+) -> Vec<(Vec<f64>, f64, f64, usize)> {
     let d = posterior.dim();
     idx.par_iter()
         .enumerate()
@@ -330,6 +364,9 @@ fn mh_moves(posterior: &dyn Posterior, pop: &Population, idx: &[usize], w: &Walk
             let mut th = pop.samples[k].clone();
             let (mut lp, mut ll) = (pop.logprior[k], pop.loglik[k]);
             let mut acc = 0usize;
+            if control.is_cancelled() {
+                return (th, lp, ll, acc);
+            }
             let mut z = vec![0.0; d];
             for _ in 0..w.steps {
                 for zi in z.iter_mut() {

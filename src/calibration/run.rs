@@ -1,8 +1,6 @@
 //! `calibrate` as a library call: place the chains with a multi-start
 //! optimum, run DRAM chains in parallel, summarise, find the MAP.
 
-use std::io::IsTerminal;
-
 use serde::Serialize;
 
 use crate::bayes::chains::{pooled_acceptance, run_chains};
@@ -10,15 +8,17 @@ use crate::bayes::dram::{ChainOutput, DramSettings};
 use crate::bayes::map::{map_estimate, multi_start_optimum, MapResult};
 use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::summary::{summarize, Summary};
-use crate::bayes::Posterior;
+use crate::bayes::{Cancelled, Control, Posterior};
 use crate::calibration::{BeamPosterior, MeasuredData};
 use rand_distr::{Distribution, StandardNormal};
 
 /// Caller-side options that do not change the numbers.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct CalibrateOptions {
-    /// Show a progress bar on stderr (only drawn when stderr is a terminal).
-    pub progress: bool,
+    /// Cancellation and progress ([`crate::bayes::control`]): the chains'
+    /// states are reported as a phase of `chains × draws_per_chain` "draws";
+    /// a cancelled calibration returns [`SamplingError::Cancelled`].
+    pub control: Control,
 }
 
 /// Everything a calibration produced.
@@ -63,6 +63,9 @@ pub enum SamplingError {
     /// A sampler setting outside its range (bad input: exit 2).
     #[error("{0}")]
     Settings(#[from] crate::error::InputError),
+    /// The caller cancelled the run ([`CalibrateOptions::control`]).
+    #[error("{0}")]
+    Cancelled(#[from] Cancelled),
 }
 
 /// Least pooled acceptance (all DR stages) below which a run is reported
@@ -152,26 +155,16 @@ pub fn calibrate_posterior(
     let Some(best) = optima.first().filter(|m| m.log_posterior.is_finite()).map(|m| m.theta.clone()) else {
         return Err(SamplingError::NoValidState { draws: sampler.multistart_points, detail: String::new() });
     };
+    let control = &opts.control;
+    control.check()?;
     let starts = overdispersed_starts(post, c0_sd, &optima, sampler.chains, sampler.seed);
+    control.check()?;
 
-    let total = (sampler.chains * sampler.draws_per_chain) as u64;
-    let bar = (opts.progress && std::io::stderr().is_terminal()).then(|| {
-        let pb = indicatif::ProgressBar::new(total);
-        pb.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} draws ({eta})")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        pb
-    });
-    let tick = |n: usize| {
-        if let Some(pb) = &bar {
-            pb.inc(n as u64);
-        }
-    };
-    let mut chains = run_chains(post, sampler, c0_sd, &starts, sampler.seed, Some(&tick))?;
-    if let Some(pb) = &bar {
-        pb.finish_and_clear();
-    }
+    control.start("draws", (sampler.chains * sampler.draws_per_chain) as u64);
+    let chains = run_chains(post, sampler, c0_sd, &starts, sampler.seed, Some(control));
+    control.finish();
+    control.check()?;
+    let mut chains = chains?;
     // exchangeable components in their canonical order (`Posterior::relabel`):
     // chains at one mode under swapped labels agree, and R̂ still shows
     // chains at different modes

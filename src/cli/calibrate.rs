@@ -42,7 +42,7 @@ pub fn run(args: &CalibrateArgs, out: &mut dyn std::io::Write) -> Result<(), Cli
     if let Some(dir) = &args.out {
         check_out_dir(dir).map_err(|e| out_dir_error(dir, e))?;
     }
-    let result = calibrate(&data, &CalibrateOptions { progress: true })?;
+    let result = calibrate(&data, &CalibrateOptions { control: crate::cli::progress::TerminalBar::control() })?;
     for w in &result.warnings {
         eprintln!("warning: {w}");
     }

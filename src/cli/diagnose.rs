@@ -58,8 +58,9 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
     if let Some(dir) = &args.out {
         crate::report::render::check_out_dir(dir).map_err(|e| crate::cli::calibrate::out_dir_error(dir, e))?;
     }
-    let settings = settings(args);
+    let mut settings = settings(args);
     settings.validate()?;
+    settings.control = crate::cli::progress::TerminalBar::control();
     let data = read_measured(&args.measured)?;
     let started = std::time::Instant::now();
     let run = diagnose_run(&data, &settings)?;

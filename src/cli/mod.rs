@@ -8,6 +8,7 @@ pub mod diagnose;
 pub mod frf;
 pub mod identify;
 pub mod modal;
+pub mod progress;
 
 use std::path::Path;
 

@@ -60,7 +60,7 @@ use crate::bayes::laplace::{laplace_log_evidence_with_step, LaplaceEvidence};
 use crate::bayes::map::{map_estimate, multi_start_from, polish_best, MapResult};
 use crate::bayes::posterior::Counted;
 use crate::bayes::rng::{child_seed, Purpose};
-use crate::bayes::tmcmc::{tmcmc, TmcmcConfig, TmcmcResult};
+use crate::bayes::tmcmc::{tmcmc_controlled, TmcmcConfig, TmcmcResult};
 use crate::bayes::{BayesError, Posterior};
 
 use super::classes::ClassPosterior;
@@ -142,10 +142,11 @@ pub fn run_model(
     let started = std::time::Instant::now();
     let d = posterior.dim();
     let counted = Counted::new(&posterior);
-    let t = tmcmc(&counted, &tmcmc_config(d, s, seed))?;
+    let t = tmcmc_controlled(&counted, &tmcmc_config(d, s, seed), &s.control)?;
     let mut map = map_from_best(&counted, &t, s)?;
     // the searches that posteriors multimodal by construction get, with
     // simplex steps one population sd per axis
+    s.control.check()?;
     if multimodal_by_construction(&posterior) {
         let sd = sample_sd(&t.samples, d);
         let searches = [global_map(&counted, &sd, s, seed), nested_map(&counted, &sd, s, seed, sub_models)];
@@ -168,6 +169,7 @@ pub fn run_model(
     let missed_peak =
         population_missed && log_evidence_laplace.is_some_and(|l| l - t.log_evidence > LAPLACE_DISAGREEMENT_NATS);
     let log_evidence_runs = vec![t.log_evidence];
+    s.control.check()?;
     let (importance, resampled) =
         importance_at(&counted, &map.theta, laplace.as_ref(), &t.samples, s, seed, [0, 0], population_missed);
     let (log_evidence, log_evidence_se) = chosen(&t, importance.as_ref());
@@ -419,7 +421,7 @@ pub fn replicate(run: ModelRun, s: &DiagnoseSettings) -> Result<ModelRun, BayesE
     let mut runs = vec![first];
     for r in 1..EVIDENCE_REPLICATES {
         let seed = child_seed(seed, Purpose::EvidenceReplicate, [r as u64, 0]);
-        runs.push(tmcmc(&counted, &tmcmc_config(d, s, seed))?);
+        runs.push(tmcmc_controlled(&counted, &tmcmc_config(d, s, seed), &s.control)?);
     }
     let log_evidence_runs: Vec<f64> = runs.iter().map(|t| t.log_evidence).collect();
     let pooled: Vec<Vec<f64>> = runs.iter().flat_map(|t| t.samples.iter().cloned()).collect();

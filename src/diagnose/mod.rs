@@ -107,9 +107,19 @@ pub fn diagnose_run(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<
         misfit_verdicts: Mutex::new(BTreeMap::new()),
     };
 
-    let mut runs = problem.run(vec![Model::BASE, Model::Baseline], &[])?;
-    let search = search(&problem, &mut runs)?;
+    // progress: the base, the β baseline and every candidate but the base
+    let control = &settings.control;
+    let models = Model::candidates(settings.max_causes, data.beam.support).len() + 1;
+    control.start("models", models as u64);
+    let searched = problem.run(vec![Model::BASE, Model::Baseline], &[]).and_then(|mut runs| {
+        let search = search(&problem, &mut runs)?;
+        Ok((runs, search))
+    });
+    control.finish();
+    let (runs, search) = searched?;
+    control.check()?;
     let decide = Decision::new(&problem, &runs, &search);
     let diagnosis = decide.diagnosis(&problem, &runs, &search)?;
+    control.check()?;
     Ok(DiagnosisRun { diagnosis, runs })
 }

@@ -55,17 +55,25 @@ impl Problem<'_> {
     pub(super) fn run(&self, models: Vec<Model>, done: &[ModelRun]) -> Result<Vec<ModelRun>, DiagnoseError> {
         fn err(m: &Model) -> impl FnOnce(BayesError) -> DiagnoseError {
             let model = m.name();
-            move |source| DiagnoseError::Evidence { model, source }
+            move |source| match source {
+                BayesError::Cancelled(c) => DiagnoseError::Cancelled(c),
+                source => DiagnoseError::Evidence { model, source },
+            }
         }
+        let control = &self.settings.control;
         let runs: Vec<ModelRun> = models
             .into_par_iter()
             .map(|m| {
+                control.check()?;
                 let seed = child_seed(self.seed, Purpose::ModelClass, [model_key(&m), 0]);
                 let subs: Vec<&ModelRun> =
                     m.causes().iter().filter_map(|&c| done.iter().find(|r| r.model == m.without(c))).collect();
-                evidence::run_model(m.clone(), self.posterior(&m), self.settings, seed, &subs).map_err(err(&m))
+                let run = evidence::run_model(m.clone(), self.posterior(&m), self.settings, seed, &subs);
+                control.advance(1);
+                run.map_err(err(&m))
             })
             .collect::<Result<_, _>>()?;
+        control.check()?;
         // the β baseline is never a cause: a misfit it absorbs as noise must not
         // lift the bar a candidate's evidence is judged in contention against
         let best = runs

@@ -1,6 +1,6 @@
 //! The knobs of a diagnosis and why one could not be made.
 
-use crate::bayes::BayesError;
+use crate::bayes::{BayesError, Cancelled, Control};
 use crate::error::InputError;
 use crate::report::ReportError;
 
@@ -26,6 +26,11 @@ pub struct DiagnoseSettings {
     pub max_causes: usize,
     /// Nelder–Mead iterations for the MAP (default 400).
     pub map_iters: u64,
+    /// Cancellation and progress (default: neither; [`crate::bayes::control`]).
+    /// Progress counts the models whose evidence is done ("models"); a
+    /// cancelled diagnosis returns [`DiagnoseError::Cancelled`]. Changes no
+    /// number, so it never distinguishes two settings (`==`).
+    pub control: Control,
 }
 
 impl Default for DiagnoseSettings {
@@ -39,6 +44,7 @@ impl Default for DiagnoseSettings {
             alternative_margin: 3.0,
             max_causes: 2,
             map_iters: 400,
+            control: Control::default(),
         }
     }
 }
@@ -97,4 +103,7 @@ pub enum DiagnoseError {
     /// The report directory could not be written.
     #[error("{0}")]
     Report(#[from] ReportError),
+    /// The caller cancelled the run ([`DiagnoseSettings::control`]).
+    #[error("{0}")]
+    Cancelled(#[from] Cancelled),
 }

@@ -1,0 +1,145 @@
+//! `bayes::control` (src/bayes/control.rs): a control that is not cancelled
+//! changes no bit of DRAM's or TMCMC's output; a cancel stops them within the
+//! work between two polls; progress counts every DRAM state once.
+//!
+//! Target ("tripwire Gaussian", written here): a standard normal prior and a
+//! Gaussian likelihood N(θ; 1, 0.5²) per coordinate that counts its
+//! evaluations and cancels a shared control at evaluation K. The bound on
+//! the evaluations after the cancel follows from where the samplers poll
+//! (before each TMCMC sample's likelihood or moves, after each DRAM step):
+//! at most one unit of polled work per thread that was inside one.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
+
+use nanobeam::bayes::chains::{chain_rng, run_chains};
+use nanobeam::bayes::dram::{run_chain, DramSettings};
+use nanobeam::bayes::tmcmc::{tmcmc, tmcmc_controlled, TmcmcConfig};
+use nanobeam::bayes::{BayesError, Cancelled, Control, Posterior, Progress};
+use rand::RngCore;
+use rand_distr::{Distribution, StandardNormal};
+
+struct Tripwire {
+    d: usize,
+    evaluations: AtomicU64,
+    /// cancel `control` at this evaluation (0: never)
+    at: u64,
+    control: Control,
+}
+
+impl Tripwire {
+    fn new(d: usize, at: u64) -> Self {
+        Self { d, evaluations: AtomicU64::new(0), at, control: Control::default() }
+    }
+}
+
+impl Posterior for Tripwire {
+    fn names(&self) -> Vec<String> {
+        (0..self.d).map(|i| format!("x{i}")).collect()
+    }
+    fn log_prior(&self, t: &[f64]) -> f64 {
+        -0.5 * t.iter().map(|x| x * x).sum::<f64>()
+    }
+    fn log_likelihood(&self, t: &[f64]) -> f64 {
+        if self.evaluations.fetch_add(1, Ordering::SeqCst) + 1 == self.at {
+            self.control.cancel();
+        }
+        -0.5 * t.iter().map(|x| ((x - 1.0) / 0.5).powi(2)).sum::<f64>()
+    }
+    fn sample_prior(&self, rng: &mut dyn RngCore) -> Vec<f64> {
+        (0..self.d).map(|_| StandardNormal.sample(rng)).collect()
+    }
+}
+
+/// Counts what it is told (the sum of `advance`).
+#[derive(Default)]
+struct Sum {
+    total: AtomicU64,
+    done: AtomicU64,
+}
+
+impl Progress for Sum {
+    fn start(&self, _unit: &'static str, total: u64) {
+        self.total.store(total, Ordering::SeqCst);
+    }
+    fn advance(&self, n: u64) {
+        self.done.fetch_add(n, Ordering::SeqCst);
+    }
+    fn finish(&self) {}
+}
+
+fn config() -> TmcmcConfig {
+    TmcmcConfig { n_samples: 200, mh_steps: 3, seed: 11, ..TmcmcConfig::default() }
+}
+
+fn dram_settings() -> DramSettings {
+    DramSettings {
+        draws_per_chain: 1000,
+        burn_in: 200,
+        nonadaptive_draws: 200,
+        adaptation_start: 200,
+        covariance_skip: 100,
+        seed: 5,
+        chains: 2,
+        ..DramSettings::default()
+    }
+}
+
+#[test]
+fn tmcmc_with_a_control_that_is_not_cancelled_is_bit_identical() {
+    let plain = tmcmc(&Tripwire::new(2, 0), &config()).unwrap();
+    let sum = Arc::new(Sum::default());
+    let controlled = tmcmc_controlled(&Tripwire::new(2, 0), &config(), &Control::with_progress(sum)).unwrap();
+    assert_eq!(plain, controlled);
+    assert_eq!(plain.log_evidence.to_bits(), controlled.log_evidence.to_bits());
+}
+
+#[test]
+fn tmcmc_stops_within_one_sample_per_thread_of_a_cancel() {
+    let threads = rayon::current_num_threads() as u64;
+    let c = config();
+    // one sample's polled unit: its likelihood (stage 0) or its moves (at most
+    // mh_steps evaluations: no max_mh_steps here)
+    let per_sample = c.mh_steps as u64;
+    for at in [50, 200, 650, 1234] {
+        let post = Tripwire::new(2, at);
+        let r = tmcmc_controlled(&post, &c, &post.control.clone());
+        assert_eq!(r.unwrap_err(), BayesError::Cancelled(Cancelled), "cancel at evaluation {at}");
+        let after = post.evaluations.load(Ordering::SeqCst) - at;
+        // the thread that cancelled finishes its sample, every other thread its current one
+        assert!(after <= threads * per_sample, "{after} evaluations after the cancel at {at} ({threads} threads)");
+    }
+    // a run never cancelled needs more evaluations than the largest trip
+    // point, so each trip above fired inside the run
+    let full = Tripwire::new(2, 0);
+    tmcmc(&full, &c).unwrap();
+    assert!(full.evaluations.load(Ordering::SeqCst) > 1234);
+}
+
+#[test]
+fn dram_with_a_control_is_bit_identical_and_counts_every_state() {
+    let s = dram_settings();
+    let starts = vec![vec![0.1, -0.2], vec![-0.3, 0.4]];
+    let plain = run_chains(&Tripwire::new(2, 0), &s, &[0.5, 0.5], &starts, 5, None).unwrap();
+    let sum = Arc::new(Sum::default());
+    let control = Control::with_progress(sum.clone());
+    let controlled = run_chains(&Tripwire::new(2, 0), &s, &[0.5, 0.5], &starts, 5, Some(&control)).unwrap();
+    for (a, b) in plain.iter().zip(&controlled) {
+        assert_eq!(a.draws, b.draws);
+        assert_eq!(a.log_posterior, b.log_posterior);
+    }
+    // 1000 states per chain: three blocks of 256 and the remainder 232
+    assert_eq!(sum.done.load(Ordering::SeqCst), 2 * 1000);
+}
+
+#[test]
+fn dram_stops_at_the_step_after_a_cancel() {
+    let s = dram_settings();
+    // each step evaluates the posterior once per delayed-rejection stage tried
+    let stages = s.stages() as u64;
+    let post = Tripwire::new(2, 300);
+    let out =
+        run_chain(&post, &s, &[0.5, 0.5], &[0.0, 0.0], &mut chain_rng(5, 0), Some(&post.control.clone())).unwrap();
+    assert!(out.draws.len() < s.draws_per_chain, "the chain ran to its end");
+    assert!(post.evaluations.load(Ordering::SeqCst) - 300 <= stages);
+}
