@@ -4,7 +4,8 @@
 //! Map: `spec` (YAML contract) → `element` (A3–A7) → `model` (assembly,
 //! supports, extensions, nondimensional scaling) → poles by `state_space`
 //! (A15, reference) or `modal` (exact decoupled families via `eigen` +
-//! `family`, or Rayleigh-quotient iteration on T(s) when the extensions couple the modes) →
+//! `family`, with certified eigenvalue interpolants from `spectrum`
+//! (Euler–Bernoulli) and `shear_spectrum` (Timoshenko), or Rayleigh-quotient iteration on T(s) when the extensions couple the modes) →
 //! `frf` (direct banded solves); `time_response` (impulse response by the
 //! exact matrix exponential of the state space).
 
@@ -18,6 +19,7 @@ pub(crate) mod family;
 mod frf;
 mod modal;
 pub(crate) mod model;
+mod shear_spectrum;
 pub mod spec;
 mod spectrum;
 mod state_space;
@@ -28,6 +30,11 @@ pub use error::BeamError;
 pub use frf::{frf, frf_each, frf_points, max_frequency_rad_s, MAX_OMEGA_TILDE};
 pub use modal::{
     modal, modal_observables, modal_state_space, poles_state_space, ModalResult, ModalSolver, Mode, SolverPath,
+};
+pub use shear_spectrum::{
+    certificates as shear_spectrum_certificates, direct_eigenvalues as shear_direct_eigenvalues,
+    interpolated_eigenvalues as shear_interpolated_eigenvalues, Certificate as ShearSpectrumCertificate,
+    SHEAR_CERTIFIED_TOL,
 };
 pub use spec::{BeamSpec, InternalVariable, PointMass, ShearDeformation, Support};
 pub use spectrum::{
