@@ -19,8 +19,8 @@
 //! absolute (the derivation of `tests/beam_fast_path.rs` with this bound).
 
 use nanobeam::beam::{
-    shear_direct_eigenvalues, shear_interpolated_eigenvalues, shear_spectrum_certificates, BeamSpec,
-    InternalVariable, ModalSolver, ShearDeformation, Support, SHEAR_CERTIFIED_TOL,
+    shear_direct_eigenvalues, shear_interpolated_eigenvalues, shear_spectrum_certificates, BeamSpec, InternalVariable,
+    ModalSolver, ShearDeformation, Support, SHEAR_CERTIFIED_TOL,
 };
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
@@ -49,8 +49,14 @@ fn beam(support: Support, e0a_nm: f64, kappa: f64, c: f64, ivs: &[(f64, f64)]) -
 #[test]
 fn cells_of_the_diagnosis_range_are_certified() {
     for support in [Support::SimplySupported, Support::ClampedFree] {
-        let certs =
-            shear_spectrum_certificates(20, support, R2, 6, ((0.6f64 / 8.0).powi(2), (1.5f64 / 8.0).powi(2)), (G_MIN, G_MAX));
+        let certs = shear_spectrum_certificates(
+            20,
+            support,
+            R2,
+            6,
+            ((0.6f64 / 8.0).powi(2), (1.5f64 / 8.0).powi(2)),
+            (G_MIN, G_MAX),
+        );
         let mut degrees = Vec::new();
         let mut worst = 0.0f64;
         for c in &certs {
@@ -138,7 +144,8 @@ fn results_do_not_depend_on_evaluation_history() {
     let mut rng = ChaCha8Rng::seed_from_u64(4141);
     let mut shared = ModalSolver::new();
     for i in 0..120 {
-        let mut b = beam(Support::SimplySupported, rng.gen_range(0.6..1.5), rng.gen_range(0.3..1.0), 0.0, &[(0.4, 3e11)]);
+        let mut b =
+            beam(Support::SimplySupported, rng.gen_range(0.6..1.5), rng.gen_range(0.3..1.0), 0.0, &[(0.4, 3e11)]);
         if i % 7 == 0 {
             b.shear_deformation = None;
         }

@@ -326,7 +326,8 @@ fn certify(nodes: &mut Nodes<'_>, pieces: (usize, usize), mode: usize) -> Option
     for n in LEVELS {
         let m = 2 * n;
         let fine = nodes.level(m, mode)?;
-        let coarse: Vec<f64> = (0..=n).flat_map(|i| (0..=n).map(move |j| (2 * i, 2 * j))).map(|(i, j)| fine[i * (m + 1) + j]).collect();
+        let coarse: Vec<f64> =
+            (0..=n).flat_map(|i| (0..=n).map(move |j| (2 * i, 2 * j))).map(|(i, j)| fine[i * (m + 1) + j]).collect();
         let mut candidate = Chebyshev2 {
             t: nodes.t,
             v: nodes.v,
