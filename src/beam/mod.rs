@@ -4,7 +4,9 @@
 //! Map: `spec` (YAML contract) → `element` (A3–A7) → `model` (assembly,
 //! supports, extensions, nondimensional scaling) → poles by `state_space`
 //! (A15, reference; `state_space_modal` turns them into modes) or `modal`
-//! (exact decoupled families via `eigen` + `family`, or, in `coupled`,
+//! (exact decoupled families via `eigen` + `family`, with certified eigenvalue
+//! interpolants from `spectrum` (Euler–Bernoulli) and `shear_spectrum`
+//! (Timoshenko), or, in `coupled`,
 //! Rayleigh-quotient iteration on T(s) when the extensions couple the modes;
 //! the result types in `modal_result`) →
 //! `frf` (direct banded solves); `time_response` (impulse response by the
@@ -22,6 +24,7 @@ mod frf;
 mod modal;
 mod modal_result;
 pub(crate) mod model;
+mod shear_spectrum;
 pub mod spec;
 mod spectrum;
 mod state_space;
@@ -33,6 +36,11 @@ pub use error::BeamError;
 pub use frf::{frf, frf_each, frf_points, max_frequency_rad_s, MAX_OMEGA_TILDE};
 pub use modal::{modal, modal_observables, ModalSolver};
 pub use modal_result::{ModalResult, Mode, SolverPath};
+pub use shear_spectrum::{
+    certificates as shear_spectrum_certificates, direct_eigenvalues as shear_direct_eigenvalues,
+    interpolated_eigenvalues as shear_interpolated_eigenvalues, Certificate as ShearSpectrumCertificate,
+    SHEAR_CERTIFIED_TOL,
+};
 pub use spec::{BeamSpec, InternalVariable, PointMass, ShearDeformation, Support};
 pub use spectrum::{
     certificates as spectrum_certificates, direct_eigenvalues, interpolated_eigenvalues,

@@ -38,6 +38,7 @@ use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiSta
 use crate::beam::family::{decoupled_family_roots_into, family_roots, Roots};
 use crate::beam::modal_result::{assemble, check_mode_count, oscillatory_pair, ModalResult, SolverPath};
 use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
+use crate::beam::shear_spectrum::ShearSpectrumTable;
 use crate::beam::spec::BeamSpec;
 use crate::beam::spectrum::SpectrumTable;
 use crate::beam::state_space_modal::state_space_modal;
@@ -66,7 +67,9 @@ use crate::beam::BeamError;
 /// interpolant (`spectrum.rs`: relative error ≤ 1e-12 against the direct
 /// solve, measured when it is built; a function of (mesh, mode, e0a piece)
 /// only), then one root solve per family. Where no certified interpolant
-/// exists the eigenpairs are solved directly as above. The coupled extensions
+/// exists the eigenpairs are solved directly as above. So does the decoupled
+/// Timoshenko model (shear deformation, C = 0, no other extension): its pencil
+/// depends on (ẽ, g̃), interpolated in `shear_spectrum.rs`. The coupled extensions
 /// (spring, point mass with C > 0, axial force, Timoshenko with C > 0) keep
 /// the RQI path: their poles need nonlinear RQI on T(s) whatever the pencil
 /// start costs (see `general_path`), and the pencil depends on 2–3 parameters.
@@ -76,6 +79,7 @@ pub struct ModalSolver {
     eigen: EigenCache,
     last_path: Option<SolverPath>,
     spectrum: SpectrumTable,
+    shear_spectrum: ShearSpectrumTable,
     /// Never use the interpolant (reference solver for tests and benches).
     direct_only: bool,
     last_interpolated: bool,
@@ -294,6 +298,7 @@ impl ModalSolver {
             self.mesh = Some(UnitMesh::for_beam(beam));
             self.eigen = EigenCache::default();
             self.spectrum = SpectrumTable::default();
+            self.shear_spectrum = ShearSpectrumTable::default();
         }
         self.last_interpolated = false;
         Ok(())
@@ -353,14 +358,23 @@ impl ModalSolver {
         let sc = Scaling::new(beam);
         // the same tests as ScaledModel::decouples with no point mass and no rotary inertia
         let spring = sc.spring > 0.0 && !mesh.spring_dofs.is_empty();
-        if mesh.shear.is_some() || beam.point_mass.is_some() || spring || sc.axial != 0.0 {
+        // Timoshenko decouples only without damping (rotary inertia: `shear_spectrum.rs`)
+        let shear = mesh.shear.is_some();
+        if (shear && sc.c != 0.0) || beam.point_mass.is_some() || spring || sc.axial != 0.0 {
             return None;
         }
         if n_modes == 0 || n_modes > mesh.n() {
             return None;
         }
         self.lambdas.resize(n_modes, 0.0);
-        if !self.spectrum.lambdas(mesh, sc.e_tilde * sc.e_tilde, &mut self.lambdas) {
+        let t = sc.e_tilde * sc.e_tilde;
+        let found = if shear {
+            let g = crate::beam::model::shear_params(beam).map_or(0.0, |(g, _)| g);
+            self.shear_spectrum.lambdas(mesh, t, g, &mut self.lambdas)
+        } else {
+            self.spectrum.lambdas(mesh, t, &mut self.lambdas)
+        };
+        if !found {
             return None;
         }
         let mut ivs = [(0.0, 0.0); crate::beam::spec::MAX_INTERNAL_VARIABLES];

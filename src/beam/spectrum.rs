@@ -150,7 +150,7 @@ fn direct_mu(mesh: &UnitMesh, t: f64, count: usize) -> Option<Vec<f64>> {
 /// f_j = f(cos(πj/n)), j = 0..=n (a DCT-I: c_k = (2/n)Σ″ f_j cos(πjk/n), ends
 /// halved). Hand-written: n ≤ 128 and O(n²) is nothing next to one eigen-solve,
 /// and no listed crate provides a DCT-I.
-fn lobatto_coefficients(f: &[f64]) -> Vec<f64> {
+pub(crate) fn lobatto_coefficients(f: &[f64]) -> Vec<f64> {
     let n = f.len() - 1;
     (0..=n)
         .map(|k| {
