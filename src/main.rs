@@ -14,9 +14,7 @@ fn main() {
 /// glibc's malloc serves blocks ≥ 128 KiB with a fresh `mmap` and returns
 /// freed heap tops to the kernel, so the per-parameter R̂/ESS vectors of a
 /// calibration (80 000 f64 = 640 KiB each) and the output buffers page-fault
-/// anew on every use: issue 15 measured 7 660 page faults and ~3 % of a whole
-/// `calibrate` task-clock (165.5–168.0 → 162.0–162.7 ms alternating, `perf
-/// stat`, one thread, load 3.9) for that.
+/// anew on every use, a measurable part of a `calibrate` (`benches/README.md`, "Measurements cited by src/").
 /// Serving blocks below 32 MiB (glibc's largest allowed threshold on 64-bit)
 /// from the heap and keeping up to 256 MiB of freed memory halves the faults
 /// (3 436). Speed only: no result depends on where memory comes from. Only

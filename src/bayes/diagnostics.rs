@@ -63,8 +63,8 @@ pub fn rhat(chains: &[Vec<f64>]) -> f64 {
 
 /// (rank R̂, bulk ESS, tail ESS) together, bit-identical to [`rhat`],
 /// [`ess_bulk`], [`ess_tail`] called one by one, with one sort of the pooled
-/// draws instead of two sorts and four selections (issue 15: these were a
-/// fifth of a whole `calibrate`):
+/// draws instead of two sorts and four selections (a large part of a
+/// `calibrate`: `benches/README.md`, "Measurements cited by src/"):
 /// * with an even number of draws per chain, splitting keeps every draw, so
 ///   the rank normalisation of the split chains is the split of the rank
 ///   normalisation (ranks depend on the pooled values only);
@@ -80,8 +80,8 @@ pub fn convergence(chains: &[Vec<f64>]) -> (f64, f64, f64) {
 }
 
 /// [`convergence`] and the type-7 quantiles `ps` of the pooled draws, read
-/// from the same sort (issue 15: `summarize` selected its 95 % interval with
-/// two more passes over the draws). The quantiles are the bits of
+/// from the same sort (`summarize` selected its 95 % interval with two more
+/// passes over the draws). The quantiles are the bits of
 /// [`quantile_select`] (the same order statistics and formula; see the test
 /// `quantile_select_equals_quantile_sorted`); `None` where `convergence` takes
 /// its unsorted fallback (an odd or < 4 draw count, or chains of unequal length).
@@ -219,9 +219,8 @@ fn split_indicator_bits(chains: &[Vec<f64>], q: f64) -> Vec<Bits> {
     first.chain(second).collect()
 }
 
-/// [`ess`] of indicator chains from exact counts (issue 15: the float
-/// autocovariance of the two tail indicators was ~3 % of a whole
-/// `calibrate`). With k ones in a chain of n, μ = k/n, the centred lag-t sum
+/// [`ess`] of indicator chains from exact counts (cheaper than the float
+/// autocovariance of the two tail indicators). With k ones in a chain of n, μ = k/n, the centred lag-t sum
 /// is Σ_{i<n−t} (aᵢ − μ)(a_{i+t} − μ) = S_t − μ(H_t + T_t) + (n − t)μ², with
 /// S_t the lagged products and H_t, T_t the ones among draws 0..n−t and t..n,
 /// all integers; the chain means k/n are the bits of [`mean`]'s (a sum of
@@ -500,9 +499,8 @@ pub fn rank_normalize(chains: &[Vec<f64>]) -> Vec<Vec<f64>> {
 /// (value, pooled position) of every draw, sorted by value (ties get their
 /// average rank in [`normal_scores`], so their order among themselves is
 /// irrelevant). An LSD radix sort on the keys' bits (`radsort`, which skips
-/// the bytes all keys share). On the 3 × 80 000 draws of the pymcmcstat
-/// comparison run it costs 35 M instructions against the comparison sort's
-/// 53 M (callgrind; that sort was ~3 % of the run's time, issue 15). The
+/// the bytes all keys share), fewer instructions than a comparison sort on
+/// a calibration's draws (`benches/README.md`, "Measurements cited by src/"). The
 /// draws are finite ([`valid_draws_per_chain`]), where its order is `<`'s
 /// (−0 just before +0, as `total_cmp`; `==` groups them either way).
 fn sorted_with_positions(chains: &[Vec<f64>]) -> Vec<(f64, usize)> {

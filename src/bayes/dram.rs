@@ -334,8 +334,8 @@ fn alpha(points: &[Vec<f64>], log_pi: &[f64], path: &[usize], gammas: &[f64], pr
     // q_i(y0 → yi) in the denominator, are the same Gaussian density of
     // ±(yi − y0), bitwise (the forward substitution of a negated vector is the
     // negated result, exactly), so they cancel in eq. (29) and are skipped
-    // (issue 15: log_q was 6 % of a calibrate; skipping the stage-1 pair and,
-    // at stage 2, the stage-2 pair halves its calls). At stage 1 nothing else
+    // (skipping the stage-1 pair and, at stage 2, the stage-2 pair halves
+    // log_q's calls). At stage 1 nothing else
     // is left: α1 = min(1, π(y1)/π(y0)) (Metropolis).
     if i == 1 {
         let log_ratio = log_pi[yi] - log_pi[y0];

@@ -7,6 +7,7 @@ pub mod control;
 pub mod diagnostics;
 pub mod dram;
 pub mod error;
+pub mod evidence;
 pub mod importance;
 pub mod laplace;
 pub mod likelihood;

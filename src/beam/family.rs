@@ -161,7 +161,7 @@ fn sqrt_upper(z: Complex64) -> Complex64 {
 /// [`newton_family`]). Halley (ŝ ← ŝ − 2ff'/(2f'² − ff''), Numerical Recipes
 /// §9.4) converges cubically where Newton converges quadratically: from the
 /// start below (relative error ~1e-2) two steps reach round-off where Newton
-/// needed four (issue 15: this solve was ~22 % of a whole `calibrate`). Each
+/// needed four (this solve is a large part of a `calibrate`). Each
 /// step costs one complex division, like a Newton step, plus a few products.
 /// Any non-real root it converges to is the pair (at most one pair exists,
 /// see [`newton_family`]); one it cannot find sends the caller to Aberth.
@@ -267,7 +267,7 @@ const LANES: usize = 8;
 /// Halley iterations run interleaved, up to [`LANES`] at a time: each
 /// family's solve is a chain of dependent divisions and square roots, so one
 /// at a time the CPU waits on latency; side by side the chains overlap
-/// (issue 15). Every lane performs exactly the scalar route's operations
+/// (`benches/README.md`, "Measurements cited by src/"). Every lane performs exactly the scalar route's operations
 /// (the same helper functions, stopped at the same step, frozen once
 /// stopped), so a root does not depend on which other families were solved
 /// with it (`lanes_equal_the_scalar_route` checks the bits). A lane the
@@ -635,7 +635,7 @@ mod tests {
     }
 
     /// Halley's iteration with the predicted-error stop against the Newton
-    /// iteration run to round-off that it replaced (issue 15), over 200 000
+    /// iteration run to round-off that it replaced, over 200 000
     /// random scaled families: N = 1..3, ĉ = 0 or log-uniform in [1e-4, 3],
     /// b̂ ∈ (0, 1], Δ log-uniform in [1e-3, 10], Ω̂ log-uniform in [1e-3, 1e4].
     /// Both end within a few eps·|ŝ| of the root (simple root, well scaled:

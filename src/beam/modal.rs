@@ -391,10 +391,9 @@ impl ModalSolver {
     /// ω (rad/s) and ζ of the physical modes `modes` (1-based, each ≤ n_modes)
     /// into `out` = [ω…, ζ…] (length 2·modes.len()): the numbers of
     /// `self.modal(beam, n_modes)?.mode(m)`, bit for bit, without building the
-    /// [`ModalResult`] on the interpolated path (issue 15: a calibration
-    /// evaluates this ~1.75 times per draw, and the result's vectors, the sort
-    /// of its real poles and the copy into a prediction vector were ~5 % of a
-    /// whole `calibrate`). On the coupled path only the oscillatory poles are
+    /// [`ModalResult`] on the interpolated path (a calibration evaluates this
+    /// about twice per draw, and the result's vectors, the sort of its real
+    /// poles and the copy into a prediction vector are measurable: `benches/README.md`, "Measurements cited by src/"). On the coupled path only the oscillatory poles are
     /// solved ([`Poles::Oscillatory`]): the same RQI from the same starts, so
     /// the same bits, except where `modal` falls back to the state space
     /// because two real-pole starts met (then both are exact to the

@@ -1,6 +1,7 @@
 //! Certified Chebyshev interpolants of the lowest eigenvalues of the
 //! Euler–Bernoulli pencil K̃φ = λ̃(M̃₀ + ẽ²M̃₁)φ as functions of t = ẽ² = (e0a/L)²
-//! (issue 15: the forward model at its physical limit).
+//! (the forward model at its physical limit: an eigenvalue for the cost of a
+//! polynomial evaluation).
 //!
 //! # Why an interpolant can be exact to round-off
 //! In the decoupled model only e0a changes the pencil; the section and the
@@ -43,7 +44,7 @@ use crate::beam::eigen::lowest_eigenpairs;
 use crate::beam::model::UnitMesh;
 use crate::beam::spec::Support;
 
-/// Largest certified relative error of an interpolated eigenvalue (issue 15).
+/// Largest certified relative error of an interpolated eigenvalue.
 pub const CERTIFIED_TOL: f64 = 1e-12;
 
 /// What a certificate must reach to be kept: half of [`CERTIFIED_TOL`]. The

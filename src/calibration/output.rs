@@ -48,8 +48,8 @@ pub fn chains_csv(result: &CalibrationResult) -> String {
     let mut f = NumberFormatter::default();
     // A rejected proposal repeats the previous draw: the text of a row's
     // numbers is a function of their bits, so a row whose θ and log posterior
-    // are bitwise those of the previous row reuses its text (issue 15: ~24 %
-    // of the rows of the comparison run, whose formatting was ~10 % of it).
+    // are bitwise those of the previous row reuses its text (about a quarter
+    // of the rows of a typical run).
     let mut numbers = String::new();
     let mut previous: Option<(&[f64], u64)> = None;
     for (c, chain) in result.chains.iter().enumerate() {

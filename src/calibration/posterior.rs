@@ -47,7 +47,7 @@ pub struct BeamPosterior {
     /// Σ −ln(upper − lower) when every prior is uniform: log π(θ) inside the
     /// support, the same terms summed in the same order as [`Posterior::log_prior`]
     /// computes them (so the same bits), without a logarithm per parameter per
-    /// proposal (issue 15: ~3 % of a calibrate).
+    /// proposal.
     uniform_log_prior: Option<f64>,
     /// θ indices (Δᵢ, Ωᵢ) of internal variables that are exchangeable (both
     /// sampled, the same priors as every other one here): empty unless two or
@@ -145,8 +145,7 @@ impl BeamPosterior {
     }
 
     /// `f` of [`Self::beam_at`]`(theta)`, built in this thread's scratch beam
-    /// instead of a fresh clone (issue 15: the clone's allocation, copy and
-    /// free were ~3 % of a whole `calibrate`). The scratch is reset to the
+    /// instead of a fresh clone (its allocation, copy and free). The scratch is reset to the
     /// base field by field before θ is applied, so it holds exactly
     /// `beam_at(theta)` whatever posterior used it before; a re-entrant call
     /// falls back to the clone.

@@ -35,13 +35,13 @@ pub struct Candidate {
     /// one TMCMC run, the replicates' spread when there were several, the
     /// weights' when the importance evidence replaced them.
     pub log_evidence_se: f64,
-    /// ln Ẑ of every TMCMC run: one, or `evidence::EVIDENCE_REPLICATES` when
+    /// ln Ẑ of every TMCMC run: one, or `bayes::evidence::EVIDENCE_REPLICATES` when
     /// the first run missed the posterior's peak (`log_evidence` combines them,
     /// or is `log_evidence_importance` when that one is reliable).
     pub log_evidence_runs: Vec<f64>,
     /// Importance-sampling evidence (`evidence` module doc; `null` when its
     /// proposal could not be built); it is `log_evidence` when its `ess` ≥
-    /// `evidence::IMPORTANCE_MIN_ESS`.
+    /// `bayes::evidence::IMPORTANCE_MIN_ESS`.
     pub log_evidence_importance: Option<ImportanceEvidence>,
     /// Which estimate `log_evidence` is: `importance` or `tmcmc`.
     pub log_evidence_method: String,
@@ -80,8 +80,8 @@ pub struct BoundHit {
 /// How close to a bound of a uniform or log-uniform prior (as a fraction of
 /// the prior's width in sampling coordinates) a MAP counts as on it: 0.1 %.
 /// Nelder–Mead pressed against a bound ends within its simplex tolerance of
-/// it (local-defect case 404: κ = 0.3000016 on the bound 0.3, 2e-6 of the
-/// width), while an interior optimum this close to a bound needs a
+/// it (a few 1e-6 of the width: `tests/diagnose_hidden.md`, "Case
+/// histories"), while an interior optimum this close to a bound needs a
 /// posterior sd of the same 0.1 % order sitting right at the edge.
 pub const ON_BOUND_FRACTION: f64 = 1e-3;
 
@@ -89,13 +89,13 @@ pub const ON_BOUND_FRACTION: f64 = 1e-3;
 /// prior range where the effect is strongest
 /// ([`classes::stronger_effect_ends`]). A cause that earned its place only by
 /// asking for more than its class's physical range allows is a sign that
-/// the effect lies outside the catalogue (or that the range is too narrow):
-/// local-defect case 404 is fitted by a mass and shear deformation with
-/// κ = 0.3000016 on the bound 0.3. The base model's own parameters (e0a, Δ,
-/// Ω) are not causes and are not judged. The report says so; the verdict is
-/// not changed. On the 41-case hidden suite this flags no
-/// true cause; counting both ends and the base parameters, it had flagged
-/// 4 of 4 shear singles, 3 of 8 pairs and a clean case.
+/// the effect lies outside the catalogue (or that the range is too narrow),
+/// e.g. a local defect fitted by a mass and shear deformation with κ on its
+/// lower bound. The base model's own parameters (e0a, Δ, Ω) are not causes
+/// and are not judged, and only the end where the effect is strongest
+/// counts: with both ends and the base parameters the check flagged true
+/// causes (`tests/diagnose_hidden.md`, "Case histories"). The report says
+/// so; the verdict is not changed.
 pub fn on_prior_bound(r: &ModelRun) -> Vec<BoundHit> {
     let params = &r.posterior.inner().parameters().params;
     let causes: usize = r.model.causes().iter().map(|c| c.parameter_count()).sum();
@@ -356,7 +356,7 @@ mod tests {
             param("nonlocal_e0a_nm", Prior::Normal { mean: 1.0, sd: 0.1 }),
         ];
         let log = [false, true, false, false];
-        // case 404's κ; ln k 1e-4 below ln 1e2 (width ln 1e4 = 9.2, so 1.1e-5 of it); x at 2 nm; e0a far out
+        // a κ pressed on its bound by Nelder–Mead; ln k 1e-4 below ln 1e2 (width ln 1e4 = 9.2, so 1.1e-5 of it); x at 2 nm; e0a far out
         let hits = bound_hits(&params, &log, &[0.3000016, 1e2f64.ln() - 1e-4, 2.0, 5.0]);
         assert_eq!(hits.len(), 2);
         assert_eq!((hits[0].parameter.as_str(), hits[0].bound), ("shear_coefficient", 0.3));

@@ -15,11 +15,8 @@
 //! axial force both shift mode n's ω² by ∝ 1/n² relative at leading order,
 //! so no modal table tells them apart, but the tension leaves a simply
 //! supported beam's mode shapes exactly sinusoidal while the spring bends
-//! them near the supports (hidden case 110, a tension: mode 4's amplitude at
-//! 0.7 L is 0.6183 of the largest on the scan under the tension, 0.5886 under
-//! the spring, the truth's 0.6183; case 308, relaxation + spring: at 0.3 L,
-//! 0.6166 under relaxation + tension, 0.5880 under the truth's pair, the
-//! truth's 0.5890). The observable is what a scan of the readout point along
+//! them near the supports (by a few per cent of the peak amplitude at a
+//! higher mode: `tests/diagnose_hidden.md`, "Case histories"). The observable is what a scan of the readout point along
 //! the beam at the mode's resonance gives: the amplitude |H(ω_n; x_drive, x)|
 //! ([`crate::beam::frf_points`]) relative to the largest on the scan grid. Its measurement sd depends on the instrument, which the data
 //! do not say, so the suggestion gives the largest sd at which the
@@ -148,10 +145,9 @@ pub const SHAPE_DRIVE_FRACTION: f64 = 39.0 / 40.0;
 /// fraction of the peak amplitude: a tenth of a per cent. A stated
 /// assumption, not a derived bound: a scan of a nanotube's deflection is not
 /// expected to resolve less, and below it differences reach numerical noise
-/// (hidden case 310, viscous damping against viscous damping + a spring:
-/// without the floor the suggestion was the point of largest amplitude,
-/// 1.0000 under both by definition, decisive at an sd printed as 0.0000).
-/// Hidden cases 319 and 324 asked for 1e-4 and 3e-4 and get no suggestion.
+/// (without the floor a suggestion can be the point of largest amplitude,
+/// 1 under both models by definition, "decisive" at an sd of 0; see
+/// `tests/diagnose_hidden.md`, "Case histories").
 pub const MIN_SHAPE_SD: f64 = 1e-3;
 
 /// A mode-shape measurement that would separate two models no ω or ζ
@@ -286,11 +282,9 @@ pub fn shape_measurement<'r>(
 /// ([`super::classes::folds_mass_position`]) each draw is followed by its
 /// mirror image's scan: the predictive of the unfolded posterior, an equal
 /// mixture of the two. Without it the prediction is that of a mass on the
-/// left only, wrong by the mirror's difference for a mass on the right
-/// (hidden case 337, spring + a mass at 5.26 nm on 8 nm: mode 5's amplitude
-/// at 6.8 nm is 0.686 on the truth, 0.710 on its mirror image; the folded
-/// predictive said 0.718 under the truth's model and 0.695 under mass +
-/// tension, so the suggested scan would have decided for the wrong model).
+/// left only, wrong by the mirror's difference for a mass on the right, and
+/// a scan suggested from it can decide for the wrong model
+/// (`tests/diagnose_hidden.md`, "Case histories").
 fn shape_draws(
     run: &ModelRun,
     data: &MeasuredData,

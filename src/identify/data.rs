@@ -47,8 +47,7 @@ pub const MIN_ROWS: usize = 8;
 /// the nanotube measurements the paper fits) needs a step ≤ 2ζω/3 ≈
 /// 6.7e-6·ω_max, i.e. 1.5e5 rows; a ring-down sampled at the same rate and
 /// long enough for that mode to decay needs as many. 2e5 leaves margin. Larger
-/// records cost time and memory linearly (issue 44: 10⁶ rows took 51 s and
-/// 1.1 GB) and are checked while reading, before they are held in memory.
+/// records cost time and memory linearly (`benches/README.md`, "Measurements cited by src/") and are checked while reading, before they are held in memory.
 pub const MAX_ROWS: usize = 200_000;
 
 /// A measured record.

@@ -146,9 +146,8 @@ impl NumberFormatter {
     /// family: shortest round-trip, closest to x, the same digit string as
     /// core's Grisu/Dragon shortest mode, checked on random bit patterns in
     /// the tests below) and are rearranged here from its positional/exponent
-    /// layout. zmij replaced `ryu` (issue 15: ryu's digit generation was
-    /// ~3 % of a whole `calibrate`; zmij is the crate serde_json itself uses
-    /// now, already in the lock file). Where two shortest candidates are
+    /// layout. zmij replaced `ryu` (faster digit generation, `benches/README.md`, "Measurements cited by src/"; zmij is the crate
+    /// serde_json itself uses now, already in the lock file). Where two shortest candidates are
     /// equally close (an exact decimal tie, see [`may_tie`]) the shortest-digit
     /// libraries round to even and core rounds up, so those few values go
     /// through core.

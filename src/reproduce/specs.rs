@@ -214,6 +214,10 @@ pub struct EvidenceSpec {
     /// TMCMC samples per stage (full, quick).
     pub tmcmc_samples: usize,
     pub quick_tmcmc_samples: usize,
+    /// MH steps per TMCMC stage and MAP iterations of the evidence estimator
+    /// (`bayes::evidence::EvidenceSettings`).
+    pub mh_steps: usize,
+    pub map_iters: u64,
     /// Case whose data `diagnose` examines.
     pub diagnose_case: String,
 }
@@ -392,6 +396,15 @@ impl TablesSpec {
 }
 
 impl EvidenceSpec {
+    /// The evidence estimator's settings of a full or `quick` run.
+    pub fn settings(&self, quick: bool) -> crate::bayes::evidence::EvidenceSettings {
+        crate::bayes::evidence::EvidenceSettings {
+            samples: if quick { self.quick_tmcmc_samples } else { self.tmcmc_samples },
+            mh_steps: self.mh_steps,
+            map_iters: self.map_iters,
+        }
+    }
+
     fn validate(&self, cases: &[CaseSpec]) -> Result<(), InputError> {
         known_case(cases, "n1_case", &self.n1_case)?;
         known_case(cases, "n2_case", &self.n2_case)?;
@@ -401,6 +414,6 @@ impl EvidenceSpec {
                 return Err(InputError::new(n, v, "50..=100000"));
             }
         }
-        Ok(())
+        self.settings(false).validate()
     }
 }
