@@ -357,7 +357,7 @@ impl Problem {
         };
         let mut dm = DMatrix::<C64>::zeros(4 * ns, 4 * ns);
         let mut row = 0;
-        let mut put = |dm: &mut DMatrix<C64>, row: &mut usize, seg: usize, r: [C64; 4]| {
+        let put = |dm: &mut DMatrix<C64>, row: &mut usize, seg: usize, r: [C64; 4]| {
             for k in 0..4 {
                 dm[(*row, 4 * seg + k)] = r[k];
             }
