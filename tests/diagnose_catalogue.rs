@@ -311,7 +311,7 @@ fn tally(cases: &[(Kind, u64)]) -> Tally {
         t.confident_wrong += usize::from(wrong);
         let line = format!(
             "{:22} seed {seed:3} [{}] base-fit max z {z:6.1} → {} (explained {}, decided {:?}, alternatives {:?}, lnB \
-             {:.1}) right {right} confident-wrong {wrong}; {} models, {secs:.0} s",
+             {:.1}) right {right} confident-wrong {wrong}; {} models, {} forward solves, {secs:.0} s",
             kind.name(),
             case.what,
             verdict(&d),
@@ -320,6 +320,7 @@ fn tally(cases: &[(Kind, u64)]) -> Tally {
             d.alternatives.iter().map(|a| &a.extension).collect::<Vec<_>>(),
             d.gain.log_bayes_factor,
             d.candidates.len(),
+            d.candidates.iter().map(|c| c.forward_evaluations).sum::<u64>(),
         );
         eprintln!("{line}");
         rows.push((kind.name(), verdict(&d), line));
@@ -344,7 +345,7 @@ fn all_cases() -> Vec<(Kind, u64)> {
 /// name, every set right (issue 40's targets: singles ≥ 95 %, foreign 100 %
 /// `unexplained`, clean 100 % `none`, confident wrong 0).
 #[test]
-#[ignore = "10 diagnoses, 8-15 min on 2 cores, beyond CI's budget; run with `cargo test --test diagnose_catalogue -- \
+#[ignore = "issue 40's targets, not met yet (the string regime is outside the axial-force prior, one-end supports have no class); 10 diagnoses, 8-15 min on 2 cores, beyond CI's budget (CI runs the wrong diameter of seed 500); run with `cargo test --test diagnose_catalogue -- \
             --ignored --nocapture`; the record is tests/diagnose_catalogue.md"]
 fn every_kind_is_named_right_and_nothing_is_named_wrong_with_confidence() {
     let only: Option<Vec<String>> =
@@ -375,4 +376,15 @@ fn every_kind_is_visible_against_the_base_model() {
         }
     }
     assert!(hidden.is_empty(), "clean sets must fit (< 5 sd), every other set must not: {hidden:?}");
+}
+
+/// A tube 7 % thinner than declared (wrong-diameter seed 500, d = 0.929 nm)
+/// is named `section-mismatch`, and nothing is decided wrongly. Before the
+/// class it was named `viscous-damping`, decided and explained (a confident
+/// wrong name; tests/diagnose_catalogue.md).
+#[test]
+fn a_wrong_diameter_is_named_section_mismatch() {
+    let t = tally(&[(Kind::WrongDiameter, 500)]);
+    assert_eq!(t.confident_wrong, 0, "a confident wrong name");
+    assert_eq!(t.right, 1, "wrong-diameter seed 500 not named section-mismatch");
 }
