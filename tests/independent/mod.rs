@@ -33,6 +33,8 @@
 //! quantities are internal.
 
 #![allow(dead_code)] // each test file that includes this module uses part of it
+// the index loops below are the matrix algebra's subscripts (rows of D, basis functions, modes)
+#![allow(clippy::needless_range_loop)]
 
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64 as C64;
