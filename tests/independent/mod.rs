@@ -32,9 +32,9 @@
 //! Lengths in nm in the public fields, everything else SI; the dimensionless
 //! quantities are internal.
 
-#![allow(dead_code)] // each test file that includes this module uses part of it
-// the index loops below are the matrix algebra's subscripts (rows of D, basis functions, modes)
-#![allow(clippy::needless_range_loop)]
+// each test file that includes this module uses part of it; the index loops
+// below are the matrix algebra's subscripts (rows of D, basis functions, modes)
+#![allow(dead_code, clippy::needless_range_loop)]
 
 use nalgebra::{DMatrix, DVector};
 use num_complex::Complex64 as C64;
