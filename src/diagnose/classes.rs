@@ -29,6 +29,30 @@
 //!   uncertainty: from 1 (stiffer than the solid circle's 0.88) down to 0.3,
 //!   below a thin-walled tube's 2(1+ν)/(4+3ν) ≈ 0.52 (Cowper 1966), for the
 //!   softer effective shear of multi-walled tubes whose walls slide.
+//! - `section-mismatch`: the file's nominal section or material is off. The
+//!   diameter d, the modulus E, the density ρ and a uniform added mass per
+//!   length ε (an adsorbate layer) reach the modal data only through
+//!   ω_ref² = EI/(ρA L⁴) ∝ E d²/(ρ(1 + ε)) (for a section scaled alike in
+//!   every dimension, I/A ∝ d²): every pole is ω_ref times a function of
+//!   e0a/L, the Δᵢ and Ωᵢ/ω_ref (`beam::model`'s scaling), and e0a is a
+//!   length of its own, so a wrong d does not move e0a/L. Exactly one factor
+//!   is identifiable, f = (E d²/ρ(1 + ε)) / nominal: the class samples the
+//!   modulus, E = f·E_nominal with the section and ρ as declared, and the
+//!   report reads f back as "as if d were √f·d, or E/ρ f times the nominal".
+//!   Prior f ~ log-U[2/3, 3/2]. Reasoning: a tube's diameter is known to
+//!   about ±10 % from TEM or AFM (issue 40), so d² to [0.81, 1.21]; the
+//!   modulus and effective density of a tube are conventions of its wall
+//!   thickness, each taken as uncertain by about ±10 % around the common
+//!   0.34 nm convention; together [0.81·0.9/1.1, 1.21·1.1/0.9] ≈ [0.66, 1.48],
+//!   rounded to a range symmetric in ln f. An adsorbate of +15–30 % mass
+//!   (f = 0.77–0.87) lies inside. What separates f from the base model's own
+//!   parameters is the n-dependence: e0a bends ω_n below (nπ/L)², and the
+//!   relaxation moves ζ_n and (Ω below the band) scales ω_n by √(1 + Δ); a
+//!   uniform scale of every ω_n at fixed ζ_n is neither, but Δ comes close
+//!   (the derivation and its measurement are in `tests/diagnose_catalogue.md`).
+//!   The class is no candidate when the file's parameters already sample
+//!   the diameter, the modulus or the density ([`ModelClass::free_in`]): the
+//!   base model then carries it.
 //! - `baseline`: the base model with β² ~ IG(9.5, 11.1) (§4.3); not a cause.
 //!
 //! Log-uniform priors are sampled in u = ln x, where they are uniform; the
@@ -48,17 +72,19 @@ pub enum ModelClass {
     AttachedMass,
     AxialForce,
     ShearDeformation,
+    SectionMismatch,
 }
 
 impl ModelClass {
     /// The candidate causes, in report order.
-    pub const CAUSES: [ModelClass; 6] = [
+    pub const CAUSES: [ModelClass; 7] = [
         ModelClass::ExtraRelaxation,
         ModelClass::ViscousDamping,
         ModelClass::SupportRotationalStiffness,
         ModelClass::AttachedMass,
         ModelClass::AxialForce,
         ModelClass::ShearDeformation,
+        ModelClass::SectionMismatch,
     ];
 
     pub fn name(self) -> &'static str {
@@ -69,6 +95,7 @@ impl ModelClass {
             ModelClass::AttachedMass => "attached-mass",
             ModelClass::AxialForce => "axial-force",
             ModelClass::ShearDeformation => "shear-deformation",
+            ModelClass::SectionMismatch => "section-mismatch",
         }
     }
 
@@ -95,6 +122,22 @@ impl ModelClass {
         }
     }
 
+    /// Whether the class is free to act given the file's parameters `base`:
+    /// `section-mismatch` samples the modulus, so it is no candidate when
+    /// the base model already samples the diameter, the modulus or the
+    /// density (the paper's Cases 2A–2C and 3 carry the diameter as a
+    /// nuisance parameter): the class would duplicate that parameter or add
+    /// one the base's already spans.
+    pub fn free_in(self, base: &ParameterSet) -> bool {
+        match self {
+            ModelClass::SectionMismatch => !base
+                .params
+                .iter()
+                .any(|p| matches!(p.target, Target::Diameter | Target::YoungsModulus | Target::Density)),
+            _ => true,
+        }
+    }
+
     /// How many parameters the class appends to the base model (what
     /// `add_extension` pushes; a test holds the two together).
     pub fn parameter_count(self) -> usize {
@@ -108,7 +151,8 @@ impl ModelClass {
 /// Which ends of a cause parameter's prior range mean a stronger effect
 /// ([lower, upper]): Δ, C, k_r and the mass at their upper end, κ at its
 /// lower end (more shear), the axial force at both (the compression and the
-/// tension limits). A relaxation time and a mass position have no stronger
+/// tension limits), the modulus factor of a section mismatch at both (too
+/// soft, too stiff). A relaxation time and a mass position have no stronger
 /// end. A MAP pinned at such an end asks for more of the effect than the
 /// class's physical range allows; pinned at the weak end it only says the
 /// cause is barely needed, or that the truth sits at the limit (the hidden
@@ -120,7 +164,7 @@ pub fn stronger_effect_ends(target: Target) -> [bool; 2] {
             [false, true]
         }
         Target::ShearCoefficient => [true, false],
-        Target::AxialForce => [true, true],
+        Target::AxialForce | Target::YoungsModulus => [true, true],
         _ => [false, false],
     }
 }
@@ -148,7 +192,7 @@ impl Model {
     }
 
     /// Every model of at most `k` causes, by number of causes, then in the
-    /// order of [`ModelClass::CAUSES`] (the base first; 22 models at k = 2).
+    /// order of [`ModelClass::CAUSES`] (the base first; 29 models at k = 2).
     pub fn up_to(k: usize) -> Vec<Model> {
         let mut models = vec![Model::BASE];
         let mut level = vec![Model::BASE];
@@ -171,9 +215,13 @@ impl Model {
     }
 
     /// [`Model::up_to`] without the models of a cause that does not act on
-    /// `support` ([`ModelClass::acts_on`]): the candidates of a diagnosis.
-    pub fn candidates(k: usize, support: Support) -> Vec<Model> {
-        Model::up_to(k).into_iter().filter(|m| m.causes().iter().all(|c| c.acts_on(support))).collect()
+    /// `support` ([`ModelClass::acts_on`]) or is not free given the file's
+    /// parameters `base` ([`ModelClass::free_in`]): the candidates of a diagnosis.
+    pub fn candidates(k: usize, support: Support, base: &ParameterSet) -> Vec<Model> {
+        Model::up_to(k)
+            .into_iter()
+            .filter(|m| m.causes().iter().all(|c| c.acts_on(support) && c.free_in(base)))
+            .collect()
     }
 
     /// This model without `cause` (the model itself when it lacks it).
@@ -386,6 +434,70 @@ fn add_extension(
         ModelClass::ShearDeformation => {
             params.push(param("shear_coefficient", Prior::Uniform { lower: 0.3, upper: 1.0 }));
         }
+        ModelClass::SectionMismatch => {
+            let (lo, hi) = SECTION_FACTOR_RANGE;
+            let e = beam.youngs_modulus_pa;
+            params.push(param("youngs_modulus_pa", Prior::LogUniform { lower: lo * e, upper: hi * e }));
+        }
+    }
+}
+
+/// The prior range of the stiffness-to-mass factor f of `section-mismatch`
+/// (the module doc's reasoning).
+pub const SECTION_FACTOR_RANGE: (f64, f64) = (2.0 / 3.0, 1.5);
+
+/// A `section-mismatch` posterior read in the user's terms: the factor f on
+/// EI/ρA (= E/E_nominal as sampled), and what it means for each nominal value
+/// alone. Since ω ∝ √f, a factor f is a section √f times larger in every
+/// dimension (I/A ∝ d²), or E/ρ f times the nominal, or a mass per length
+/// 1/f times the nominal (an adsorbate of 1/f − 1).
+#[derive(Debug, Clone, Copy, serde::Serialize, PartialEq)]
+pub struct SectionReading {
+    /// f: posterior mean and central 95 % interval.
+    pub stiffness_to_mass_factor: f64,
+    pub stiffness_to_mass_factor_ci95: [f64; 2],
+    /// The declared diameter and the one that alone would explain f (d·√f at the mean of f).
+    pub declared_diameter_nm: f64,
+    pub equivalent_diameter_nm: f64,
+    pub equivalent_diameter_ci95_nm: [f64; 2],
+    /// (f − 1)·100: E/ρ that much above the nominal (negative: below).
+    pub e_over_rho_change_percent: f64,
+    /// (1/f − 1)·100: the mass per length that much above the nominal.
+    pub mass_per_length_change_percent: f64,
+}
+
+impl SectionReading {
+    /// From the posterior mean and central 95 % interval of `youngs_modulus_pa` on a beam declaring `nominal`.
+    pub fn new(nominal: &BeamSpec, modulus_mean_pa: f64, modulus_ci95_pa: [f64; 2]) -> Self {
+        let e0 = nominal.youngs_modulus_pa;
+        let f = modulus_mean_pa / e0;
+        let ci = [modulus_ci95_pa[0] / e0, modulus_ci95_pa[1] / e0];
+        let d = nominal.diameter_nm;
+        SectionReading {
+            stiffness_to_mass_factor: f,
+            stiffness_to_mass_factor_ci95: ci,
+            declared_diameter_nm: d,
+            equivalent_diameter_nm: d * f.sqrt(),
+            equivalent_diameter_ci95_nm: [d * ci[0].sqrt(), d * ci[1].sqrt()],
+            e_over_rho_change_percent: 100.0 * (f - 1.0),
+            mass_per_length_change_percent: 100.0 * (1.0 / f - 1.0),
+        }
+    }
+
+    /// One sentence: "behaves as if d = 1.070 nm instead of 1 nm …, or as if E/ρ were 14.5 % higher, …".
+    pub fn sentence(&self) -> String {
+        let pct = self.e_over_rho_change_percent;
+        let (word, mass_word) = if pct >= 0.0 { ("higher", "lower") } else { ("lower", "higher") };
+        format!(
+            "behaves as if d = {:.3} nm instead of {} nm (95 %: {:.3}–{:.3} nm), or as if E/ρ were {:.1} % {word}, or the \
+             mass per length {:.1} % {mass_word}",
+            self.equivalent_diameter_nm,
+            self.declared_diameter_nm,
+            self.equivalent_diameter_ci95_nm[0],
+            self.equivalent_diameter_ci95_nm[1],
+            pct.abs(),
+            self.mass_per_length_change_percent.abs(),
+        )
     }
 }
 
@@ -417,12 +529,12 @@ pub fn model_posterior(
 mod tests {
     use super::*;
 
-    /// `up_to(k)` lists every set of at most k causes once: C(6, 0) + … + C(6, k).
+    /// `up_to(k)` lists every set of at most k causes once: C(7, 0) + … + C(7, k).
     #[test]
     fn up_to_lists_every_set_of_causes_once() {
         // `up_to` and `Model::with` rely on CAUSES being in the enum's order
         assert!(ModelClass::CAUSES.windows(2).all(|w| w[0] < w[1]));
-        for (k, n) in [(0, 1), (1, 7), (2, 22), (3, 42), (6, 64)] {
+        for (k, n) in [(0, 1), (1, 8), (2, 29), (3, 64), (7, 128)] {
             let models = Model::up_to(k);
             assert_eq!(models.len(), n, "k = {k}");
             assert_eq!(models[0], Model::BASE);
@@ -453,11 +565,44 @@ mod tests {
             let acts = ModelClass::SupportRotationalStiffness.acts_on(support);
             let ok = if acts { moved > 1e-3 } else { moved.abs() < 1e-12 };
             assert!(ok, "{}: ω₁ moved by {moved:e}", support.name());
-            let models = Model::candidates(2, support);
-            let expected = if acts { 22 } else { 16 };
+            let models = Model::candidates(2, support, &ParameterSet::paper_n1());
+            let expected = if acts { 29 } else { 22 };
             assert_eq!(models.len(), expected, "{}", support.name());
             assert!(models.iter().all(|m| m.causes().iter().all(|c| c.acts_on(support))));
         }
+    }
+
+    /// `section-mismatch` is no candidate when the file already samples the
+    /// diameter (the paper's Case 3 nuisance), and reads in the user's terms:
+    /// f = 1.1449 on a declared 1 nm is d = 1.07 nm, E/ρ 14.49 % higher, the
+    /// mass per length 12.66 % lower (1/1.1449 = 0.8734).
+    #[test]
+    fn section_mismatch_leaves_a_sampled_section_alone_and_reads_in_user_terms() {
+        let mut base = ParameterSet::paper_n1();
+        assert!(ModelClass::SectionMismatch.free_in(&base));
+        let all = Model::candidates(2, Support::SimplySupported, &base);
+        base.params.push(param("diameter_nm", Prior::Normal { mean: 1.0, sd: 0.05 }));
+        assert!(!ModelClass::SectionMismatch.free_in(&base));
+        let without = Model::candidates(2, Support::SimplySupported, &base);
+        assert_eq!((all.len(), without.len()), (29, 22));
+        assert!(without.iter().all(|m| !m.causes().contains(&ModelClass::SectionMismatch)));
+        let beam = BeamSpec::elastic(8.0, 1.0, 1.0e12, 2300.0, Support::SimplySupported, 20);
+        let r = SectionReading::new(&beam, 1.1449e12, [1.0e12, 1.21e12]);
+        assert!((r.equivalent_diameter_nm - 1.07).abs() < 1e-12);
+        assert!((r.equivalent_diameter_ci95_nm[1] - 1.1).abs() < 1e-12);
+        assert!((r.e_over_rho_change_percent - 14.49).abs() < 1e-9);
+        assert!((r.mass_per_length_change_percent + 12.656).abs() < 1e-3);
+        let s = r.sentence();
+        assert!(
+            s.starts_with("behaves as if d = 1.070 nm instead of 1 nm") && s.contains("E/ρ were 14.5 % higher"),
+            "{s}"
+        );
+        let p =
+            model_parameters(&Model::with(&[ModelClass::SectionMismatch]), &ParameterSet::paper_n1(), &beam, &[], &{
+                NominalScales::of(&beam, 5).unwrap()
+            });
+        let e = p.set.params.last().unwrap();
+        assert_eq!((e.name.as_str(), e.prior.support()), ("youngs_modulus_pa", (1.0e12 * 2.0 / 3.0, 1.5e12)));
     }
 
     /// `parameter_count` is what `add_extension` appends, for every class.

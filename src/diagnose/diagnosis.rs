@@ -66,6 +66,9 @@ pub struct Candidate {
     /// onto the left half ([`classes::folds_mass_position`]) and a mass at
     /// L − x fits the data equally well.
     pub point_mass_x_mirror_ambiguous: bool,
+    /// For a model with `section-mismatch`: its posterior in the user's terms
+    /// (an equivalent diameter, E/ρ or mass per length; [`classes::SectionReading`]).
+    pub section_mismatch: Option<classes::SectionReading>,
 }
 
 /// A parameter whose MAP lies on a bound of its prior range.
@@ -276,6 +279,7 @@ pub fn decided_causes(causes: &[String], alternatives: &[Alternative]) -> Vec<St
 
 pub(super) fn candidate(r: &ModelRun, z_base: f64, probability: f64, data: &MeasuredData) -> Candidate {
     let z = r.log_evidence;
+    let posterior = summaries(r);
     Candidate {
         extension: r.model.name(),
         causes: r.model.causes().iter().map(|c| c.name().to_string()).collect(),
@@ -289,10 +293,24 @@ pub(super) fn candidate(r: &ModelRun, z_base: f64, probability: f64, data: &Meas
         log_bayes_factor: z - z_base,
         probability,
         forward_evaluations: r.forward_evaluations,
-        posterior: summaries(r),
         map_on_prior_bound: on_prior_bound(r),
         point_mass_x_mirror_ambiguous: classes::folds_mass_position(&r.model, &data.beam, &data.mode_scans),
+        section_mismatch: section_reading(r, &posterior, data),
+        posterior,
     }
+}
+
+/// [`classes::SectionReading`] of a model with `section-mismatch`, from its modulus summary.
+fn section_reading(
+    r: &ModelRun,
+    posterior: &BTreeMap<String, Summary>,
+    data: &MeasuredData,
+) -> Option<classes::SectionReading> {
+    if !r.model.causes().contains(&ModelClass::SectionMismatch) {
+        return None;
+    }
+    let e = posterior.get("youngs_modulus_pa")?;
+    Some(classes::SectionReading::new(&data.beam, e.mean, e.ci95))
 }
 
 /// Mean, sd and central 95 % interval of every parameter in physical units.

@@ -9,9 +9,10 @@
 //!    test ([`ppc`]). Misfit is detected when some p-value falls below the Šidák
 //!    level 1 − (1 − α_FW)^(1/J) (family-wise α_FW = 1 % over J observables).
 //! 2. **Search.** Every model of at most [`DiagnoseSettings::max_causes`]
-//!    causes (22 at the default two: the base, six singles, fifteen pairs;
-//!    16 on a clamped–clamped or clamped–free beam, where no rotation is
-//!    left for a support spring, [`ModelClass::acts_on`]) gets its
+//!    causes (29 at the default two: the base, seven singles, twenty-one pairs;
+//!    22 on a clamped–clamped or clamped–free beam, where no rotation is
+//!    left for a support spring, [`ModelClass::acts_on`]; 22 and 16 when the
+//!    file's parameters already sample the section, [`ModelClass::free_in`]) gets its
 //!    evidence ([`evidence`]), in one parallel batch per number of causes
 //!    (a multimodal model's MAP search also starts from its sub-models'
 //!    MAPs). A cause
@@ -109,7 +110,7 @@ pub fn diagnose_run(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<
 
     // progress: the base, the β baseline and every candidate but the base
     let control = &settings.control;
-    let models = Model::candidates(settings.max_causes, data.beam.support).len() + 1;
+    let models = Model::candidates(settings.max_causes, data.beam.support, &data.parameters).len() + 1;
     control.start("models", models as u64);
     let searched = problem.run(vec![Model::BASE, Model::Baseline], &[]).and_then(|mut runs| {
         let search = search(&problem, &mut runs)?;

@@ -101,6 +101,7 @@ pub fn markdown(run: &DiagnosisRun, data: &MeasuredData, s: &DiagnoseSettings) -
         "next_min_separation_sd": super::next::MIN_SEPARATION_SD,
         "shape_grid": super::next::SHAPE_GRID,
         "mass_mirror_length_nm": assessed.point_mass_x_mirror_ambiguous.then_some(data.beam.length_nm),
+        "section_sentence": assessed.section_mismatch.map(|r| r.sentence()),
     });
     render_embedded("diagnose.md.tera", TEMPLATE, &ctx)
 }
@@ -187,6 +188,9 @@ pub fn summary(d: &Diagnosis) -> String {
         d.gain.rms_z_before,
         d.gain.rms_z_after,
     );
+    if let Some(r) = d.candidates.iter().find(|c| c.extension == d.gain.extension).and_then(|c| c.section_mismatch) {
+        t += &format!("section-mismatch: the tube {}\n", r.sentence());
+    }
     if d.causes.len() > d.decided_causes.len() {
         let decided = if d.decided_causes.is_empty() { "none".to_string() } else { d.decided_causes.join(", ") };
         t += &format!(

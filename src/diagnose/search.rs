@@ -143,7 +143,7 @@ pub(super) struct Search {
 pub(super) fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Search, DiagnoseError> {
     let threshold = problem.settings.log_bayes_factor_threshold;
     let margin = problem.settings.alternative_margin;
-    let models = Model::candidates(problem.settings.max_causes, problem.data.beam.support);
+    let models = Model::candidates(problem.settings.max_causes, problem.data.beam.support, &problem.data.parameters);
     for k in 1..=problem.settings.max_causes {
         let batch: Vec<Model> = models.iter().filter(|m| m.causes().len() == k).cloned().collect();
         let done = problem.run(batch, runs)?;

@@ -1,0 +1,390 @@
+//! What real tubes do (issue 40), diagnosed: data from the independent
+//! generator (`tests/independent/mod.rs`, which does not call the project's
+//! `beam` module), one set per kind and seed, each diagnosed by the library
+//! call at the hidden suite's quick settings. The record of what it measured
+//! is `tests/diagnose_catalogue.md`.
+//!
+//! Base truth (as the hidden suite's): a simply supported (or clamped–clamped)
+//! tube, L = 8 nm, d = 1 nm, E = 1 TPa, ρ = 2300 kg/m³, e0a ~ U[0.8, 1.2] nm,
+//! one relaxation Δ ~ U[0.3, 0.6], Ω ~ log-U[1e11, 1e12] rad/s; 5 modes;
+//! noise 0.3 % on ω and 3 % on ζ (relative, one keyed draw each). The file
+//! declares the nominal beam, never the kind.
+//!
+//! Kinds and what a right verdict is:
+//! - `wrong-diameter` (the tube's d is 6–10 % off the declared 1 nm) and
+//!   `adsorbate` (+15–30 % mass per length): `section-mismatch`.
+//! - `one-end-spring` (κ = kL/EI ~ log-U[1, 10] at x = 0 only) and
+//!   `clamped-pinned-as-ss`: a support spring (today's class acts on both
+//!   ends alike, so it is the nearest name; issue 40 asks for one per end).
+//! - `string-ss`, `string-cc` (tension 20 N_cr on a simply supported and a
+//!   clamped–clamped tube): `axial-force`.
+//! - foreign: `curvature` (a shallow initial curvature, h/d ~ U[0.15, 0.3]),
+//!   `crack` (a hinge, κ_c ~ log-U[2, 8], at 0.2–0.8 L), `temperature-gradient`
+//!   (EI falling linearly by 30–50 % towards one end): `unexplained`.
+//!
+//! A confident wrong name: a decided cause that is not right for the kind
+//! (for a foreign kind, any decided cause) in a diagnosis that says explained.
+
+mod independent;
+
+use std::time::Instant;
+
+use rand::Rng;
+use rand_distr::{Distribution, StandardNormal};
+
+use independent::{poles, End, Truth};
+use nanobeam::bayes::map::map_estimate;
+use nanobeam::bayes::rng::{stream, Purpose};
+use nanobeam::bayes::Posterior;
+use nanobeam::beam::{BeamSpec, Support};
+use nanobeam::calibration::measured::MeasuredFile;
+use nanobeam::calibration::{DramSettings, MeasuredData, ModeObservation, ParameterSet};
+use nanobeam::diagnose::classes::model_parameters;
+use nanobeam::diagnose::{diagnose, model_posterior, DiagnoseSettings, Diagnosis, Model, NominalScales};
+
+/// Relative measurement sds of the hidden suite (§4.2): 0.3 % on ω, 3 % on ζ.
+const OMEGA_REL_SD: f64 = 0.003;
+const ZETA_REL_SD: f64 = 0.03;
+const N_MODES: usize = 5;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Kind {
+    Clean,
+    WrongDiameter,
+    Adsorbate,
+    OneEndSpring,
+    ClampedPinnedAsSs,
+    StringSs,
+    StringCc,
+    Curvature,
+    Crack,
+    TemperatureGradient,
+}
+
+impl Kind {
+    const ALL: [Kind; 10] = [
+        Kind::Clean,
+        Kind::WrongDiameter,
+        Kind::Adsorbate,
+        Kind::OneEndSpring,
+        Kind::ClampedPinnedAsSs,
+        Kind::StringSs,
+        Kind::StringCc,
+        Kind::Curvature,
+        Kind::Crack,
+        Kind::TemperatureGradient,
+    ];
+
+    fn name(self) -> &'static str {
+        match self {
+            Kind::Clean => "clean",
+            Kind::WrongDiameter => "wrong-diameter",
+            Kind::Adsorbate => "adsorbate",
+            Kind::OneEndSpring => "one-end-spring",
+            Kind::ClampedPinnedAsSs => "clamped-pinned-as-ss",
+            Kind::StringSs => "string-ss",
+            Kind::StringCc => "string-cc",
+            Kind::Curvature => "curvature",
+            Kind::Crack => "crack",
+            Kind::TemperatureGradient => "temperature-gradient",
+        }
+    }
+
+    /// The catalogue causes a right verdict names (empty: `none` for clean data, `unexplained` for a foreign kind).
+    fn right(self) -> &'static [&'static str] {
+        match self {
+            Kind::WrongDiameter | Kind::Adsorbate => &["section-mismatch"],
+            Kind::OneEndSpring | Kind::ClampedPinnedAsSs => &["support-rotational-stiffness"],
+            Kind::StringSs | Kind::StringCc => &["axial-force"],
+            _ => &[],
+        }
+    }
+
+    fn foreign(self) -> bool {
+        matches!(self, Kind::Curvature | Kind::Crack | Kind::TemperatureGradient)
+    }
+}
+
+/// One generated set: the truth, the file's data, and a line saying what the truth hides.
+struct Case {
+    kind: Kind,
+    seed: u64,
+    truth: Truth,
+    data: MeasuredData,
+    /// The observations before the noise (the truth's ω and ζ, the same sds).
+    noise_free: Vec<ModeObservation>,
+    what: String,
+}
+
+fn log_uniform(rng: &mut impl Rng, lo: f64, hi: f64) -> f64 {
+    rng.gen_range(lo.ln()..hi.ln()).exp()
+}
+
+/// The set of `kind` and `seed`.
+fn generate(kind: Kind, seed: u64) -> Case {
+    let mut rng = stream(seed, Purpose::SyntheticCase, [40, kind as u64]);
+    let mut t = Truth::simply_supported(8.0, 1.0, 1.0e12, 2300.0);
+    t.e0a_nm = rng.gen_range(0.8..1.2);
+    t.relaxations = vec![(rng.gen_range(0.3..0.6), log_uniform(&mut rng, 1e11, 1e12))];
+    let k_ref = t.ei() / (t.length_nm * 1e-9);
+    let mut support = Support::SimplySupported;
+    let what = match kind {
+        Kind::Clean => String::new(),
+        Kind::WrongDiameter => {
+            let sign = if rng.gen_range(0..2) == 0 { 1.0 } else { -1.0 };
+            t.diameter_nm = 1.0 + sign * rng.gen_range(0.06..0.10);
+            format!("d = {:.3} nm (declared 1)", t.diameter_nm)
+        }
+        Kind::Adsorbate => {
+            t.added_mass_fraction = rng.gen_range(0.15..0.30);
+            format!("mass/length +{:.1} %", 100.0 * t.added_mass_fraction)
+        }
+        Kind::OneEndSpring => {
+            let kappa = log_uniform(&mut rng, 1.0, 10.0);
+            t.ends[0] = End::Pinned { spring_n_m_rad: kappa * k_ref };
+            format!("kL/EI = {kappa:.2} at x = 0")
+        }
+        Kind::ClampedPinnedAsSs => {
+            t.ends[0] = End::Clamped;
+            "clamped at x = 0".into()
+        }
+        Kind::StringSs => {
+            t.axial_force_n = 20.0 * t.buckling_load_n();
+            "N = 20 N_cr".into()
+        }
+        Kind::StringCc => {
+            t.ends = [End::Clamped, End::Clamped];
+            support = Support::ClampedClamped;
+            t.axial_force_n = 20.0 * t.buckling_load_n();
+            "N = 20 N_cr, clamped-clamped".into()
+        }
+        Kind::Curvature => {
+            let h = rng.gen_range(0.15..0.3) * t.diameter_nm;
+            let anti = rng.gen_range(0.0..0.5);
+            t.curvature = Some((h, anti));
+            format!("h = {h:.3} nm, antisymmetric part {anti:.2}")
+        }
+        Kind::Crack => {
+            let x = rng.gen_range(0.2..0.8) * t.length_nm;
+            let kappa = log_uniform(&mut rng, 2.0, 8.0);
+            t.hinges = vec![(x, kappa * k_ref)];
+            format!("hinge kL/EI = {kappa:.2} at {x:.2} nm")
+        }
+        Kind::TemperatureGradient => {
+            t.ei_linear_softening = rng.gen_range(0.3..0.5);
+            format!("EI falls by {:.0} % towards x = L", 100.0 * t.ei_linear_softening)
+        }
+    };
+    let what = format!(
+        "{what}{}e0a {:.3}, Δ {:.3}, Ω {:.3e}",
+        if what.is_empty() { "" } else { "; " },
+        t.e0a_nm,
+        t.relaxations[0].0,
+        t.relaxations[0].1
+    );
+    let noise_free: Vec<ModeObservation> = poles(&t, N_MODES)
+        .iter()
+        .enumerate()
+        .map(|(r, p)| ModeObservation {
+            mode: r + 1,
+            omega_rad_s: p.omega_rad_s,
+            omega_sd_rad_s: OMEGA_REL_SD * p.omega_rad_s,
+            zeta: p.zeta,
+            zeta_sd: ZETA_REL_SD * p.zeta,
+        })
+        .collect();
+    let mut noise = stream(seed, Purpose::MeasurementNoise, [40, kind as u64]);
+    let mut modes = noise_free.clone();
+    for m in &mut modes {
+        let (e1, e2): (f64, f64) = (StandardNormal.sample(&mut noise), StandardNormal.sample(&mut noise));
+        m.omega_rad_s += e1 * m.omega_sd_rad_s;
+        m.zeta += e2 * m.zeta_sd;
+    }
+    let file = MeasuredFile {
+        beam: BeamSpec::elastic(8.0, 1.0, 1.0e12, 2300.0, support, 20),
+        modes,
+        held_out_modes: vec![],
+        mode_scans: vec![],
+        parameters: None,
+        sampler: Some(DramSettings { seed, ..DramSettings::default() }),
+    };
+    Case {
+        kind,
+        seed,
+        truth: t,
+        data: MeasuredData::from_file(file).expect("generated data are valid"),
+        noise_free,
+        what,
+    }
+}
+
+/// The oracle of what the data show: the largest standardised residual of
+/// the best base-model fit to the noise-free data (128 prior draws and the
+/// truth's own base coordinates screened, Nelder–Mead from the best 3, 600
+/// iterations; simplex 5 % of each prior's width, 0.05 in ln x). Below
+/// 5 the kind hides in the base model at this noise and no verdict can be
+/// asked of it.
+fn base_fit_max_z(case: &Case) -> f64 {
+    let d = &case.data;
+    let scales = NominalScales::of(&d.beam, N_MODES).expect("nominal beam computes");
+    let post = model_posterior(&Model::BASE, &ParameterSet::paper_n1(), &d.beam, &case.noise_free, &[], &scales);
+    let mut rng = stream(case.seed, Purpose::SyntheticBaseFit, [40, case.kind as u64]);
+    let (e0a, (delta, omega)) = (case.truth.e0a_nm, case.truth.relaxations[0]);
+    let mut starts = vec![post.from_inner(&[e0a, delta, omega])];
+    starts.extend((0..128).map(|_| post.sample_prior(&mut rng)));
+    let mut scored: Vec<(f64, Vec<f64>)> = starts.into_iter().map(|u| (post.log_posterior(&u), u)).collect();
+    scored.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let params = model_parameters(&Model::BASE, &ParameterSet::paper_n1(), &d.beam, &[], &scales);
+    let sd: Vec<f64> = params
+        .set
+        .params
+        .iter()
+        .zip(&params.log_scale)
+        .map(|(p, &log)| if log { 0.05 } else { 0.05 * (p.prior.support().1 - p.prior.support().0) })
+        .collect();
+    let best = scored
+        .iter()
+        .take(3)
+        .map(|(_, u)| map_estimate(&post, u, &sd, 600))
+        .max_by(|a, b| a.log_posterior.total_cmp(&b.log_posterior))
+        .expect("starts");
+    let Some(fit) = post.inner().predict(&post.to_inner(&best.theta)) else { return f64::INFINITY };
+    let obs = post.inner();
+    obs.observed().iter().zip(obs.sd()).zip(&fit).map(|((y, sd), f)| ((y - f) / sd).abs()).fold(0.0, f64::max)
+}
+
+/// The column of the confusion matrix.
+fn verdict(d: &Diagnosis) -> String {
+    if d.cause == "multiple" {
+        d.causes.join("+")
+    } else {
+        d.cause.clone()
+    }
+}
+
+#[derive(Default, Debug)]
+struct Tally {
+    cases: usize,
+    right: usize,
+    confident_wrong: usize,
+}
+
+/// Is `d` right for `kind`: `none` on clean data, `unexplained` on a foreign
+/// kind, else explained with exactly the right causes named. A set whose
+/// base-fit max z is below 5 (`visible` false) hides in the base model at
+/// this noise: `none` is right for it too.
+fn is_right(kind: Kind, d: &Diagnosis, visible: bool) -> bool {
+    if !visible && d.cause == "none" {
+        return true;
+    }
+    match kind {
+        Kind::Clean => d.cause == "none",
+        k if k.foreign() => d.cause == "unexplained",
+        k => {
+            d.explained
+                && d.causes.len() == k.right().len()
+                && k.right().iter().all(|c| d.causes.iter().any(|n| n == c))
+        }
+    }
+}
+
+/// A decided cause that is not right for `kind`, in a diagnosis that says explained.
+fn confident_wrong(kind: Kind, d: &Diagnosis) -> bool {
+    d.explained && d.decided_causes.iter().any(|c| !kind.right().contains(&c.as_str()))
+}
+
+/// Diagnoses every (kind, seed), one at a time (each diagnosis is parallel
+/// inside), prints one line per case and the confusion, and counts.
+fn tally(cases: &[(Kind, u64)]) -> Tally {
+    let settings = DiagnoseSettings::quick();
+    let mut t = Tally::default();
+    let mut rows = Vec::new();
+    for &(kind, seed) in cases {
+        let case = generate(kind, seed);
+        let z = base_fit_max_z(&case);
+        let t0 = Instant::now();
+        let d = diagnose(&case.data, &settings).expect("valid generated data");
+        let secs = t0.elapsed().as_secs_f64();
+        let (right, wrong) = (is_right(kind, &d, z >= 5.0), confident_wrong(kind, &d));
+        t.cases += 1;
+        t.right += usize::from(right);
+        t.confident_wrong += usize::from(wrong);
+        let line = format!(
+            "{:22} seed {seed:3} [{}] base-fit max z {z:6.1} → {} (explained {}, decided {:?}, alternatives {:?}, lnB \
+             {:.1}) right {right} confident-wrong {wrong}; {} models, {} forward solves, {secs:.0} s",
+            kind.name(),
+            case.what,
+            verdict(&d),
+            d.explained,
+            d.decided_causes,
+            d.alternatives.iter().map(|a| &a.extension).collect::<Vec<_>>(),
+            d.gain.log_bayes_factor,
+            d.candidates.len(),
+            d.candidates.iter().map(|c| c.forward_evaluations).sum::<u64>(),
+        );
+        eprintln!("{line}");
+        rows.push((kind.name(), verdict(&d), line));
+    }
+    println!("\nconfusion (truth → verdict)");
+    for (k, v, line) in &rows {
+        println!("  {k:22} → {v:40}\n      {line}");
+    }
+    println!("right {}/{}, confident wrong {}", t.right, t.cases, t.confident_wrong);
+    t
+}
+
+/// Seed 500 of every kind; `NANOBEAM_CATALOGUE_SEEDS=500,501` (a developer's aid) runs others.
+fn all_cases() -> Vec<(Kind, u64)> {
+    let seeds: Vec<u64> = std::env::var("NANOBEAM_CATALOGUE_SEEDS").map_or(vec![500], |v| {
+        v.split(',').map(|s| s.trim().parse().expect("NANOBEAM_CATALOGUE_SEEDS: comma-separated seeds")).collect()
+    });
+    Kind::ALL.iter().flat_map(|&k| seeds.iter().map(move |&s| (k, s))).collect()
+}
+
+/// Every kind of the catalogue record (`NANOBEAM_CATALOGUE_KINDS=crack,adsorbate` keeps some): no confident wrong
+/// name, every set right (issue 40's targets: singles ≥ 95 %, foreign 100 %
+/// `unexplained`, clean 100 % `none`, confident wrong 0).
+#[test]
+#[ignore = "issue 40's targets, not met yet (the string regime is outside the axial-force prior, one-end supports have no class); 10 diagnoses, 8-15 min on 2 cores, beyond CI's budget (CI runs the wrong diameter of seed 500); run with `cargo test --test diagnose_catalogue -- \
+            --ignored --nocapture`; the record is tests/diagnose_catalogue.md"]
+fn every_kind_is_named_right_and_nothing_is_named_wrong_with_confidence() {
+    let only: Option<Vec<String>> =
+        std::env::var("NANOBEAM_CATALOGUE_KINDS").ok().map(|v| v.split(',').map(|s| s.trim().to_string()).collect());
+    let cases: Vec<(Kind, u64)> = all_cases()
+        .into_iter()
+        .filter(|(k, _)| only.as_ref().is_none_or(|o| o.iter().any(|n| n == k.name())))
+        .collect();
+    let t = tally(&cases);
+    assert_eq!(t.confident_wrong, 0, "a confident wrong name");
+    assert_eq!(t.right, t.cases, "right {}/{}", t.right, t.cases);
+}
+
+/// The generated sets are what they say: every kind but the clean one moves
+/// some observable ≥ 5 sd away from the best base-model fit (the hidden
+/// suite's visibility rule), and the clean sets leave the base fit within
+/// the noise (< 5 sd).
+#[test]
+#[ignore = "the oracle fits the base model to every set (about a minute on 2 cores); run with the catalogue"]
+fn every_kind_is_visible_against_the_base_model() {
+    let mut hidden = Vec::new();
+    for (kind, seed) in all_cases() {
+        let case = generate(kind, seed);
+        let z = base_fit_max_z(&case);
+        println!("{:22} seed {seed} [{}]: base-fit max z {z:.1}", kind.name(), case.what);
+        if (kind == Kind::Clean) != (z < 5.0) {
+            hidden.push(format!("{} seed {seed}: {z:.1}", kind.name()));
+        }
+    }
+    assert!(hidden.is_empty(), "clean sets must fit (< 5 sd), every other set must not: {hidden:?}");
+}
+
+/// A tube 7 % thinner than declared (wrong-diameter seed 500, d = 0.929 nm)
+/// is named `section-mismatch`, and nothing is decided wrongly. Before the
+/// class it was named `viscous-damping`, decided and explained (a confident
+/// wrong name; tests/diagnose_catalogue.md).
+#[test]
+fn a_wrong_diameter_is_named_section_mismatch() {
+    let t = tally(&[(Kind::WrongDiameter, 500)]);
+    assert_eq!(t.confident_wrong, 0, "a confident wrong name");
+    assert_eq!(t.right, 1, "wrong-diameter seed 500 not named section-mismatch");
+}
