@@ -27,7 +27,11 @@
 //! computed; when its RMS log-misfit exceeds the best one's by less than
 //! [`AMBIGUITY_MARGIN`] (0.1 in ln ω ≈ 10 % in frequency, the scale of the
 //! effects a nominal beam leaves out) the numbering is refused as
-//! ambiguous, naming the mode and both numbers. `--first-mode N` states
+//! ambiguous, naming the mode and both numbers; likewise for the whole
+//! numbering shifted to another lowest mode. An alternative that skips more
+//! predicted modes than the best one does not count (a skip needs a node at
+//! the force or the sensor; with the bands of a short beam every mode could
+//! otherwise be renumbered into a gap at no cost). `--first-mode N` states
 //! the lowest mode's number; the others are then N + 1, N + 2, … (no
 //! skipped mode) when each lies within [`AMBIGUITY_MARGIN`] of its band,
 //! otherwise the best assignment from N, which must itself be unambiguous.
@@ -147,11 +151,34 @@ fn check_unique(
     range: &str,
     rms: impl Fn(f64) -> f64,
 ) -> Result<(), InputError> {
+    let skips = |m: &[usize]| m.windows(2).map(|w| w[1] - w[0] - 1).sum::<usize>();
+    let n = cost.first().map_or(0, Vec::len);
+    // the numbering shifted as a whole (the old lowest-mode check), and the
+    // best numbering that changes mode i's number without skipping more
+    // predicted modes (a skip needs a node at the force or the sensor: an
+    // alternative that needs more of them is not preferred to one that fits)
+    let mut alternatives: Vec<(f64, Vec<usize>, usize)> = Vec::new();
+    if first.is_none() {
+        for f in (0..n).filter(|&f| f != modes[0]) {
+            if let Some((c2, other)) = assign(cost, Some(f), None) {
+                if skips(&other) <= skips(modes) {
+                    alternatives.push((c2, other, 0));
+                }
+            }
+        }
+    }
     for (i, &j) in modes.iter().enumerate() {
         if first.is_some() && i == 0 {
             continue;
         }
-        let Some((c2, other)) = assign(cost, first, Some((i, j))) else { continue };
+        if let Some((c2, other)) = assign(cost, first, Some((i, j))) {
+            if skips(&other) <= skips(modes) {
+                alternatives.push((c2, other, i));
+            }
+        }
+    }
+    for (c2, other, i) in alternatives {
+        let j = modes[i];
         if rms(c2) - rms(c) < AMBIGUITY_MARGIN {
             let advice = if i == 0 && first.is_none() {
                 "state the lowest identified mode's physical number"

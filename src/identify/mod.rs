@@ -332,7 +332,13 @@ fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<(), InputErr
         FitKind::Magnitude => peaks::Series::Magnitude,
         _ => peaks::Series::Psd,
     };
-    for peak in peaks::detect(&sc.x, &sc.y, series) {
+    let mut declared = peaks::detect(&sc.x, &sc.y, series);
+    // the clearest MAX_DECLARED only: each adds four parameters to every
+    // refinement candidate (a thermal record's PSD over 25 THz declared
+    // dozens of lines and its refinement ran past 5 minutes)
+    declared.sort_by(|a, b| b.statistic.total_cmp(&a.statistic));
+    declared.truncate(MAX_DECLARED);
+    for peak in declared {
         let (w, sigma) = (peak.pole.im, -peak.pole.re);
         if peak.samples_above_half < MIN_POINTS_PER_RESONANCE {
             // a PSD's line is at least the window's main lobe wide (a Hann
@@ -355,6 +361,9 @@ fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<(), InputErr
     initial.sort_by(|a, b| a.norm().total_cmp(&b.norm()));
     Ok(())
 }
+
+/// Most declared peaks added to the initial poles (the clearest).
+const MAX_DECLARED: usize = 8;
 
 /// How far above its declaration threshold an under-sampled peak must stand
 /// to refuse the record (see [`merge_peaks`]).
@@ -852,7 +861,7 @@ fn assemble(
             .max_by(|&a, &b| all[a].peak_snr.total_cmp(&all[b].peak_snr));
         let what = match best {
             Some(r) => format!(
-                "{} fitted resonances in the band, none clear: the clearest, at {:.4e} rad/s, stands {:.3} noise sd high{}",
+                "{} fitted resonances in the band, none clear: the clearest, at {:.4e} rad/s, stands {:.3e} noise sd high{}",
                 (0..all.len()).filter(|&r| in_band(all[r].omega_rad_s)).count(),
                 all[r].omega_rad_s,
                 all[r].peak_snr,
