@@ -216,9 +216,9 @@ fn assign(cost: &[Vec<f64>], first: Option<usize>, forbid: Option<(usize, usize)
     let c = |i: usize, j: usize| if forbid == Some((i, j)) { inf } else { cost[i][j] };
     let mut acc = vec![vec![inf; n]; k];
     let mut from = vec![vec![usize::MAX; n]; k];
-    for j in 0..n {
+    for (j, a) in acc[0].iter_mut().enumerate() {
         if first.is_none_or(|f| f == j) {
-            acc[0][j] = c(0, j);
+            *a = c(0, j);
         }
     }
     for i in 1..k {

@@ -21,7 +21,7 @@
 //!    sandwich where a Breusch–Pagan test leaves the noise model in doubt.
 //!
 //! Initial poles also come from [`peaks`]: every resonance standing
-//! [`peaks::PEAK_THRESHOLD`] local-noise sd above its baseline that the
+//! above its baseline by the threshold of [`peaks::threshold`] that the
 //! diagram missed joins them.
 //!
 //! Which modes are reported: every mode in the band that the record holds
