@@ -158,9 +158,17 @@ pub fn identify_record(
 ) -> Result<Identified, CliError> {
     let record = Measurement::from_csv(text)?;
     let id = identify(&record, &IdentifySettings { modes, max_order })?;
-    check_first_mode_fits(first_mode, id.modes.len(), &beam)?;
-    let omegas: Vec<f64> = id.modes.iter().map(|m| m.omega_rad_s).collect();
-    let numbers = number_modes(&beam, &omegas, first_mode)?;
+    // numbered against every mode the record holds clearly (a subset chosen
+    // by --modes is numbered within them, never renumbered into a gap)
+    let found = &id.found_omegas_rad_s;
+    check_first_mode_fits(first_mode, found.len(), &beam)?;
+    let all_numbers = number_modes(&beam, found, first_mode)?;
+    let numbers: Vec<usize> = id
+        .modes
+        .iter()
+        .map(|m| found.iter().position(|&w| w == m.omega_rad_s).map(|i| all_numbers[i]))
+        .collect::<Option<_>>()
+        .ok_or_else(|| CliError::Failure("a reported mode is missing from the numbered set".into()))?;
     let observations: Vec<ModeObservation> = id
         .modes
         .iter()

@@ -20,17 +20,26 @@
 //!    latter refits by weighted least squares; covariance σ̂²(J̃ᵀJ̃)⁺, or the
 //!    sandwich where a Breusch–Pagan test leaves the noise model in doubt.
 //!
-//! Which modes are reported: every mode in the band whose residue is at least
-//! [`MIN_AMPLITUDE_SNR`] sd from zero, or with `modes = Some(K)` the K
-//! stable modes of the diagram with the largest resonance peak |A_r|/σ_r (the
-//! others, and the refinement's out-of-band pseudo-modes, stay in the fit as
-//! background). Fewer stable modes than K, fewer
+//! Initial poles also come from [`peaks`]: every resonance standing
+//! above its baseline by the threshold of [`peaks::threshold`] that the
+//! diagram missed joins them.
+//!
+//! Which modes are reported: every mode in the band that the record holds
+//! clearly under the fitted noise model (frequency records: its resonance
+//! stands at least [`MIN_PEAK_SNR`] noise sd high, see [`peak_snr`], with
+//! [`MIN_POINTS_PER_RESONANCE`] samples in its fitted half-power band;
+//! free decays: its residue at least [`MIN_AMPLITUDE_SNR`] sd from zero), or
+//! with `modes = Some(K)` the K stable modes of the diagram that stand
+//! clearest (the others, and the refinement's out-of-band pseudo-modes, stay
+//! in the fit as background). No clear mode is an input error naming the
+//! clearest one's height. Fewer stable modes than K, fewer
 //! than [`MIN_POINTS_PER_RESONANCE`] samples in a mode's half-power band, or
 //! no stable mode at all are input errors (exit 2).
 
 pub mod data;
 pub mod lscf;
 pub mod noise;
+pub mod peaks;
 pub mod pencil;
 pub mod refine;
 pub mod stabilisation;
@@ -69,6 +78,12 @@ pub const REACH: f64 = 1.5;
 /// residue within 5 sd of zero is a pole the data barely hold (noise fitted
 /// consistently across orders), not a resonance.
 pub const MIN_AMPLITUDE_SNR: f64 = 5.0;
+/// Height of a resonance over the noise sd at it (under the fitted noise
+/// model) a frequency record's mode needs by default. A mode fitted to the
+/// noise stands about one sd high; 5 sd is the declaration threshold of
+/// [`peaks`] (false alarm ≤ N·Q(5) per record of N samples), and a
+/// resonance the issue calls visible stands 20 sd high.
+pub const MIN_PEAK_SNR: f64 = 5.0;
 /// Largest pencil parameter L of the matrix pencil (Hankel columns − 1):
 /// with L = 50 the 10-ms ring-down of a 10 kHz mode sampled at 200 kHz
 /// (N = 2000) spans only 2.5 periods per row and the pole wanders across
@@ -112,9 +127,14 @@ pub struct IdentifiedMode {
     pub zeta: f64,
     pub zeta_sd: f64,
     pub peak: f64,
-    /// |A_r|/sd(A_r): modes are ranked by it; below [`MIN_AMPLITUDE_SNR`]
-    /// a stable pole is background unless `modes = K` asks for it.
+    /// |A_r|/sd(A_r), the residue's distance from zero in its sd.
     pub amplitude_snr: f64,
+    /// How clearly the record holds the mode, under the fitted noise model
+    /// (see [`peak_snr`]): frequency records, the height of its resonance over
+    /// the noise sd at it; free decays, `amplitude_snr`. Modes are ranked by
+    /// it; below [`MIN_PEAK_SNR`] a stable pole is background unless
+    /// `modes = K` asks for it.
+    pub peak_snr: f64,
 }
 
 /// The result: reported modes, background terms, fit statistics, and the
@@ -136,6 +156,11 @@ pub struct Identification {
     pub residual_count: usize,
     pub parameter_count: usize,
     pub diagram: Diagram,
+    /// Frequencies (rad/s, ascending) of every mode a run without `modes = K`
+    /// reports, together with the reported ones: what the modes are numbered
+    /// against (numbering a chosen subset alone can renumber it).
+    #[serde(skip)]
+    pub found_omegas_rad_s: Vec<f64>,
     /// Abscissa of the record (rad/s or s).
     #[serde(skip)]
     pub x: Vec<f64>,
@@ -209,7 +234,21 @@ pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identifi
     // 60 PSDs of the paper's beam (1 500 bins, ν = 20) kept fewer than 3 of
     // their 3 modes; a cluster stable in frequency over half the orders is
     // accepted, the refinement and the residue SNR (or `--modes K`) decide.
-    let initial = diagram.modes(0.0, 1.0, sc.kind == FitKind::Psd);
+    let from_diagram = diagram.modes(0.0, 1.0, sc.kind == FitKind::Psd);
+    let mut initial = from_diagram.clone();
+    if sc.kind != FitKind::Time {
+        merge_peaks(&sc, &mut initial)?;
+    }
+    if sc.kind == FitKind::Psd {
+        // a PSD's line spans at least the window's main lobe: a pole of the
+        // diagram narrower than the bins is the periodogram's scatter, stable
+        // in frequency only (measured: 3 of 12 PSDs with a white floor were
+        // refused for such a pole at 0–1 samples, their modes all found apart)
+        initial.retain(|p| {
+            let (lo, hi) = (p.im + p.re, p.im - p.re);
+            p.norm() > sc.band.1 || sc.x.iter().filter(|&&x| x >= lo && x <= hi).count() >= MIN_POINTS_PER_RESONANCE
+        });
+    }
     let in_band = initial.iter().filter(|p| p.norm() >= sc.band.0 && p.norm() <= sc.band.1).count();
     if in_band == 0 {
         return Err(InputError::new(
@@ -230,9 +269,20 @@ pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identifi
         let band: Vec<Complex64> = initial.iter().copied().filter(|p| p.norm() <= sc.band.1).collect();
         check_points_per_resonance(&sc, &band)?;
     }
-    let (model, fit) = best_refinement(&sc, &initial)?;
+    let (model, fit) = match best_refinement(&sc, &initial) {
+        Ok(v) => v,
+        Err(e) if sc.kind == FitKind::Time => restart_from_prefix(&sc, &initial).ok_or(e)?,
+        // declared peaks the refinement cannot hold stable: the diagram's
+        // poles alone (the refinement recovers a missed mode through its
+        // out-of-band poles, see `assemble`)
+        Err(e) if initial.len() > from_diagram.len() && !from_diagram.is_empty() => {
+            initial = from_diagram;
+            best_refinement(&sc, &initial).map_err(|_| e)?
+        }
+        Err(e) => return Err(e),
+    };
     let (model, fit, noise_model) = reweight(&sc, model, fit, initial.len());
-    Ok(assemble(m, &sc, (&model, &fit), diagram, initial.len(), settings.modes, noise_model))
+    assemble(m, &sc, (&model, &fit), diagram, initial.len(), settings.modes, noise_model)
 }
 
 /// Poles at orders 2, 4, … of LSCF or the matrix pencil.
@@ -269,23 +319,86 @@ fn stabilisation_diagram(sc: &Scaled, max_order: usize) -> Result<Diagram, Ident
     Ok(Diagram::build(orders, &poles))
 }
 
+/// Adds the resonances [`peaks::detect`] declares and the diagram missed to
+/// the initial poles (sorted by frequency). A declared peak with fewer than
+/// [`MIN_POINTS_PER_RESONANCE`] samples above its half-power level is a line
+/// narrower than the sampling: exit 2 when it stands at least
+/// [`REFUSE_FACTOR`] × its declaration threshold high (a single-sample noise
+/// excursion that high has probability ≲ 10⁻⁸ per record), otherwise it is
+/// left out (see [`check_points_per_resonance`] for the diagram's poles).
+fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<(), InputError> {
+    let series = match sc.kind {
+        FitKind::Complex => peaks::Series::Complex,
+        FitKind::Magnitude => peaks::Series::Magnitude,
+        _ => peaks::Series::Psd,
+    };
+    let mut declared = peaks::detect(&sc.x, &sc.y, series);
+    // the clearest MAX_DECLARED only: each adds four parameters to every
+    // refinement candidate (a thermal record's PSD over 25 THz declared
+    // dozens of lines and its refinement ran past 5 minutes)
+    declared.sort_by(|a, b| b.statistic.total_cmp(&a.statistic));
+    declared.truncate(MAX_DECLARED);
+    for peak in declared {
+        let (w, sigma) = (peak.pole.im, -peak.pole.re);
+        if peak.samples_above_half < MIN_POINTS_PER_RESONANCE {
+            // a PSD's line is at least the window's main lobe wide (a Hann
+            // window: 4 bins); a narrower peak there is a noise excursion
+            if sc.kind != FitKind::Psd && peak.statistic >= REFUSE_FACTOR * peak.threshold {
+                return Err(under_sampled(
+                    sc,
+                    peak.pole,
+                    peak.samples_above_half,
+                    &format!("a peak {:.1} noise sd above its baseline", peak.statistic),
+                ));
+            }
+            continue;
+        }
+        let known = initial.iter().any(|p| (p.norm() - w).abs() <= (FREQ_MERGE * w).max(2.0 * sigma.max(-p.re)));
+        if !known {
+            initial.push(peak.pole);
+        }
+    }
+    initial.sort_by(|a, b| a.norm().total_cmp(&b.norm()));
+    Ok(())
+}
+
+/// Most declared peaks added to the initial poles (the clearest).
+const MAX_DECLARED: usize = 8;
+
+/// How far above its declaration threshold an under-sampled peak must stand
+/// to refuse the record (see [`merge_peaks`]).
+const REFUSE_FACTOR: f64 = 2.0;
+
+/// A declared peak within this relative distance (or two half-widths) of a
+/// diagram mode is that mode.
+const FREQ_MERGE: f64 = 0.01;
+
+/// The refusal of a resonance narrower than the sampling, in the record's terms.
+fn under_sampled(sc: &Scaled, p: Complex64, count: usize, what: &str) -> InputError {
+    let (lo, hi) = (p.im + p.re, p.im - p.re);
+    let advice = match sc.kind {
+        FitKind::Psd => "a PSD with finer bins (longer Welch segments, hence a longer record)",
+        _ => "a sweep sampled more densely around the resonance",
+    };
+    InputError::new(
+        "omega_rad_s",
+        format!(
+            "{count} samples in the half-power band [{:.4e}, {:.4e}] rad/s of the resonance at {:.4e} rad/s ({what})",
+            lo * sc.x_ref,
+            hi * sc.x_ref,
+            p.im * sc.x_ref,
+        ),
+        format!(">= {MIN_POINTS_PER_RESONANCE} samples per resonance ({advice})"),
+    )
+}
+
 /// Each initial mode needs [`MIN_POINTS_PER_RESONANCE`] samples in ω_d ± σ.
 fn check_points_per_resonance(sc: &Scaled, modes: &[Complex64]) -> Result<(), InputError> {
-    for (r, p) in modes.iter().enumerate() {
+    for p in modes {
         let (lo, hi) = (p.im + p.re, p.im - p.re);
         let count = sc.x.iter().filter(|&&x| x >= lo && x <= hi).count();
         if count < MIN_POINTS_PER_RESONANCE {
-            return Err(InputError::new(
-                "omega_rad_s",
-                format!(
-                    "{count} samples in the half-power band [{:.4e}, {:.4e}] rad/s of the resonance at {:.4e} rad/s (mode {} of the record)",
-                    lo * sc.x_ref,
-                    hi * sc.x_ref,
-                    p.im * sc.x_ref,
-                    r + 1
-                ),
-                format!(">= {MIN_POINTS_PER_RESONANCE} samples per resonance (sample the sweep more densely)"),
-            ));
+            return Err(under_sampled(sc, *p, count, "a pole stable in the stabilisation diagram"));
         }
     }
     Ok(())
@@ -395,7 +508,44 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
         FitKind::Complex | FitKind::Time => usable.min_by(|a, b| a.0.total_cmp(&b.0)).map(|(_, m, f)| (m, f)),
         FitKind::Magnitude | FitKind::Psd => likelihood_ratio_selection(usable.map(|(_, m, f)| (m, f)).collect()),
     };
-    chosen.ok_or_else(|| IdentifyError::Numerical("the nonlinear least-squares refinement did not converge".into()))
+    chosen.ok_or_else(|| {
+        IdentifyError::Numerical(
+            "the nonlinear least-squares refinement did not converge (try --modes K with fewer modes, a lower --max-order, or a record cropped to its clearest part)".into(),
+        )
+    })
+}
+
+/// Prefixes (fractions of the record) a free decay's refinement restarts
+/// from when the whole record's does not converge.
+const RESTART_PREFIXES: [f64; 3] = [0.75, 0.5, 0.25];
+
+/// A free decay whose refinement from the diagram's poles does not converge
+/// (issue 44: a clean 3-mode ring-down of 3 000 samples did not, its first
+/// 1 500–2 500 samples did): the refinement of a prefix of the record, where
+/// the late samples' tiny signal does not yet pull the decay rates into a
+/// flat valley, gives poles from which the whole record's refinement starts.
+fn restart_from_prefix(sc: &Scaled, initial: &[Complex64]) -> Option<(Model, FitResult)> {
+    for frac in RESTART_PREFIXES {
+        let k = (sc.x.len() as f64 * frac) as usize;
+        if k < 4 * initial.len() + 10 {
+            break;
+        }
+        let prefix = Scaled {
+            kind: sc.kind,
+            x: sc.x[..k].to_vec(),
+            y: sc.y[..k].to_vec(),
+            x_ref: sc.x_ref,
+            y_ref: sc.y_ref,
+            band: sc.band,
+        };
+        let Ok((_, fit)) = best_refinement(&prefix, initial) else { continue };
+        let poles: Vec<Complex64> =
+            (0..initial.len()).map(|r| Complex64::new(-fit.theta[PER_MODE * r], fit.theta[PER_MODE * r + 1])).collect();
+        if let Ok(v) = best_refinement(sc, &poles) {
+            return Some(v);
+        }
+    }
+    None
 }
 
 /// Reweighting rounds of the additive + proportional noise model (the
@@ -605,6 +755,37 @@ fn peak_residues(model: &Model, mut theta: Vec<f64>, initial: &[Complex64]) -> V
     theta
 }
 
+/// Frequency records: the height of mode r's own resonance over the noise
+/// sd at its damped frequency ω_d, under the fitted noise model. Complex and
+/// magnitude records: |H_r(iω_d)| over √(a² + b²|Ĥ(iω_d)|²) (a the additive
+/// sd, b the proportional fraction, Ĥ the whole fitted model; one component's
+/// sd, which is the sd of |H| where the resonance dominates). PSDs: the
+/// excess |Ĥ|² − |Ĥ − H_r|² over the sd of the bins of the level it stands on,
+/// |Ĥ − H_r|²/√ν̂ (a Welch bin's sd is its level over √ν). This is the
+/// quantity a lab reads off the plot, and what the record kinds share: the
+/// SNR of a complex residue is not comparable with that of a PSD's, whose
+/// residue phase the data do not fix.
+fn peak_snr(model: &Model, fit: &FitResult, r: usize, proportional_fraction: f64) -> f64 {
+    let o = PER_MODE * r;
+    let p = Complex64::new(-fit.theta[o], fit.theta[o + 1]);
+    let a = Complex64::new(fit.theta[o + 2], fit.theta[o + 3]);
+    let s = Complex64::new(0.0, p.im);
+    let own = a / (s - p) + a.conj() / (s - p.conj());
+    let total = model.curve(&fit.theta, &[p.im])[0];
+    let snr = if model.kind == FitKind::Psd {
+        let rest = (total - own).norm_sqr();
+        (total.norm_sqr() - rest) / (rest * fit.noise_var.sqrt()).max(f64::MIN_POSITIVE)
+    } else {
+        let sd = (fit.noise_var + (proportional_fraction * total.norm()).powi(2)).sqrt();
+        own.norm() / sd.max(f64::MIN_POSITIVE)
+    };
+    if snr.is_finite() {
+        snr
+    } else {
+        0.0
+    }
+}
+
 /// |A_r| over its standard deviation (delta method along A_r's direction,
 /// so a residue phase that magnitude-only data do not fix does not count):
 /// how clearly the data hold the mode's residue.
@@ -637,7 +818,7 @@ fn assemble(
     n_identified: usize,
     report: Option<usize>,
     noise_model: NoiseModel,
-) -> Identification {
+) -> Result<Identification, IdentifyError> {
     let w_unit = if sc.kind == FitKind::Time { 1.0 / sc.x_ref } else { sc.x_ref };
     let mut all: Vec<IdentifiedMode> = (0..model.n_modes)
         .map(|r| {
@@ -645,6 +826,10 @@ fn assemble(
             let o = PER_MODE * r;
             let amp = fit.theta[o + 2].hypot(fit.theta[o + 3]) / fit.theta[o];
             let snr = amplitude_snr(fit, r);
+            let clarity = match sc.kind {
+                FitKind::Time => snr,
+                _ => peak_snr(model, fit, r, noise_model.proportional_fraction),
+            };
             IdentifiedMode {
                 omega_rad_s: w * w_unit,
                 omega_sd_rad_s: w_sd * w_unit,
@@ -652,20 +837,57 @@ fn assemble(
                 zeta_sd: z_sd,
                 peak: amp,
                 amplitude_snr: snr,
+                peak_snr: clarity,
             }
         })
         .collect();
     let in_band = |w: f64| w >= sc.band.0 * w_unit && w <= sc.band.1 * w_unit;
+    // a fitted resonance narrower than the sampling is not held by the data
+    // (its height between two samples is free): background
+    let resolved = |r: usize| {
+        let o = PER_MODE * r;
+        let (sig, wd) = (fit.theta[o], fit.theta[o + 1]);
+        sc.kind == FitKind::Time
+            || sc.x.iter().filter(|&&x| x >= wd - sig && x <= wd + sig).count() >= MIN_POINTS_PER_RESONANCE
+    };
+    let threshold = if sc.kind == FitKind::Time { MIN_AMPLITUDE_SNR } else { MIN_PEAK_SNR };
+    let clear = |r: usize| in_band(all[r].omega_rad_s) && all[r].peak_snr >= threshold && resolved(r);
     let mut by_peak: Vec<usize> = (0..all.len())
-        .filter(|&r| {
-            (r < n_identified || report.is_none())
-                && in_band(all[r].omega_rad_s)
-                && (report.is_some() || all[r].amplitude_snr >= MIN_AMPLITUDE_SNR)
-        })
+        .filter(|&r| if report.is_some() { r < n_identified && in_band(all[r].omega_rad_s) } else { clear(r) })
         .collect();
+    if by_peak.is_empty() {
+        let best = (0..all.len())
+            .filter(|&r| in_band(all[r].omega_rad_s))
+            .max_by(|&a, &b| all[a].peak_snr.total_cmp(&all[b].peak_snr));
+        let what = match best {
+            Some(r) => format!(
+                "{} fitted resonances in the band, none clear: the clearest, at {:.4e} rad/s, stands {:.3e} noise sd high{}",
+                (0..all.len()).filter(|&r| in_band(all[r].omega_rad_s)).count(),
+                all[r].omega_rad_s,
+                all[r].peak_snr,
+                if resolved(r) { "" } else { " and is narrower than the sampling" }
+            ),
+            None => "no fitted resonance in the band".to_string(),
+        };
+        return Err(InputError::new(
+            m.abscissa_name(),
+            what,
+            format!(
+                "a record with a resonance standing >= {threshold} noise sd (fitted noise model: {}) above the noise at it, with >= {MIN_POINTS_PER_RESONANCE} samples in its half-power band",
+                noise_model.kind
+            ),
+        )
+        .into());
+    }
     let keep = report.unwrap_or(by_peak.len()).min(by_peak.len());
-    by_peak.sort_by(|&a, &b| all[b].amplitude_snr.total_cmp(&all[a].amplitude_snr));
+    by_peak.sort_by(|&a, &b| all[b].peak_snr.total_cmp(&all[a].peak_snr));
     let reported: Vec<usize> = by_peak[..keep].to_vec();
+    let found_omegas_rad_s: Vec<f64> = {
+        let mut f: Vec<f64> =
+            (0..all.len()).filter(|&r| clear(r) || reported.contains(&r)).map(|r| all[r].omega_rad_s).collect();
+        f.sort_by(f64::total_cmp);
+        f
+    };
     let y_unit = if sc.kind == FitKind::Psd { sc.y_ref.sqrt() } else { sc.y_ref };
     for mode in &mut all {
         mode.peak *= y_unit;
@@ -692,7 +914,7 @@ fn assemble(
         FitKind::Psd => 1.0,
         _ => sc.y_ref,
     };
-    Identification {
+    Ok(Identification {
         kind: kind_name(sc.kind),
         modes,
         background_modes: background,
@@ -713,11 +935,12 @@ fn assemble(
                 })
                 .collect(),
         },
+        found_omegas_rad_s,
         x,
         fitted,
         measured,
         residuals,
-    }
+    })
 }
 
 fn kind_name(k: FitKind) -> &'static str {

@@ -213,6 +213,20 @@ pub const NU: f64 = 20.0;
 /// floor of `fraction`·peak; ring-down: 4 000 samples at 8× the highest
 /// in-band frequency behind an anti-alias filter at 0.8 Nyquist.
 pub fn record(beam: Beam, kind: Kind, noise: Noise, band_modes: usize, tag: u64, seed: u64) -> Record {
+    let points = if kind == Kind::Time { 4000 } else { 1500 };
+    record_with(beam, kind, noise, band_modes, points, tag, seed)
+}
+
+/// [`record`] with `points` frequency samples (ring-downs: samples) instead of 1 500 (4 000).
+pub fn record_with(
+    beam: Beam,
+    kind: Kind,
+    noise: Noise,
+    band_modes: usize,
+    points: usize,
+    tag: u64,
+    seed: u64,
+) -> Record {
     let mut rng = stream(42, Purpose::MeasurementNoise, [tag, seed]);
     let top = beam.modes[band_modes - 1].omega;
     let mut normal = || -> f64 { StandardNormal.sample(&mut rng) };
@@ -220,7 +234,7 @@ pub fn record(beam: Beam, kind: Kind, noise: Noise, band_modes: usize, tag: u64,
     let hi = 1.15 * top;
     match kind {
         Kind::Complex | Kind::Magnitude | Kind::Psd => {
-            let w = log_grid(lo, hi, 1500);
+            let w = log_grid(lo, hi, points);
             let h: Vec<Complex64> = w.iter().map(|&w| beam.h(w)).collect();
             let peak = h.iter().map(|v| v.norm()).fold(0.0, f64::max);
             let spacing = |wc: f64, half: f64| w.iter().filter(|&&x| (x - wc).abs() <= half).count();
@@ -276,7 +290,7 @@ pub fn record(beam: Beam, kind: Kind, noise: Noise, band_modes: usize, tag: u64,
             let nyquist = 8.0 * top / 2.0;
             let dt = PI / nyquist;
             let cutoff = 0.8 * nyquist;
-            let n = 4000;
+            let n = points;
             let clean: Vec<f64> = (0..n).map(|k| beam.impulse(k as f64 * dt, cutoff)).collect();
             let peak = clean.iter().fold(0.0f64, |m, v| m.max(v.abs()));
             let y = clean.iter().map(|&v| v + noise.sd(v, peak) * normal()).collect();
