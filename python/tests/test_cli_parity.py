@@ -186,16 +186,17 @@ def test_diagnose_equals_cli(tmp_path):
     got = nanobeam.diagnose(data, samples=50, progress=rec)
     assert got == expected
     assert got["cause"] == "attached-mass"
-    # the base, the beta baseline, 6 single causes and 15 pairs on a simply
-    # supported beam
-    rec.check("models", 23)
+    # the base, the beta baseline, 7 single causes and their 21 pairs on a
+    # simply supported beam (section-mismatch is a candidate: the file samples
+    # no diameter, modulus or density)
+    rec.check("models", 30)
 
 
 def test_identify_equals_cli(tmp_path):
     beam_path = write(tmp_path, "beam.yaml", VISCO)
     sweep = cli(
         "frf", beam_path, "--input-x-nm=2", "--output-x-nm=5.5", "--from-rad-s=2e11",
-        "--to-rad-s=6e12", "--points=600", "--log", "--csv",
+        "--to-rad-s=6e12", "--points=1200", "--log", "--csv",
     )
     assert sweep.returncode == 0, sweep.stderr
     csv_path = write(tmp_path, "sweep.csv", sweep.stdout)
