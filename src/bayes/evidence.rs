@@ -201,6 +201,10 @@ pub struct SubModelMap<'a> {
 /// `multimodal` (a posterior multimodal by construction, which the caller
 /// knows and this module cannot) the MAP search also runs from prior draws
 /// ([`global_map`]) and from each of `sub_models`' MAPs ([`nested_map`]).
+/// `control` is polled by TMCMC, and before the MAP searches and the
+/// importance evidence (not within them): a cancelled run returns
+/// `BayesError::Cancelled`; one never cancelled gives the same bits as
+/// without it.
 pub fn estimate<P: Posterior>(
     posterior: &P,
     s: &EvidenceSettings,
