@@ -7,8 +7,6 @@
 //! in `search`, the bar a flagged model must reach to be replicated.
 
 use crate::bayes::evidence::{self, Evidence, EvidenceSettings, SubModelMap};
-use crate::bayes::importance::ImportanceEvidence;
-use crate::bayes::tmcmc::TmcmcResult;
 use crate::bayes::{BayesError, Posterior};
 use crate::calibration::{ParameterSet, Target};
 
@@ -19,81 +17,32 @@ use super::settings::DiagnoseSettings;
 pub use crate::bayes::evidence::LAPLACE_DISAGREEMENT_NATS;
 
 /// Everything computed for one model (kept for the report's plots): the
-/// model, its posterior, and the fields of its [`Evidence`].
+/// model, its posterior, and its [`Evidence`], whose fields read through
+/// (`run.log_evidence`, `run.draws`, …: the posterior draws the predictive
+/// checks, summaries and plots use, in sampling coordinates).
 #[derive(Debug, Clone)]
 pub struct ModelRun {
     pub model: Model,
     pub posterior: ClassPosterior,
-    /// The model's ln Z: the importance evidence when reliable
-    /// ([`ModelRun::importance_reliable`]), TMCMC's otherwise.
-    pub log_evidence: f64,
-    /// Standard error of `log_evidence`.
-    pub log_evidence_se: f64,
-    /// The TMCMC result; with several runs, their combined evidence and the
-    /// population of the run that came closest to the peak.
-    pub tmcmc: TmcmcResult,
-    /// ln Ẑ of each TMCMC run (one unless the first missed the peak).
-    pub log_evidence_runs: Vec<f64>,
-    /// The posterior draws the predictive checks, summaries and plots use
-    /// (sampling coordinates): [`Evidence::draws`].
-    pub draws: Vec<Vec<f64>>,
-    /// The MAP in sampling coordinates.
-    pub map: Vec<f64>,
-    /// `None` when the MAP sits on a prior boundary or the Hessian is not positive definite.
-    pub log_evidence_laplace: Option<f64>,
-    /// The first TMCMC run ended below the posterior's peak ([`Evidence::missed_peak`]).
-    pub missed_peak: bool,
-    /// The importance-sampling evidence (`None` when its proposal could not
-    /// be built); when its ESS ≥ [`evidence::IMPORTANCE_MIN_ESS`] it is the
-    /// model's evidence.
-    pub importance: Option<ImportanceEvidence>,
-    /// The master seed of the model's random streams.
-    pub seed: u64,
-    /// Forward-model solves of TMCMC, the MAP, the Laplace Hessian and the importance draws together.
-    pub forward_evaluations: u64,
-    /// Wall time of this model's runs (s), replicates included. Models run
-    /// concurrently and share the threads, so this is a timing summary for
-    /// the CLI's stderr, never part of a (deterministic) result.
-    pub elapsed_s: f64,
+    pub evidence: Evidence,
+}
+
+impl std::ops::Deref for ModelRun {
+    type Target = Evidence;
+
+    fn deref(&self) -> &Evidence {
+        &self.evidence
+    }
 }
 
 impl ModelRun {
-    fn new(model: Model, posterior: ClassPosterior, e: Evidence) -> Self {
-        ModelRun {
-            model,
-            posterior,
-            log_evidence: e.log_evidence,
-            log_evidence_se: e.log_evidence_se,
-            tmcmc: e.tmcmc,
-            log_evidence_runs: e.log_evidence_runs,
-            draws: e.draws,
-            map: e.map,
-            log_evidence_laplace: e.log_evidence_laplace,
-            missed_peak: e.missed_peak,
-            importance: e.importance,
-            seed: e.seed,
-            forward_evaluations: e.forward_evaluations,
-            elapsed_s: e.elapsed_s,
-        }
+    fn new(model: Model, posterior: ClassPosterior, evidence: Evidence) -> Self {
+        ModelRun { model, posterior, evidence }
     }
 
     /// The model, its posterior and its [`Evidence`], apart.
     fn split(self) -> (Model, ClassPosterior, Evidence) {
-        let e = Evidence {
-            log_evidence: self.log_evidence,
-            log_evidence_se: self.log_evidence_se,
-            tmcmc: self.tmcmc,
-            log_evidence_runs: self.log_evidence_runs,
-            draws: self.draws,
-            map: self.map,
-            log_evidence_laplace: self.log_evidence_laplace,
-            missed_peak: self.missed_peak,
-            importance: self.importance,
-            seed: self.seed,
-            forward_evaluations: self.forward_evaluations,
-            elapsed_s: self.elapsed_s,
-        };
-        (self.model, self.posterior, e)
+        (self.model, self.posterior, self.evidence)
     }
 
     /// The importance evidence is the model's evidence (its ESS ≥ [`evidence::IMPORTANCE_MIN_ESS`]).
