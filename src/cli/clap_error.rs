@@ -3,12 +3,17 @@
 
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 
-/// The subcommands, for "allowed" of a missing or unknown one.
-const COMMANDS: &str = "one of: modal, frf, calibrate, diagnose (see nanobeam --help)";
+/// "allowed" of a missing or unknown subcommand: `command`'s subcommands,
+/// read from the parser itself so that the list cannot fall behind it.
+fn allowed_commands(command: &clap::Command) -> String {
+    let names: Vec<&str> = command.get_subcommands().map(|c| c.get_name()).filter(|&n| n != "help").collect();
+    format!("one of: {} (see nanobeam --help)", names.join(", "))
+}
 
 /// `None` for `--help`/`--version` (print clap's text, exit 0); otherwise
-/// the one-line message for exit 2.
-pub fn one_line(e: &clap::Error) -> Option<String> {
+/// the one-line message for exit 2. `command` is the parser that raised `e`
+/// (for the subcommands a missing or unknown one may be).
+pub fn one_line(e: &clap::Error, command: &clap::Command) -> Option<String> {
     let ctx = |k: ContextKind| e.get(k).map(context_text);
     let arg = ctx(ContextKind::InvalidArg).map(|a| arg_name(&a));
     let line = match e.kind() {
@@ -33,10 +38,10 @@ pub fn one_line(e: &clap::Error) -> Option<String> {
         ),
         ErrorKind::InvalidSubcommand => {
             let value = ctx(ContextKind::InvalidSubcommand).unwrap_or_default();
-            format!("invalid command = {value}: allowed {COMMANDS}")
+            format!("invalid command = {value}: allowed {}", allowed_commands(command))
         }
         ErrorKind::MissingSubcommand | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-            format!("invalid command = (missing): allowed {COMMANDS}")
+            format!("invalid command = (missing): allowed {}", allowed_commands(command))
         }
         _ => {
             let first = e.render().to_string();
@@ -78,7 +83,7 @@ fn arg_name(a: &str) -> String {
 pub fn parse_or_exit<P: clap::Parser>() -> P {
     match P::try_parse() {
         Ok(p) => p,
-        Err(e) => match one_line(&e) {
+        Err(e) => match one_line(&e, &P::command()) {
             None => {
                 let _ = e.print();
                 std::process::exit(0);
@@ -88,5 +93,29 @@ pub fn parse_or_exit<P: clap::Parser>() -> P {
                 std::process::exit(2);
             }
         },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::{CommandFactory, Parser};
+
+    use super::one_line;
+    use crate::cli::Cli;
+
+    fn line(args: &[&str]) -> String {
+        let e = Cli::try_parse_from(args).expect_err("the arguments are invalid");
+        one_line(&e, &Cli::command()).expect("not --help")
+    }
+
+    #[test]
+    fn an_unknown_or_missing_command_lists_every_subcommand_the_parser_has() {
+        for l in [line(&["nanobeam", "modl"]), line(&["nanobeam"])] {
+            assert_eq!(l.lines().count(), 1, "{l}");
+            for name in ["modal", "frf", "calibrate", "diagnose", "identify"] {
+                assert!(l.contains(name), "{name} missing from: {l}");
+            }
+            assert!(!l.contains("help,"), "clap's own help subcommand is not a command: {l}");
+        }
     }
 }
