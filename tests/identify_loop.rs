@@ -329,8 +329,8 @@ fn check_three_modes(modes: &[IdentifiedMode], truth: &ModalResult, what: &str) 
 
 /// Each reported mode is near a distinct true mode and every ω and ζ lies
 /// within 4 of its reported sd: a two-sided 4-sd miss has probability
-/// 6.3e-5 under a correct sd, so the 18 intervals of three records fail
-/// falsely with probability ≈ 1.1e-3.
+/// 6.3e-5 under a correct sd, so the 18–24 intervals of three or four
+/// records fail falsely with probability ≤ 1.5e-3.
 fn check_three_modes_of(
     records: impl Iterator<Item = (u64, Result<Vec<IdentifiedMode>, String>)>,
     truth: &ModalResult,
@@ -378,13 +378,15 @@ fn readme_psd_recipe_keeps_its_three_modes() {
 }
 
 /// Issue 44 defect 4: a ring-down of three modes (the paper's beam behind the
-/// anti-alias filter of `lab_ring_down`), 0.1 % noise, 3 000 samples, three
-/// noise seeds: each identifies its three modes (exit 1 "did not converge"
-/// before the restarts).
+/// anti-alias filter of `lab_ring_down`), 0.1 % noise, 3 000 samples: each
+/// record identifies exactly its three modes. Of noise seeds 0–39, seeds 8
+/// and 11 exited 1 "did not converge" (a noise pole of the diagram grew in
+/// every candidate) and seed 35 reported a fourth mode with ζ ≈ 1; seed 0 is
+/// a record that always passed.
 #[test]
 fn three_mode_ring_down_of_3000_samples_converges() {
     let truth = modal(&paper_beam(), 4).unwrap();
-    let records = (0..3).map(|seed| {
+    let records = [0, 8, 11, 35].into_iter().map(|seed| {
         let (t, y, _) = paper_ring_down(3000, seed);
         let data = Measurement::Time { time_s: t, displacement_m: y };
         (seed, identify(&data, &IdentifySettings::default()).map(|id| id.modes).map_err(|e| e.to_string()))

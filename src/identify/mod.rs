@@ -84,6 +84,12 @@ pub const MIN_AMPLITUDE_SNR: f64 = 5.0;
 /// [`peaks`] (false alarm ≤ N·Q(5) per record of N samples), and a
 /// resonance the issue calls visible stands 20 sd high.
 pub const MIN_PEAK_SNR: f64 = 5.0;
+/// Largest damping ratio of a reported mode (without `modes = K`): a pole
+/// with ζ ≥ 1/√2 gives no resonance (its receptance magnitude falls
+/// monotonically with frequency) and decays without a visible oscillation;
+/// it is background (a real pole of the noise fitted as an oscillatory one
+/// with ζ → 1 passed the residue test: tests/identify_coverage.md).
+pub const MAX_MODE_ZETA: f64 = std::f64::consts::FRAC_1_SQRT_2;
 /// Largest pencil parameter L of the matrix pencil (Hankel columns − 1):
 /// with L = 50 the 10-ms ring-down of a 10 kHz mode sampled at 200 kHz
 /// (N = 2000) spans only 2.5 periods per row and the pole wanders across
@@ -271,7 +277,13 @@ pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identifi
     }
     let (model, fit) = match best_refinement(&sc, &initial) {
         Ok(v) => v,
-        Err(e) if sc.kind == FitKind::Time => restart_from_prefix(&sc, &initial).ok_or(e)?,
+        Err(e) if sc.kind == FitKind::Time => match without_growing_poles(&sc, &initial) {
+            Some((kept, v)) => {
+                initial = kept;
+                v
+            }
+            None => restart_from_prefix(&sc, &initial).ok_or(e)?,
+        },
         // declared peaks the refinement cannot hold stable: the diagram's
         // poles alone (the refinement recovers a missed mode through its
         // out-of-band poles, see `assemble`)
@@ -513,6 +525,52 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
             "the nonlinear least-squares refinement did not converge (try --modes K with fewer modes, a lower --max-order, or a record cropped to its clearest part)".into(),
         )
     })
+}
+
+/// Rounds of [`without_growing_poles`].
+const PRUNE_ROUNDS: usize = 3;
+
+/// A free decay whose every refinement candidate turned one of the
+/// diagram's poles into a growing one (σ ≤ 0, which `stable_modes` rejects):
+/// the matrix pencil's diagram also holds poles of the noise, lightly damped
+/// with residues near zero, stable across orders by chance, and the
+/// refinement can push such a pole across the imaginary axis while the
+/// modes converge (tests/identify_coverage.md, issue 44's ring-down). A growing pole is not a mode of a passive structure: the
+/// poles that grew in any candidate are dropped and the refinement repeated
+/// from the rest, a few rounds. `None` when no pole grew or nothing is left.
+fn without_growing_poles(sc: &Scaled, initial: &[Complex64]) -> Option<(Vec<Complex64>, (Model, FitResult))> {
+    let mut kept = initial.to_vec();
+    for _ in 0..PRUNE_ROUNDS {
+        let mut grew = vec![false; kept.len()];
+        for n_real in 0..=MAX_REAL_POLES {
+            let model = Model {
+                kind: sc.kind,
+                x: sc.x.clone(),
+                y: sc.y.clone(),
+                n_modes: kept.len(),
+                n_real,
+                poly: vec![0],
+                weights: None,
+            };
+            if model.n_params() + 1 >= model.n_residuals() {
+                break;
+            }
+            let Some(fit) = initial_theta(&model, sc, &kept).and_then(|t| refine::fit_projected(&model, &t)) else {
+                continue;
+            };
+            for (r, g) in grew.iter_mut().enumerate() {
+                *g |= fit.theta[PER_MODE * r] <= 0.0 || fit.theta[PER_MODE * r + 1] <= 0.0;
+            }
+        }
+        if !grew.iter().any(|&g| g) || grew.iter().all(|&g| g) {
+            return None;
+        }
+        kept = kept.iter().zip(&grew).filter(|(_, &g)| !g).map(|(p, _)| *p).collect();
+        if let Ok(v) = best_refinement(sc, &kept) {
+            return Some((kept, v));
+        }
+    }
+    None
 }
 
 /// Prefixes (fractions of the record) a free decay's refinement restarts
@@ -851,7 +909,9 @@ fn assemble(
             || sc.x.iter().filter(|&&x| x >= wd - sig && x <= wd + sig).count() >= MIN_POINTS_PER_RESONANCE
     };
     let threshold = if sc.kind == FitKind::Time { MIN_AMPLITUDE_SNR } else { MIN_PEAK_SNR };
-    let clear = |r: usize| in_band(all[r].omega_rad_s) && all[r].peak_snr >= threshold && resolved(r);
+    let clear = |r: usize| {
+        in_band(all[r].omega_rad_s) && all[r].peak_snr >= threshold && resolved(r) && all[r].zeta < MAX_MODE_ZETA
+    };
     let mut by_peak: Vec<usize> = (0..all.len())
         .filter(|&r| if report.is_some() { r < n_identified && in_band(all[r].omega_rad_s) } else { clear(r) })
         .collect();
