@@ -242,7 +242,9 @@ pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identifi
     // accepted, the refinement and the residue SNR (or `--modes K`) decide.
     let from_diagram = diagram.modes(0.0, 1.0, sc.kind == FitKind::Psd);
     let mut initial = from_diagram.clone();
-    if sc.kind != FitKind::Time {
+    if sc.kind == FitKind::Time {
+        merge_decay_peaks(&sc, &mut initial);
+    } else {
         merge_peaks(&sc, &mut initial)?;
     }
     if sc.kind == FitKind::Psd {
@@ -281,6 +283,13 @@ pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identifi
             Some((kept, v)) => {
                 initial = kept;
                 v
+            }
+            None if initial.len() > from_diagram.len() && !from_diagram.is_empty() => {
+                initial = from_diagram;
+                match best_refinement(&sc, &initial) {
+                    Ok(v) => v,
+                    Err(_) => restart_from_prefix(&sc, &initial).ok_or(e)?,
+                }
             }
             None => restart_from_prefix(&sc, &initial).ok_or(e)?,
         },
@@ -372,6 +381,44 @@ fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<(), InputErr
     }
     initial.sort_by(|a, b| a.norm().total_cmp(&b.norm()));
     Ok(())
+}
+
+/// Free decays: adds the resonances [`peaks::detect`] declares in the
+/// record's spectrum and the diagram missed to the initial poles. The DFT
+/// of a sampled decay Σ A e^{p t} is Σ A/(1 − e^{(p − iω)Δt}), near a pole
+/// A/((iω − p)Δt): a resonance of the form `peaks` reads in a complex sweep,
+/// and white noise in time is white complex noise over the bins (equal sd
+/// in the real and imaginary parts). The matrix pencil misses modes the
+/// spectrum shows: with the pencil parameter capped at [`PENCIL_CAP`], a
+/// Hankel row spans few periods of a low mode, and its pole wanders between
+/// orders (tests/identify_coverage.md: ring-downs lost 3 of 34 and 7 of 53
+/// visible modes). The record is zero-padded to a power of two (at most
+/// twice its length: adjacent bins stay nearly independent, as the noise
+/// estimate of `peaks` assumes). Peaks within 3 bins of zero frequency are
+/// the relaxation background, not a resonance. A declared peak needs no
+/// samples in its half-power band here: it is only a start for the
+/// refinement, which fits the time samples.
+fn merge_decay_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) {
+    let n = sc.y.len();
+    let m = n.next_power_of_two();
+    let mut re: Vec<f64> = sc.y.iter().map(|v| v.re).chain(std::iter::repeat(0.0)).take(m).collect();
+    let mut im = vec![0.0; m];
+    thermal::fft(&mut re, &mut im);
+    // bin k: ω̃ = 2πk/(m·π) = 2k/m in the scaled units (time step π, Nyquist 1)
+    let x: Vec<f64> = (0..=m / 2).map(|k| 2.0 * k as f64 / m as f64).collect();
+    let y: Vec<Complex64> = (0..=m / 2).map(|k| Complex64::new(re[k], im[k])).collect();
+    let mut declared = peaks::detect(&x, &y, peaks::Series::Complex);
+    declared.retain(|p| p.index >= 3);
+    declared.sort_by(|a, b| b.statistic.total_cmp(&a.statistic));
+    declared.truncate(MAX_DECLARED);
+    for peak in declared {
+        let (w, sigma) = (peak.pole.im, -peak.pole.re);
+        let known = initial.iter().any(|p| (p.norm() - w).abs() <= (FREQ_MERGE * w).max(2.0 * sigma.max(-p.re)));
+        if !known {
+            initial.push(peak.pole);
+        }
+    }
+    initial.sort_by(|a, b| a.norm().total_cmp(&b.norm()));
 }
 
 /// Most declared peaks added to the initial poles (the clearest).
