@@ -235,3 +235,42 @@ fn ci_subset_ring_down_with_proportional_noise() {
 fn ci_subset_ring_down_with_additive_noise() {
     subset_record(Kind::Time, false);
 }
+
+/// CI-sized coverage study of ring-downs (issue 42 items 1 and 2): seeds
+/// 0–5 of the study (the study's records, same generator). Asserts that no
+/// record fails, that under additive noise every visible mode is found, and
+/// that the 95 % intervals' coverage lies within 3 Monte Carlo sd of 0.95.
+/// The Monte Carlo sd: ω and ζ of one mode are correlated, so the effective
+/// number of independent intervals lies between the number of modes k and
+/// 2k; the bound takes k, sd = sqrt(0.95·0.05/k), which overstates the error
+/// (the bar errs towards passing a slightly low coverage, never towards
+/// failing a right one: the false-failure rate stays ≤ 0.27 %).
+fn ring_down_coverage(proportional: bool) {
+    let t = study(Kind::Time, proportional, 0..6);
+    print(Kind::Time, proportional, &t);
+    assert_eq!(t.failed, 0, "proportional={proportional}: failed records");
+    if !proportional {
+        assert_eq!(t.found, t.visible, "additive: every visible mode found");
+    }
+    assert!(t.found > 0);
+    let cover = t.within_95 as f64 / t.intervals as f64;
+    let bar = 3.0 * (0.95f64 * 0.05 / t.found as f64).sqrt();
+    assert!(
+        (cover - 0.95).abs() <= bar,
+        "proportional={proportional}: 95 % coverage {cover:.3} outside 0.95 ± {bar:.3}"
+    );
+}
+
+#[test]
+fn ci_ring_down_coverage_under_additive_noise() {
+    ring_down_coverage(false);
+}
+
+/// Proportional noise: detection is measured, not asserted. The intervals
+/// are too narrow: measured 0.792 (48 intervals, 6 seeds), outside the bar
+/// 0.95 ± 0.134; see tests/identify_coverage.md for the 100-seed study.
+#[test]
+#[ignore = "known failure: ring-down intervals under proportional noise cover about 0.8-0.9 (tests/identify_coverage.md)"]
+fn ci_ring_down_coverage_under_proportional_noise() {
+    ring_down_coverage(true);
+}
