@@ -217,20 +217,60 @@ fn ci_subset_complex_sweep_under_both_noise_kinds() {
     subset_record(Kind::Complex, true);
 }
 
-/// A ring-down with proportional noise (a² + b²y²): a known false mode
-/// (issue 42 item 2, not fixed): a pole at 942 107 rad/s, ζ = 0.0013,
-/// residue SNR 7.2, between true modes 3 and 4, is reported as a mode.
+/// A ring-down with proportional noise (a² + b²y²): every visible mode is
+/// found within 3.5 sd and the false mode this record reported before the
+/// spectrum's peaks joined the initial poles (942 107 rad/s, ζ = 0.0013) is
+/// gone, but the noise model named is `uniform` (the additive + proportional
+/// model is not kept for this record; not investigated).
 #[test]
-#[ignore = "known failure: a false mode at 942 107 rad/s passes the residue-SNR filter (issue 42 item 2)"]
+#[ignore = "known failure: the noise model is reported as uniform on this proportional-noise ring-down"]
 fn ci_subset_ring_down_with_proportional_noise() {
     subset_record(Kind::Time, true);
 }
 
-/// A known detection failure (issue 42 item 2, not fixed): this ring-down
-/// with additive noise loses its mode 1 (ω = 62 832 rad/s), which stands
-/// well above 20 noise sd.
+/// A ring-down with additive noise: its mode 1 (ω = 62 832 rad/s), well
+/// above 20 noise sd, was lost by the matrix pencil's diagram; the peaks of
+/// the record's spectrum recover it (issue 42 item 2).
 #[test]
-#[ignore = "known failure: ring-down detection loses mode 1 (issue 42 item 2)"]
 fn ci_subset_ring_down_with_additive_noise() {
     subset_record(Kind::Time, false);
+}
+
+/// CI-sized coverage study of ring-downs (issue 42 items 1 and 2): seeds
+/// 0–5 of the study (the study's records, same generator). Asserts that no
+/// record fails, that under additive noise every visible mode is found, and
+/// that the 95 % intervals' coverage lies within 3 Monte Carlo sd of 0.95.
+/// The Monte Carlo sd: ω and ζ of one mode are correlated, so the effective
+/// number of independent intervals lies between the number of modes k and
+/// 2k; the bound takes k, sd = sqrt(0.95·0.05/k), which overstates the error
+/// (the bar errs towards passing a slightly low coverage, never towards
+/// failing a right one: the false-failure rate stays ≤ 0.27 %).
+fn ring_down_coverage(proportional: bool) {
+    let t = study(Kind::Time, proportional, 0..6);
+    print(Kind::Time, proportional, &t);
+    assert_eq!(t.failed, 0, "proportional={proportional}: failed records");
+    if !proportional {
+        assert_eq!(t.found, t.visible, "additive: every visible mode found");
+    }
+    assert!(t.found > 0);
+    let cover = t.within_95 as f64 / t.intervals as f64;
+    let bar = 3.0 * (0.95f64 * 0.05 / t.found as f64).sqrt();
+    assert!(
+        (cover - 0.95).abs() <= bar,
+        "proportional={proportional}: 95 % coverage {cover:.3} outside 0.95 ± {bar:.3}"
+    );
+}
+
+#[test]
+fn ci_ring_down_coverage_under_additive_noise() {
+    ring_down_coverage(false);
+}
+
+/// Proportional noise: detection is measured, not asserted. The intervals
+/// are too narrow: measured 0.792 (48 intervals, 6 seeds), outside the bar
+/// 0.95 ± 0.134; see tests/identify_coverage.md for the 100-seed study.
+#[test]
+#[ignore = "known failure: ring-down intervals under proportional noise cover about 0.8-0.9 (tests/identify_coverage.md)"]
+fn ci_ring_down_coverage_under_proportional_noise() {
+    ring_down_coverage(true);
 }

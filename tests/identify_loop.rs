@@ -326,3 +326,70 @@ fn check_three_modes(modes: &[IdentifiedMode], truth: &ModalResult, what: &str) 
         );
     }
 }
+
+/// Each reported mode is near a distinct true mode and every ω and ζ lies
+/// within 4 of its reported sd: a two-sided 4-sd miss has probability
+/// 6.3e-5 under a correct sd, so the 18–24 intervals of three or four
+/// records fail falsely with probability ≤ 1.5e-3.
+fn check_three_modes_of(
+    records: impl Iterator<Item = (u64, Result<Vec<IdentifiedMode>, String>)>,
+    truth: &ModalResult,
+    what: &str,
+) {
+    let mut bad = Vec::new();
+    for (seed, modes) in records {
+        let modes = match modes {
+            Ok(m) => m,
+            Err(e) => {
+                bad.push(format!("seed {seed}: {e}"));
+                continue;
+            }
+        };
+        if modes.len() != 3 {
+            bad.push(format!("seed {seed}: {} modes", modes.len()));
+            continue;
+        }
+        for (m, t) in modes.iter().zip(&truth.modes) {
+            let z = [(m.omega_rad_s - t.omega_rad_s) / m.omega_sd_rad_s, (m.zeta - t.zeta) / m.zeta_sd];
+            println!("{what} seed {seed} mode {}: z omega {:.2}, z zeta {:.2}", t.mode, z[0], z[1]);
+            if !(z[0].abs() <= 4.0 && z[1].abs() <= 4.0) {
+                bad.push(format!("seed {seed} mode {}: z {z:?}", t.mode));
+            }
+        }
+    }
+    assert!(bad.is_empty(), "{what}: {bad:?}");
+}
+
+/// Issue 44 defect 3: a PSD made as the README says (an `frf` sweep of the
+/// paper's beam, 1 500 bins, ν = 20 Welch averages), three seeds, run as a
+/// user runs it (no `--modes`): each keeps its three modes. Before the
+/// peak-SNR filter one seed of three reported none.
+#[test]
+fn readme_psd_recipe_keeps_its_three_modes() {
+    let beam = paper_beam();
+    let truth = modal(&beam, 4).unwrap();
+    let w = sweep(&truth, 3, 1500);
+    let h = frf(&beam, 3.6, 6.8, &w).unwrap();
+    let records = (0..3).map(|seed| {
+        let data = Measurement::Psd { omega_rad_s: w.clone(), psd_m2_s_per_rad: noisy_psd(&h, 4400 + seed) };
+        (seed, identify(&data, &IdentifySettings::default()).map(|id| id.modes).map_err(|e| e.to_string()))
+    });
+    check_three_modes_of(records, &truth, "readme psd");
+}
+
+/// Issue 44 defect 4: a ring-down of three modes (the paper's beam behind the
+/// anti-alias filter of `lab_ring_down`), 0.1 % noise, 3 000 samples: each
+/// record identifies exactly its three modes. Of noise seeds 0–39, seeds 8
+/// and 11 exited 1 "did not converge" (a noise pole of the diagram grew in
+/// every candidate) and seed 35 reported a fourth mode with ζ ≈ 1; seed 0 is
+/// a record that always passed.
+#[test]
+fn three_mode_ring_down_of_3000_samples_converges() {
+    let truth = modal(&paper_beam(), 4).unwrap();
+    let records = [0, 8, 11, 35].into_iter().map(|seed| {
+        let (t, y, _) = paper_ring_down(3000, seed);
+        let data = Measurement::Time { time_s: t, displacement_m: y };
+        (seed, identify(&data, &IdentifySettings::default()).map(|id| id.modes).map_err(|e| e.to_string()))
+    });
+    check_three_modes_of(records, &truth, "ring-down 3000");
+}

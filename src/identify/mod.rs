@@ -84,6 +84,12 @@ pub const MIN_AMPLITUDE_SNR: f64 = 5.0;
 /// [`peaks`] (false alarm ≤ N·Q(5) per record of N samples), and a
 /// resonance the issue calls visible stands 20 sd high.
 pub const MIN_PEAK_SNR: f64 = 5.0;
+/// Largest damping ratio of a reported mode (without `modes = K`): a pole
+/// with ζ ≥ 1/√2 gives no resonance (its receptance magnitude falls
+/// monotonically with frequency) and decays without a visible oscillation;
+/// it is background (a real pole of the noise fitted as an oscillatory one
+/// with ζ → 1 passed the residue test: tests/identify_coverage.md).
+pub const MAX_MODE_ZETA: f64 = std::f64::consts::FRAC_1_SQRT_2;
 /// Largest pencil parameter L of the matrix pencil (Hankel columns − 1):
 /// with L = 50 the 10-ms ring-down of a 10 kHz mode sampled at 200 kHz
 /// (N = 2000) spans only 2.5 periods per row and the pole wanders across
@@ -236,7 +242,9 @@ pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identifi
     // accepted, the refinement and the residue SNR (or `--modes K`) decide.
     let from_diagram = diagram.modes(0.0, 1.0, sc.kind == FitKind::Psd);
     let mut initial = from_diagram.clone();
-    if sc.kind != FitKind::Time {
+    if sc.kind == FitKind::Time {
+        merge_decay_peaks(&sc, &mut initial);
+    } else {
         merge_peaks(&sc, &mut initial)?;
     }
     if sc.kind == FitKind::Psd {
@@ -271,7 +279,20 @@ pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identifi
     }
     let (model, fit) = match best_refinement(&sc, &initial) {
         Ok(v) => v,
-        Err(e) if sc.kind == FitKind::Time => restart_from_prefix(&sc, &initial).ok_or(e)?,
+        Err(e) if sc.kind == FitKind::Time => match without_growing_poles(&sc, &initial) {
+            Some((kept, v)) => {
+                initial = kept;
+                v
+            }
+            None if initial.len() > from_diagram.len() && !from_diagram.is_empty() => {
+                initial = from_diagram;
+                match best_refinement(&sc, &initial) {
+                    Ok(v) => v,
+                    Err(_) => restart_from_prefix(&sc, &initial).ok_or(e)?,
+                }
+            }
+            None => restart_from_prefix(&sc, &initial).ok_or(e)?,
+        },
         // declared peaks the refinement cannot hold stable: the diagram's
         // poles alone (the refinement recovers a missed mode through its
         // out-of-band poles, see `assemble`)
@@ -360,6 +381,44 @@ fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<(), InputErr
     }
     initial.sort_by(|a, b| a.norm().total_cmp(&b.norm()));
     Ok(())
+}
+
+/// Free decays: adds the resonances [`peaks::detect`] declares in the
+/// record's spectrum and the diagram missed to the initial poles. The DFT
+/// of a sampled decay Σ A e^{p t} is Σ A/(1 − e^{(p − iω)Δt}), near a pole
+/// A/((iω − p)Δt): a resonance of the form `peaks` reads in a complex sweep,
+/// and white noise in time is white complex noise over the bins (equal sd
+/// in the real and imaginary parts). The matrix pencil misses modes the
+/// spectrum shows: with the pencil parameter capped at [`PENCIL_CAP`], a
+/// Hankel row spans few periods of a low mode, and its pole wanders between
+/// orders (tests/identify_coverage.md: ring-downs lost 3 of 34 and 7 of 53
+/// visible modes). The record is zero-padded to a power of two (at most
+/// twice its length: adjacent bins stay nearly independent, as the noise
+/// estimate of `peaks` assumes). Peaks within 3 bins of zero frequency are
+/// the relaxation background, not a resonance. A declared peak needs no
+/// samples in its half-power band here: it is only a start for the
+/// refinement, which fits the time samples.
+fn merge_decay_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) {
+    let n = sc.y.len();
+    let m = n.next_power_of_two();
+    let mut re: Vec<f64> = sc.y.iter().map(|v| v.re).chain(std::iter::repeat(0.0)).take(m).collect();
+    let mut im = vec![0.0; m];
+    thermal::fft(&mut re, &mut im);
+    // bin k: ω̃ = 2πk/(m·π) = 2k/m in the scaled units (time step π, Nyquist 1)
+    let x: Vec<f64> = (0..=m / 2).map(|k| 2.0 * k as f64 / m as f64).collect();
+    let y: Vec<Complex64> = (0..=m / 2).map(|k| Complex64::new(re[k], im[k])).collect();
+    let mut declared = peaks::detect(&x, &y, peaks::Series::Complex);
+    declared.retain(|p| p.index >= 3);
+    declared.sort_by(|a, b| b.statistic.total_cmp(&a.statistic));
+    declared.truncate(MAX_DECLARED);
+    for peak in declared {
+        let (w, sigma) = (peak.pole.im, -peak.pole.re);
+        let known = initial.iter().any(|p| (p.norm() - w).abs() <= (FREQ_MERGE * w).max(2.0 * sigma.max(-p.re)));
+        if !known {
+            initial.push(peak.pole);
+        }
+    }
+    initial.sort_by(|a, b| a.norm().total_cmp(&b.norm()));
 }
 
 /// Most declared peaks added to the initial poles (the clearest).
@@ -513,6 +572,52 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
             "the nonlinear least-squares refinement did not converge (try --modes K with fewer modes, a lower --max-order, or a record cropped to its clearest part)".into(),
         )
     })
+}
+
+/// Rounds of [`without_growing_poles`].
+const PRUNE_ROUNDS: usize = 3;
+
+/// A free decay whose every refinement candidate turned one of the
+/// diagram's poles into a growing one (σ ≤ 0, which `stable_modes` rejects):
+/// the matrix pencil's diagram also holds poles of the noise, lightly damped
+/// with residues near zero, stable across orders by chance, and the
+/// refinement can push such a pole across the imaginary axis while the
+/// modes converge (tests/identify_coverage.md, issue 44's ring-down). A growing pole is not a mode of a passive structure: the
+/// poles that grew in any candidate are dropped and the refinement repeated
+/// from the rest, a few rounds. `None` when no pole grew or nothing is left.
+fn without_growing_poles(sc: &Scaled, initial: &[Complex64]) -> Option<(Vec<Complex64>, (Model, FitResult))> {
+    let mut kept = initial.to_vec();
+    for _ in 0..PRUNE_ROUNDS {
+        let mut grew = vec![false; kept.len()];
+        for n_real in 0..=MAX_REAL_POLES {
+            let model = Model {
+                kind: sc.kind,
+                x: sc.x.clone(),
+                y: sc.y.clone(),
+                n_modes: kept.len(),
+                n_real,
+                poly: vec![0],
+                weights: None,
+            };
+            if model.n_params() + 1 >= model.n_residuals() {
+                break;
+            }
+            let Some(fit) = initial_theta(&model, sc, &kept).and_then(|t| refine::fit_projected(&model, &t)) else {
+                continue;
+            };
+            for (r, g) in grew.iter_mut().enumerate() {
+                *g |= fit.theta[PER_MODE * r] <= 0.0 || fit.theta[PER_MODE * r + 1] <= 0.0;
+            }
+        }
+        if !grew.iter().any(|&g| g) || grew.iter().all(|&g| g) {
+            return None;
+        }
+        kept = kept.iter().zip(&grew).filter(|(_, &g)| !g).map(|(p, _)| *p).collect();
+        if let Ok(v) = best_refinement(sc, &kept) {
+            return Some((kept, v));
+        }
+    }
+    None
 }
 
 /// Prefixes (fractions of the record) a free decay's refinement restarts
@@ -851,7 +956,9 @@ fn assemble(
             || sc.x.iter().filter(|&&x| x >= wd - sig && x <= wd + sig).count() >= MIN_POINTS_PER_RESONANCE
     };
     let threshold = if sc.kind == FitKind::Time { MIN_AMPLITUDE_SNR } else { MIN_PEAK_SNR };
-    let clear = |r: usize| in_band(all[r].omega_rad_s) && all[r].peak_snr >= threshold && resolved(r);
+    let clear = |r: usize| {
+        in_band(all[r].omega_rad_s) && all[r].peak_snr >= threshold && resolved(r) && all[r].zeta < MAX_MODE_ZETA
+    };
     let mut by_peak: Vec<usize> = (0..all.len())
         .filter(|&r| if report.is_some() { r < n_identified && in_band(all[r].omega_rad_s) } else { clear(r) })
         .collect();

@@ -223,8 +223,9 @@ fn narrowest_line(raw: &[f64]) -> Option<(usize, f64)> {
 /// In-place radix-2 FFT (length a power of two). Written here rather than
 /// taken from a crate: the project has no FFT dependency, Welch needs only
 /// this forward transform of power-of-two segments, and adding one for these
-/// twenty lines would add a dependency to every build.
-fn fft(re: &mut [f64], im: &mut [f64]) {
+/// twenty lines would add a dependency to every build. Also the spectrum
+/// of a free decay in `identify`'s peak search.
+pub(crate) fn fft(re: &mut [f64], im: &mut [f64]) {
     let n = re.len();
     let mut j = 0;
     for i in 1..n {
