@@ -54,7 +54,8 @@ fn near_buckling_the_coupled_path_keeps_its_complex_poles() {
         // every family's complex poles found by RQI (real poles of an
         // overdamped first mode may still go to the state space: see the record)
         let path = solver.last_path();
-        let oscillatory = |r: &nanobeam::beam::ModalResult| r.modes.iter().map(|m| (m.omega_rad_s, m.zeta)).collect::<Vec<_>>();
+        let oscillatory =
+            |r: &nanobeam::beam::ModalResult| r.modes.iter().map(|m| (m.omega_rad_s, m.zeta)).collect::<Vec<_>>();
         let mut observables = vec![0.0; 6];
         let mut obs_solver = ModalSolver::new();
         obs_solver.observables(&b, &[1, 2, 3], 3, &mut observables).unwrap();

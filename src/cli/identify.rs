@@ -18,7 +18,9 @@ use crate::calibration::measured::MeasuredFile;
 use crate::calibration::ModeObservation;
 use crate::cli::{read_beam, write_out, CliError};
 use crate::error::InputError;
-use crate::identify::{identify_controlled, Identification, IdentifyError, IdentifySettings, Measurement, DEFAULT_MAX_ORDER};
+use crate::identify::{
+    identify_controlled, Identification, IdentifyError, IdentifySettings, Measurement, DEFAULT_MAX_ORDER,
+};
 use crate::report::render::{check_out_dir, check_out_file, write_dir_atomically, StagedFile};
 use crate::report::svg::{line_plot, scatter_plot, Axis, LinePlot, RefLine, ScatterPlot, Series};
 use crate::report::table::{fmt_sig, Table};
