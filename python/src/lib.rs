@@ -111,7 +111,7 @@ enum Interrupt {
     /// The library polls a [`Control`]: Ctrl-C cancels it, and the call
     /// returns once the worker has stopped.
     Cancel,
-    /// Work without cancellation points (modal, frf, identify: seconds at
+    /// Work without cancellation points (modal, frf: seconds at
     /// most on valid input): Ctrl-C returns at once, the worker finishes in
     /// the background and its result is dropped.
     Abandon,
@@ -396,7 +396,7 @@ fn identify_json(
 ) -> PyResult<String> {
     let beam_source = Source::new(beam_path, beam_text, "beam")?;
     let data_source = Source::new(data_path, data_text, "data")?;
-    run_interruptible(py, Interrupt::Abandon, None, move |_| {
+    run_interruptible(py, Interrupt::Cancel, None, move |control| {
         if max_order < 4 {
             return Err(InputError::new("--max-order", max_order, ">= 4").into());
         }
@@ -408,7 +408,7 @@ fn identify_json(
         };
         // the CLI's own identification, numbering and checks
         let cli::identify::Identified { identification: id, observations, file } =
-            cli::identify::identify_record(beam, &text, modes, max_order, first_mode)?;
+            cli::identify::identify_record(beam, &text, modes, max_order, first_mode, &control)?;
         let doc = serde_json::json!({
             "measured": file,
             "identification": { "modes": observations, "identification": id },

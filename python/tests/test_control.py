@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 
 import nanobeam
-from test_cli_parity import SAMPLER, hidden_mass_data, write
+from test_cli_parity import SAMPLER, VISCO, hidden_mass_data, write
 
 # Run in the child: start `call`, raise SIGINT from a timer thread after
 # `delay` s, and report the latency, the worker threads left and the CPU time
@@ -51,6 +51,8 @@ timer.start()
 try:
     if kind == "diagnose":
         nanobeam.diagnose(path, samples=20000, progress=False)
+    elif kind == "identify":
+        nanobeam.identify(path, sys.argv[5])
     else:
         nanobeam.calibrate(path, use_arviz=False, progress=False)
     outcome = "returned"
@@ -70,10 +72,10 @@ print(json.dumps({"outcome": outcome, "latency_s": returned - sent[0], "threads_
 """
 
 
-def interrupt(kind: str, path: str, delay: float, tmp_path) -> dict:
+def interrupt(kind: str, path: str, delay: float, tmp_path, *extra: str) -> dict:
     short = write(tmp_path, "short.yaml", hidden_mass_data(modes=3, elements=8))
     out = subprocess.run(
-        [sys.executable, "-c", CHILD, kind, path, str(delay), short],
+        [sys.executable, "-c", CHILD, kind, path, str(delay), short, *extra],
         capture_output=True,
         text=True,
         timeout=120,
@@ -86,10 +88,16 @@ def interrupt(kind: str, path: str, delay: float, tmp_path) -> dict:
 # Latency bound. The call raises after (a) the waiting thread's next signal
 # poll, at most 50 ms, and (b) the worker's next poll of the cancellation
 # flag: TMCMC polls before every sample's likelihood and Metropolis moves
-# (at most 5 x 3 = 15 forward solves of an 8-element beam, well under 1 ms
-# each in the dev profile), DRAM before every step (at most 3 solves). So
-# the expected latency is about 50 ms; 1 s (the issue's target) leaves a
-# factor 20 for a loaded 2-core machine's scheduling.
+# (at most 5 x 3 = 15 forward solves), DRAM before every step (at most 3
+# solves), and the MAP searches, Laplace Hessians and importance batches of
+# diagnose's evidence and calibrate's optimisations read it at every
+# likelihood evaluation (bayes::control::Controlled: one forward solve per
+# thread). The worst single solve of this data's models is a coupled
+# (point-mass) model's, 70-1400 us (benches/README.md; docs/diagnose.md), so
+# (b) is at most 15 x 1.4 ms = 21 ms and the expected latency about 70 ms;
+# 1 s (the issue's target) leaves a factor 14 for a loaded 2-core machine's
+# scheduling. Measured over one whole diagnosis, 12 signal times, under load
+# 13-15: at most 0.17 s (tests/python_cancel.md).
 LATENCY_BOUND_S = 1.0
 # After the return nothing computes: a thread still sampling would burn about
 # 0.5 s of CPU in the 0.5 s window (on an idle CI machine); idle rayon
@@ -108,18 +116,45 @@ def check_stopped(r: dict) -> None:
     assert r["modal_after"] == 2, r
 
 
-@pytest.mark.xfail(
-    reason="known gap (issue 45): a model's importance-evidence batch (4 x samples draws) and MAP "
-    "searches do not poll the cancellation flag; on an idle 2-core machine the signal at 1 s lands "
-    "in the importance batch of a coupled model and the call raises 7.2 s later (CI run of this "
-    "test); on a loaded machine it lands in TMCMC and raises within 0.2 s",
-    strict=False,
-)
 def test_ctrl_c_cancels_a_long_diagnose(tmp_path):
     # 20000 TMCMC samples per stage: minutes of work; the signal comes at 1 s,
     # inside the first models' TMCMC runs
     path = write(tmp_path, "m.yaml", hidden_mass_data(modes=3, elements=8))
     check_stopped(interrupt("diagnose", path, 1.0, tmp_path))
+
+
+def sweep_record(tmp_path, points: int) -> str:
+    """A complex-receptance sweep of VISCO (``nanobeam.frf``, 1 % seeded noise) as a CSV path."""
+    r = nanobeam.frf(VISCO, input_x_nm=2.0, output_x_nm=5.5, from_rad_s=2e11, to_rad_s=6e12, points=points, log=True)
+    rng = np.random.default_rng(1)
+    h = r["h_m_per_n"]
+    h = h + 0.01 * np.abs(h).max() * (rng.standard_normal(points) + 1j * rng.standard_normal(points))
+    rows = [f"{float(w)!r},{float(z.real)!r},{float(z.imag)!r}" for w, z in zip(r["omega_rad_s"], h)]
+    return write(tmp_path, "sweep.csv", "\n".join(["omega_rad_s,h_re_m_per_n,h_im_m_per_n", *rows]) + "\n")
+
+
+def test_ctrl_c_stops_identify(tmp_path):
+    # identify polls the control between its phases (the stabilisation
+    # diagram, the initial poles, the refinement, the noise model's
+    # reweighting), not within them: the latency is the rest of the running
+    # phase, which on a 20 000-row sweep is the refinement, most of the call
+    # (4.3 s of 4.7 s under load 15, tests/python_cancel.md). What this
+    # checks is that the call stops: it raises, its worker has ended and
+    # nothing computes after the return; the latency is bounded by the
+    # uncancelled call's time (measured here) plus the signal poll.
+    import time
+
+    beam = write(tmp_path, "beam.yaml", VISCO)
+    path = sweep_record(tmp_path, 20_000)
+    t0 = time.monotonic()
+    nanobeam.identify(path, beam)
+    full = time.monotonic() - t0
+    r = interrupt("identify", path, 0.3, tmp_path, beam)
+    assert r["outcome"] == "interrupted", r
+    assert r["latency_s"] < 2 * full + 1.0, (r, full)
+    if r["threads_before"] is not None:
+        assert r["threads_after"] == r["threads_before"], r
+    assert r["cpu_after_s"] < CPU_AFTER_BOUND_S, r
 
 
 def test_ctrl_c_cancels_a_long_calibration(tmp_path):

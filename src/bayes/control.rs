@@ -13,13 +13,23 @@
 //! every TMCMC stage and every sample's Metropolis moves within a stage
 //! ([`crate::bayes::tmcmc::tmcmc_controlled`]), and the callers' own loops
 //! (`calibration::calibrate_posterior` between its phases, `diagnose` before
-//! each model's evidence). The latency from [`Control::cancel`] to the return
-//! is therefore a few forward solves per thread plus whatever phase between
-//! two polls is running (a MAP search, the predictive checks).
+//! each model's evidence). Work with no loop of its own to poll in (a
+//! Nelder–Mead search inside argmin, a parallel batch of importance draws, a
+//! Laplace Hessian) sees the posterior through [`Controlled`], whose every
+//! likelihood evaluation reads the flag: once cancelled, each evaluation is
+//! −∞ without a solve, so the search or batch runs out at once and its caller
+//! checks the flag after it. The latency from [`Control::cancel`] to the
+//! return is therefore a few forward solves per thread plus whatever phase
+//! between two polls is running that evaluates no posterior (the predictive
+//! checks' solves at the posterior draws).
 
 use std::fmt;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+
+use rand::RngCore;
+
+use crate::bayes::Posterior;
 
 /// Receives a run's progress: a phase of known size, then increments.
 /// Implementations must be cheap (they are called from worker threads) and
@@ -110,3 +120,58 @@ impl PartialEq for Control {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
 #[error("cancelled by the caller")]
 pub struct Cancelled;
+
+/// A posterior seen through a [`Control`]: the same density while the control
+/// is not cancelled, and a likelihood of −∞ (no forward solve) once it is.
+///
+/// Contract: every method but `log_likelihood` is the inner posterior's, and
+/// `log_likelihood` is too until [`Control::cancel`]; a run that is not
+/// cancelled therefore gives the same bits through it. Once cancelled, its
+/// numbers are meaningless: whoever runs work on it must check the control
+/// after that work and return `Cancelled` instead of the result.
+///
+/// Why: a Nelder–Mead search (argmin's loop) or a parallel batch of draws
+/// (rayon's) has no loop boundary of ours to poll at, and takes seconds on a
+/// coupled beam model; a cancelled search whose every point is infeasible
+/// stops at its first simplex (equal costs), a batch's remaining draws cost
+/// nothing.
+pub struct Controlled<'a, P: ?Sized> {
+    inner: &'a P,
+    control: &'a Control,
+}
+
+impl<'a, P: Posterior + ?Sized> Controlled<'a, P> {
+    pub fn new(inner: &'a P, control: &'a Control) -> Self {
+        Self { inner, control }
+    }
+}
+
+impl<P: Posterior + ?Sized> Posterior for Controlled<'_, P> {
+    fn names(&self) -> Vec<String> {
+        self.inner.names()
+    }
+
+    fn dim(&self) -> usize {
+        self.inner.dim()
+    }
+
+    fn log_prior(&self, theta: &[f64]) -> f64 {
+        self.inner.log_prior(theta)
+    }
+
+    fn log_likelihood(&self, theta: &[f64]) -> f64 {
+        if self.control.is_cancelled() {
+            f64::NEG_INFINITY
+        } else {
+            self.inner.log_likelihood(theta)
+        }
+    }
+
+    fn sample_prior(&self, rng: &mut dyn RngCore) -> Vec<f64> {
+        self.inner.sample_prior(rng)
+    }
+
+    fn relabel(&self, theta: &mut [f64]) {
+        self.inner.relabel(theta)
+    }
+}

@@ -48,7 +48,7 @@
 
 use statrs::distribution::{ChiSquared, ContinuousCDF};
 
-use crate::bayes::control::Control;
+use crate::bayes::control::{Control, Controlled};
 use crate::bayes::importance::{evidence_from_log_weights, ImportanceEvidence, MixtureProposal};
 use crate::bayes::laplace::{laplace_log_evidence_with_step, LaplaceEvidence};
 use crate::bayes::map::{map_estimate, multi_start_from, polish_best, MapResult};
@@ -201,9 +201,11 @@ pub struct SubModelMap<'a> {
 /// `multimodal` (a posterior multimodal by construction, which the caller
 /// knows and this module cannot) the MAP search also runs from prior draws
 /// ([`global_map`]) and from each of `sub_models`' MAPs ([`nested_map`]).
-/// `control` is polled by TMCMC, and before the MAP searches and the
-/// importance evidence (not within them): a cancelled run returns
-/// `BayesError::Cancelled`; one never cancelled gives the same bits as
+/// `control` is polled by TMCMC, before and after the MAP searches, the
+/// Laplace evidence and the importance evidence, and within them at every
+/// likelihood evaluation (they see the posterior through
+/// [`Controlled`]): a cancelled run returns `BayesError::Cancelled` within a
+/// forward solve per thread; one never cancelled gives the same bits as
 /// without it.
 pub fn estimate<P: Posterior>(
     posterior: &P,
@@ -216,8 +218,10 @@ pub fn estimate<P: Posterior>(
     s.validate()?;
     let started = std::time::Instant::now();
     let d = posterior.dim();
-    let counted = Counted::new(posterior);
-    let t = tmcmc_controlled(&counted, &s.tmcmc_config(d, seed), control)?;
+    let counted_tmcmc = Counted::new(posterior);
+    let t = tmcmc_controlled(&counted_tmcmc, &s.tmcmc_config(d, seed), control)?;
+    // the searches and batches below poll the control at every evaluation
+    let counted = Controlled::new(&counted_tmcmc, control);
     let mut map = map_from_best(&counted, &t, s)?;
     // the searches that posteriors multimodal by construction get, with
     // simplex steps one population sd per axis
@@ -231,7 +235,9 @@ pub fn estimate<P: Posterior>(
             }
         }
     }
+    control.check()?;
     let laplace = laplace_at(&counted, &map.theta, &t);
+    control.check()?;
     let log_evidence_laplace = laplace.as_ref().map(|l| l.log_evidence);
     // a final population whose best sample lies further below the MAP than a
     // posterior draw plausibly does, and whose evidence falls short of the
@@ -247,8 +253,9 @@ pub fn estimate<P: Posterior>(
     control.check()?;
     let (importance, resampled) =
         importance_at(&counted, &map.theta, laplace.as_ref(), &t.samples, s, seed, [0, 0], population_missed);
+    control.check()?;
     let (log_evidence, log_evidence_se) = chosen(&t, importance.as_ref());
-    let forward_evaluations = counted.count();
+    let forward_evaluations = counted_tmcmc.count();
     Ok(Evidence {
         log_evidence,
         log_evidence_se,
@@ -459,26 +466,31 @@ pub fn replicate<P: Posterior>(
     let started = std::time::Instant::now();
     let Evidence { tmcmc: first, mut map, seed, .. } = run;
     let d = posterior.dim();
-    let counted = Counted::new(posterior);
+    let counted_tmcmc = Counted::new(posterior);
     let mut runs = vec![first];
     for r in 1..EVIDENCE_REPLICATES {
         let seed = child_seed(seed, Purpose::EvidenceReplicate, [r as u64, 0]);
-        runs.push(tmcmc_controlled(&counted, &s.tmcmc_config(d, seed), control)?);
+        runs.push(tmcmc_controlled(&counted_tmcmc, &s.tmcmc_config(d, seed), control)?);
     }
+    // the searches and batches below poll the control at every evaluation
+    let counted = Controlled::new(&counted_tmcmc, control);
     let log_evidence_runs: Vec<f64> = runs.iter().map(|t| t.log_evidence).collect();
     let pooled: Vec<Vec<f64>> = runs.iter().flat_map(|t| t.samples.iter().cloned()).collect();
     let t = combine(runs, posterior)?;
     if best_sample(&t, posterior)?.1 > posterior.log_posterior(&map) {
         map = map_from_best(&counted, &t, s)?.theta;
     }
+    control.check()?;
     // redone at the final MAP with the kept population's scales; its
     // covariance shapes the importance proposal's t component
     let laplace = laplace_at(&counted, &map, &t);
+    control.check()?;
     let log_evidence_laplace = laplace.as_ref().map(|l| l.log_evidence);
     let shortfall = posterior.log_posterior(&map) - best_sample(&t, posterior)?.1;
     let population_missed = shortfall > missed_peak_nats(d, s.samples);
     let (importance, resampled) =
         importance_at(&counted, &map, laplace.as_ref(), &pooled, s, seed, [1, 0], population_missed);
+    control.check()?;
     let (log_evidence, log_evidence_se) = chosen(&t, importance.as_ref());
     Ok(Evidence {
         log_evidence,
@@ -491,7 +503,7 @@ pub fn replicate<P: Posterior>(
         missed_peak: true,
         importance,
         seed,
-        forward_evaluations: run.forward_evaluations + counted.count(),
+        forward_evaluations: run.forward_evaluations + counted_tmcmc.count(),
         elapsed_s: run.elapsed_s + started.elapsed().as_secs_f64(),
     })
 }

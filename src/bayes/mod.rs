@@ -19,6 +19,6 @@ pub mod summary;
 pub mod tmcmc;
 pub mod transform;
 
-pub use control::{Cancelled, Control, Progress};
+pub use control::{Cancelled, Control, Controlled, Progress};
 pub use error::BayesError;
 pub use posterior::Posterior;

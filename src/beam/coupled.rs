@@ -219,7 +219,22 @@ fn functional_root(
             return Ok(s);
         }
     }
+    // near buckling the terms cancel (k_s + G k ≈ 0, |s| ≪ 1), so the steps
+    // stay at the round-off of f, far above 4 eps·|s|: a root whose residual
+    // is at that round-off is as exact as f can tell
+    let (g, _) = model.relaxation(s);
+    let terms = [s * s * m, s * model.c * mb, ks, g * k];
+    if at_roundoff(terms.iter().sum(), terms.iter().map(|t| t.norm()).sum()) {
+        return Ok(s);
+    }
     Err(BeamError::numerical("Rayleigh functional: Newton did not converge"))
+}
+
+/// A residual `f` of a sum of terms whose magnitudes add up to `scale` is at
+/// its round-off: |f| ≤ 8 eps·scale (each of the ≤ 4 terms and the sum
+/// carries a relative error of a few eps).
+fn at_roundoff(f: Complex64, scale: f64) -> bool {
+    f.norm() <= 8.0 * f64::EPSILON * scale
 }
 
 /// Nonlinear Rayleigh-quotient iteration for a real pole: s ← root of
@@ -260,6 +275,14 @@ fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comp
             return Err(BeamError::numerical("nonlinear RQI broke down"));
         }
         x = y.iter().map(|v| v / norm).collect();
+    }
+    // as in `functional_root`: near buckling the functional's terms cancel and
+    // its Newton steps stay at their round-off, above 1e-14·|s|
+    let (k, m, mb, ks) = model.forms(&x);
+    let (g, _) = model.relaxation(Complex64::new(s, 0.0));
+    let terms = [s * s * m, s * model.c * mb, ks, g.re * k];
+    if at_roundoff(Complex64::new(terms.iter().sum(), 0.0), terms.iter().map(|t| t.abs()).sum()) {
+        return Ok(Complex64::new(s, 0.0));
     }
     Err(BeamError::numerical("nonlinear RQI did not converge"))
 }

@@ -8,7 +8,7 @@ use crate::bayes::dram::{ChainOutput, DramSettings};
 use crate::bayes::map::{map_estimate, multi_start_optimum, MapResult};
 use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::summary::{summarize, Summary};
-use crate::bayes::{Cancelled, Control, Posterior};
+use crate::bayes::{Cancelled, Control, Controlled, Posterior};
 use crate::calibration::{BeamPosterior, MeasuredData};
 use rand_distr::{Distribution, StandardNormal};
 
@@ -151,13 +151,16 @@ pub fn calibrate_posterior(
 ) -> Result<CalibrationResult, SamplingError> {
     sampler.validate(post.dim())?;
     let names = post.names();
-    let optima = multi_start_optimum(post, c0_sd, sampler.multistart_points, sampler.chains.max(4), sampler.seed, 0);
+    let control = &opts.control;
+    // the optimisations before and after the chains poll the control at every
+    // evaluation (`bayes::control::Controlled`) and are checked after
+    let seen = Controlled::new(post, control);
+    let optima = multi_start_optimum(&seen, c0_sd, sampler.multistart_points, sampler.chains.max(4), sampler.seed, 0);
+    control.check()?;
     let Some(best) = optima.first().filter(|m| m.log_posterior.is_finite()).map(|m| m.theta.clone()) else {
         return Err(SamplingError::NoValidState { draws: sampler.multistart_points, detail: String::new() });
     };
-    let control = &opts.control;
-    control.check()?;
-    let starts = overdispersed_starts(post, c0_sd, &optima, sampler.chains, sampler.seed);
+    let starts = overdispersed_starts(&seen, c0_sd, &optima, sampler.chains, sampler.seed);
     control.check()?;
 
     control.start("draws", (sampler.chains * sampler.draws_per_chain) as u64);
@@ -186,7 +189,8 @@ pub fn calibrate_posterior(
         .zip(c0_sd)
         .map(|(p, s)| if p.sd.is_finite() && p.sd > 0.0 { p.sd } else { *s })
         .collect();
-    let mut map = map_estimate(post, best_state, &scales, 4000);
+    let mut map = map_estimate(&seen, best_state, &scales, 4000);
+    control.check()?;
     post.relabel(&mut map.theta);
     let summary = summary.with_map(&map.theta);
 

@@ -11,13 +11,16 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 use serde::Serialize;
 
+use crate::bayes::Control;
 use crate::beam::BeamSpec;
 use crate::calibration::identified::{measured_file, number_modes, to_yaml, EXTRA_PREDICTED};
 use crate::calibration::measured::MeasuredFile;
 use crate::calibration::ModeObservation;
 use crate::cli::{read_beam, write_out, CliError};
 use crate::error::InputError;
-use crate::identify::{identify, Identification, IdentifyError, IdentifySettings, Measurement, DEFAULT_MAX_ORDER};
+use crate::identify::{
+    identify_controlled, Identification, IdentifyError, IdentifySettings, Measurement, DEFAULT_MAX_ORDER,
+};
 use crate::report::render::{check_out_dir, check_out_file, write_dir_atomically, StagedFile};
 use crate::report::svg::{line_plot, scatter_plot, Axis, LinePlot, RefLine, ScatterPlot, Series};
 use crate::report::table::{fmt_sig, Table};
@@ -61,6 +64,7 @@ impl From<IdentifyError> for CliError {
         match e {
             IdentifyError::Input(i) => CliError::Input(i),
             IdentifyError::Numerical(m) => CliError::Failure(format!("numerical failure: {m}")),
+            IdentifyError::Cancelled => CliError::Failure(IdentifyError::Cancelled.to_string()),
         }
     }
 }
@@ -148,16 +152,22 @@ pub struct Identified {
 /// of them if given), numbered against `beam` (from `first_mode` if given)
 /// and made a measured-data file. The caller has checked `max_order` and
 /// [`check_first_mode`] against the beam before reading the record; the
-/// identified count is checked against `first_mode` here.
+/// identified count is checked against `first_mode` here. `control` is
+/// polled after reading the record and between the identification's phases
+/// ([`identify_controlled`]); once cancelled the call returns a failure
+/// (the Python front's Ctrl-C; the CLI's control never cancels).
 pub fn identify_record(
     beam: BeamSpec,
     text: &str,
     modes: Option<usize>,
     max_order: usize,
     first_mode: Option<usize>,
+    control: &Control,
 ) -> Result<Identified, CliError> {
     let record = Measurement::from_csv(text)?;
-    let id = identify(&record, &IdentifySettings { modes, max_order })?;
+    control.check().map_err(|c| CliError::Failure(c.to_string()))?;
+    let settings = IdentifySettings { modes, max_order };
+    let id = identify_controlled(&record, &settings, &|| control.is_cancelled())?;
     // numbered against every mode the record holds clearly (a subset chosen
     // by --modes is numbered within them, never renumbered into a gap)
     let found = &id.found_omegas_rad_s;
@@ -201,7 +211,7 @@ pub fn run(args: &IdentifyArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
     let text = std::fs::read_to_string(&args.data)
         .map_err(|e| InputError::new("DATA.csv", args.data.display(), format!("a readable CSV file ({e})")))?;
     let Identified { identification: id, observations, file } =
-        identify_record(beam, &text, args.modes, args.max_order, args.first_mode)?;
+        identify_record(beam, &text, args.modes, args.max_order, args.first_mode, &Control::default())?;
     let comment = format!(
         "nanobeam identify {}: {} record, {} modes; sds from the fit (residual noise sd {:.4e}, {} residuals, {} parameters)",
         args.data.display(),

@@ -107,6 +107,9 @@ pub enum IdentifyError {
     /// The fit failed numerically (exit 1).
     #[error("numerical failure: {0}")]
     Numerical(String),
+    /// The caller's stop flag was raised ([`identify_controlled`]).
+    #[error("cancelled by the caller")]
+    Cancelled,
 }
 
 /// Knobs of [`identify`].
@@ -230,11 +233,26 @@ fn scale(m: &Measurement) -> Scaled {
 
 /// Identifies the modes of a record.
 pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identification, IdentifyError> {
+    identify_controlled(m, settings, &|| false)
+}
+
+/// [`identify`], asking `stop` between its phases (the stabilisation
+/// diagram, the initial poles, the refinement, the noise model's reweighting)
+/// and returning [`IdentifyError::Cancelled`] once it says yes. `stop` only
+/// reads a flag: a run it never stops gives the same result as [`identify`].
+/// (A closure, not `bayes::Control`: this layer uses `error` only.)
+pub fn identify_controlled(
+    m: &Measurement,
+    settings: &IdentifySettings,
+    stop: &dyn Fn() -> bool,
+) -> Result<Identification, IdentifyError> {
+    let check = || if stop() { Err(IdentifyError::Cancelled) } else { Ok(()) };
     if settings.modes == Some(0) {
         return Err(InputError::new("--modes", 0, ">= 1").into());
     }
     let sc = scale(m);
     let diagram = stabilisation_diagram(&sc, settings.max_order)?;
+    check()?;
     // PSD: a Welch bin's relative sd 1/√ν (0.22 for ν = 20) moves LSCF's
     // damping estimates between orders by more than DAMPING_TOL, so that 9 of
     // 60 PSDs of the paper's beam (1 500 bins, ν = 20) kept fewer than 3 of
@@ -277,6 +295,7 @@ pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identifi
         let band: Vec<Complex64> = initial.iter().copied().filter(|p| p.norm() <= sc.band.1).collect();
         check_points_per_resonance(&sc, &band)?;
     }
+    check()?;
     let (model, fit) = match best_refinement(&sc, &initial) {
         Ok(v) => v,
         Err(e) if sc.kind == FitKind::Time => match without_growing_poles(&sc, &initial) {
@@ -297,12 +316,15 @@ pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identifi
         // poles alone (the refinement recovers a missed mode through its
         // out-of-band poles, see `assemble`)
         Err(e) if initial.len() > from_diagram.len() && !from_diagram.is_empty() => {
+            check()?;
             initial = from_diagram;
             best_refinement(&sc, &initial).map_err(|_| e)?
         }
         Err(e) => return Err(e),
     };
+    check()?;
     let (model, fit, noise_model) = reweight(&sc, model, fit, initial.len());
+    check()?;
     assemble(m, &sc, (&model, &fit), diagram, initial.len(), settings.modes, noise_model)
 }
 
