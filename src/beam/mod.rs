@@ -20,6 +20,7 @@ pub(crate) mod eigen;
 pub mod element;
 mod error;
 pub(crate) mod family;
+mod mass_spectrum;
 mod frf;
 mod modal;
 mod modal_result;
@@ -34,6 +35,7 @@ mod time_response;
 pub use buckling::buckling_load_n;
 pub use error::BeamError;
 pub use frf::{frf, frf_each, frf_points, max_frequency_rad_s, MAX_OMEGA_TILDE};
+pub use mass_spectrum::{point_mass_direct_eigenvalues, point_mass_eigenvalues, MASS_CERTIFIED_TOL};
 pub use modal::{modal, modal_observables, ModalSolver};
 pub use modal_result::{ModalResult, Mode, SolverPath};
 pub use shear_spectrum::{

@@ -36,6 +36,7 @@ use crate::beam::coupled::{general_path, Poles};
 use crate::beam::dual::Dual;
 use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
 use crate::beam::family::{decoupled_family_roots_into, family_roots, Roots};
+use crate::beam::mass_spectrum::MassSpectrumTable;
 use crate::beam::modal_result::{assemble, check_mode_count, oscillatory_pair, ModalResult, SolverPath};
 use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
 use crate::beam::shear_spectrum::ShearSpectrumTable;
@@ -80,10 +81,13 @@ pub struct ModalSolver {
     last_path: Option<SolverPath>,
     spectrum: SpectrumTable,
     shear_spectrum: ShearSpectrumTable,
+    mass_spectrum: MassSpectrumTable,
     /// Never use the interpolant (reference solver for tests and benches).
     direct_only: bool,
     last_interpolated: bool,
     lambdas: Vec<f64>,
+    /// Error bounds of `lambdas` on the point-mass path (`mass_spectrum.rs`).
+    bounds: Vec<f64>,
     roots: Vec<Roots>,
 }
 
@@ -299,6 +303,7 @@ impl ModalSolver {
             self.eigen = EigenCache::default();
             self.spectrum = SpectrumTable::default();
             self.shear_spectrum = ShearSpectrumTable::default();
+            self.mass_spectrum = MassSpectrumTable::default();
         }
         self.last_interpolated = false;
         Ok(())
@@ -356,11 +361,14 @@ impl ModalSolver {
     fn interpolated_roots(&mut self, beam: &BeamSpec, n_modes: usize) -> Option<f64> {
         let mesh = self.mesh.as_ref()?;
         let sc = Scaling::new(beam);
-        // the same tests as ScaledModel::decouples with no point mass and no rotary inertia
+        // the same tests as ScaledModel::decouples
         let spring = sc.spring > 0.0 && !mesh.spring_dofs.is_empty();
-        // Timoshenko decouples only without damping (rotary inertia: `shear_spectrum.rs`)
+        // Timoshenko decouples only without damping (rotary inertia: `shear_spectrum.rs`),
+        // a point mass likewise (it is not in the damping); the point mass has
+        // a fast path on Euler–Bernoulli meshes only (`mass_spectrum.rs`)
         let shear = mesh.shear.is_some();
-        if (shear && sc.c != 0.0) || beam.point_mass.is_some() || spring || sc.axial != 0.0 {
+        let mass = beam.point_mass.as_ref();
+        if (shear && sc.c != 0.0) || (mass.is_some() && (shear || sc.c != 0.0)) || spring || sc.axial != 0.0 {
             return None;
         }
         if n_modes == 0 || n_modes > mesh.n() {
@@ -368,7 +376,12 @@ impl ModalSolver {
         }
         self.lambdas.resize(n_modes, 0.0);
         let t = sc.e_tilde * sc.e_tilde;
-        let found = if shear {
+        let found = if let Some(pm) = mass {
+            // μ̃ and x̃ exactly as `ScaledModel::new` forms them
+            let (mu, x) = (pm.mass_kg / (sc.rho_a * sc.l), pm.x_nm / beam.length_nm);
+            self.bounds.resize(n_modes, 0.0);
+            self.mass_spectrum.lambdas(mesh, t, mu, x, &mut self.lambdas, &mut self.bounds)
+        } else if shear {
             let g = crate::beam::model::shear_params(beam).map_or(0.0, |(g, _)| g);
             self.shear_spectrum.lambdas(mesh, t, g, &mut self.lambdas)
         } else {
