@@ -70,7 +70,11 @@ use crate::beam::BeamError;
 /// only), then one root solve per family. Where no certified interpolant
 /// exists the eigenpairs are solved directly as above. So does the decoupled
 /// Timoshenko model (shear deformation, C = 0, no other extension): its pencil
-/// depends on (ẽ, g̃), interpolated in `shear_spectrum.rs`. The coupled extensions
+/// depends on (ẽ, g̃), interpolated in `shear_spectrum.rs`. So does the
+/// Euler–Bernoulli point mass with C = 0: its eigenvalues are the roots of a
+/// secular equation over the whole interpolated spectrum of the beam's own
+/// pencil (`mass_spectrum.rs`), taken when their per-evaluation error bound
+/// is within `MASS_CERTIFIED_TOL`. The coupled extensions
 /// (spring, point mass with C > 0, axial force, Timoshenko with C > 0) keep
 /// the RQI path: their poles need nonlinear RQI on T(s) whatever the pencil
 /// start costs (see `general_path`), and the pencil depends on 2–3 parameters.
