@@ -18,14 +18,14 @@
 //! [`MASS_CERTIFIED_TOL`] = 1e-10 relative (why not 1e-12: see the constant);
 //! the direct path adds its own Rayleigh-quotient rounding, ≤ 1e-12 relative
 //! (`beam::modal`'s refinement test). So an eigenvalue agrees within its bound
-//! + 1e-12. The poles come from the same family solver, s² + λ̃G(s) = 0
+//! plus 1e-12. The poles come from the same family solver, s² + λ̃G(s) = 0
 //! (C = 0), where |d ln s/d ln λ̃| ≤ 1 (`tests/beam_fast_path.rs`), so ω
 //! agrees to [`OMEGA_TOL`] = 1e-10 + 1e-12 relative and ζ = −Re s/|s| to
 //! twice that absolute (|dζ| ≤ 2|ds|/|s|).
 
 use nanobeam::beam::{
-    point_mass_direct_eigenvalues, point_mass_eigenvalues, BeamSpec, InternalVariable, ModalSolver, PointMass,
-    Support, MASS_CERTIFIED_TOL,
+    point_mass_direct_eigenvalues, point_mass_eigenvalues, BeamSpec, InternalVariable, ModalSolver, PointMass, Support,
+    MASS_CERTIFIED_TOL,
 };
 use proptest::prelude::*;
 use rand::{Rng, SeedableRng};
@@ -81,7 +81,9 @@ fn random_points_agree_with_the_direct_solve() {
             assert!(rel <= b + 1e-12, "{support:?} ẽ = {e_tilde}, μ̃ = {mu}, x̃ = {x}: {f} vs {d} ({rel:.2e} > {b:.2e})");
         }
     }
-    println!("worst relative difference {worst:.2e}, worst bound {worst_bound:.2e}, direct path per support {direct_only:?}");
+    println!(
+        "worst relative difference {worst:.2e}, worst bound {worst_bound:.2e}, direct path per support {direct_only:?}"
+    );
     assert_eq!(direct_only[..3], [0, 0, 0], "{:?}", Support::ALL);
     assert!(direct_only[3] <= 10, "clamped–pinned: {} of ~100 on the direct path", direct_only[3]);
 }
@@ -110,7 +112,8 @@ fn mid_span_mass_matches_the_closed_form() {
         let mut exact = Vec::new();
         for k in 1..=4 {
             // the k-th symmetric root lies in ((2k − 2)π, (2k − 1)π]: the mass lowers it
-            let (mut lo, mut hi) = ((2.0 * k as f64 - 2.0) * std::f64::consts::PI + 1e-9, (2.0 * k as f64 - 1.0) * std::f64::consts::PI);
+            let (mut lo, mut hi) =
+                ((2.0 * k as f64 - 2.0) * std::f64::consts::PI + 1e-9, (2.0 * k as f64 - 1.0) * std::f64::consts::PI);
             assert!(symmetric(lo) * symmetric(hi) <= 0.0, "μ̃ {mu}, k {k}");
             for _ in 0..200 {
                 let mid = 0.5 * (lo + hi);
@@ -227,7 +230,13 @@ fn results_do_not_depend_on_evaluation_history() {
 fn two_threads_give_the_bits_of_one() {
     let beams: Vec<BeamSpec> = (0..40)
         .map(|i| {
-            beam(Support::ClampedFree, 0.3 + 0.04 * i as f64, 10f64.powf(-3.0 + 0.075 * i as f64), 0.025 * i as f64, &[(0.4, 3e11)])
+            beam(
+                Support::ClampedFree,
+                0.3 + 0.04 * i as f64,
+                10f64.powf(-3.0 + 0.075 * i as f64),
+                0.025 * i as f64,
+                &[(0.4, 3e11)],
+            )
         })
         .collect();
     let run = |order: Vec<usize>| -> Vec<(usize, nanobeam::beam::ModalResult)> {

@@ -192,7 +192,7 @@ fn series(coef: &[f64], tk: &[f64]) -> f64 {
 
 /// The whole spectrum of (K̃, M̃₀ + tM̃₁): ν_j = 1/λ̃_j descending and the
 /// M̃-orthonormal φ_j (module doc, "Data"); `None` if a solve fails.
-fn direct_all(mesh: &UnitMesh, t: f64) -> Option<(Vec<f64>, Vec<Vec<f64>>)> {
+fn direct_all(mesh: &UnitMesh, t: f64) -> Option<Spectrum> {
     let m = mesh.m0.plus_scaled(t, &mesh.m1);
     let n = mesh.n();
     let chol = nalgebra::Cholesky::new(m.to_dense())?;
@@ -222,13 +222,16 @@ fn direct_all(mesh: &UnitMesh, t: f64) -> Option<(Vec<f64>, Vec<Vec<f64>>)> {
     nus.windows(2).all(|w| w[0] > w[1]).then_some((nus, phis))
 }
 
+/// The whole spectrum at one t: ν_j descending and the φ_j.
+type Spectrum = (Vec<f64>, Vec<Vec<f64>>);
+
 /// Data at the finest Lobatto grid of one piece, solved on demand and
 /// sign-aligned to the midpoint node.
 struct Nodes<'a> {
     mesh: &'a UnitMesh,
     lo: f64,
     hi: f64,
-    values: Vec<Option<(Vec<f64>, Vec<Vec<f64>>)>>,
+    values: Vec<Option<Spectrum>>,
     /// Per mode, the entry made positive at every node.
     anchor: Vec<usize>,
 }
@@ -239,7 +242,7 @@ impl Nodes<'_> {
         0.5 * (self.lo + self.hi) + 0.5 * (self.hi - self.lo) * x
     }
 
-    fn node(&mut self, j: usize) -> Option<&(Vec<f64>, Vec<Vec<f64>>)> {
+    fn node(&mut self, j: usize) -> Option<&Spectrum> {
         if self.values[j].is_none() {
             let (nus, mut phis) = direct_all(self.mesh, self.t(j))?;
             if self.anchor.is_empty() {
@@ -260,7 +263,7 @@ impl Nodes<'_> {
     }
 
     /// ν_mode and φ_mode at the level-n Lobatto nodes (n divides FINEST).
-    fn level(&mut self, n: usize, mode: usize) -> Option<(Vec<f64>, Vec<Vec<f64>>)> {
+    fn level(&mut self, n: usize, mode: usize) -> Option<Spectrum> {
         let (mut nu, mut phi) = (Vec::with_capacity(n + 1), Vec::with_capacity(n + 1));
         for j in (0..=FINEST).step_by(FINEST / n) {
             let (nus, phis) = self.node(j)?;
@@ -588,7 +591,9 @@ pub fn point_mass_eigenvalues(
 ) -> Option<(Vec<f64>, Vec<f64>)> {
     let mesh = UnitMesh::new(elements, support);
     let (mut out, mut bounds) = (vec![0.0; count], vec![0.0; count]);
-    MassSpectrumTable::default().lambdas(&mesh, e_tilde * e_tilde, mu, x, &mut out, &mut bounds).then_some((out, bounds))
+    MassSpectrumTable::default()
+        .lambdas(&mesh, e_tilde * e_tilde, mu, x, &mut out, &mut bounds)
+        .then_some((out, bounds))
 }
 
 /// The same eigenvalues by the direct banded solve of the assembled pencil
@@ -620,15 +625,18 @@ mod tests {
         let nu: Vec<f64> = (1..=12).map(|j| 1.0 / (j as f64).powi(4)).collect();
         for (mu, seed) in [(1e-3, 0.3), (0.1, 0.7), (1.0, 0.45), (10.0, 0.9)] {
             let u: Vec<f64> = (1..=12).map(|j| (seed * j as f64 * 2.1).sin() * 1.4).collect();
-            let mut table = MassSpectrumTable::default();
-            table.nu = nu.clone();
-            table.w2 = nu.iter().zip(&u).map(|(v, u)| v * u * u).collect();
-            table.dw2 = vec![0.0; 12];
-            table.dnu = vec![0.0; 12];
+            let mut table = MassSpectrumTable {
+                nu: nu.clone(),
+                w2: nu.iter().zip(&u).map(|(v, u)| v * u * u).collect(),
+                dw2: vec![0.0; 12],
+                dnu: vec![0.0; 12],
+                ..Default::default()
+            };
             let (mut out, mut bounds) = (vec![0.0; 6], vec![0.0; 6]);
             assert!(table.roots(mu, 6, &mut out, &mut bounds));
             let w = nalgebra::DVector::from_iterator(12, table.w2.iter().map(|v| v.sqrt()));
-            let a = nalgebra::DMatrix::from_diagonal(&nalgebra::DVector::from_vec(nu.clone())) + &w * w.transpose() * mu;
+            let a =
+                nalgebra::DMatrix::from_diagonal(&nalgebra::DVector::from_vec(nu.clone())) + &w * w.transpose() * mu;
             let mut eig: Vec<f64> = nalgebra::SymmetricEigen::new(a).eigenvalues.iter().copied().collect();
             eig.sort_by(|a, b| b.total_cmp(a));
             for (got, want) in out.iter().zip(&eig) {
