@@ -48,7 +48,7 @@
 //! Problems*, 1969, ch. 1; Kato, *Perturbation Theory for Linear Operators*,
 //! II §6), so every entry of φ_j is a Chebyshev series converging
 //! geometrically on a t-piece of `spectrum.rs` (dyadic, μ changes by less than
-//! a factor 2 on one). x̃ and μ̃ are not interpolated at all: u_j = Σ_a N_a(x̃)φ_j[a]
+//! a factor 2 on one). x̃ and μ̃ are not interpolated at all: u_j = Σ_a N_a(x̃)·φ_j,a
 //! over the ≤ 4 DOFs of the element holding x̃, with the FE shape functions
 //! themselves, and μ̃ enters F only as 1/μ̃. So the only approximation is in t.
 //!
@@ -69,7 +69,7 @@
 //! the interpolant through the n + 1 Lobatto nodes against the data at the n
 //! first-kind points between them, and the next level's coefficients beyond n:
 //!   ε_ν = max(max |p_n − ν|/|ν| at the checks, 2Σ_{k>n}|c_k|/min|ν|),
-//!   e_φ,a = max(max |p_n − φ[a]| at the checks, 2Σ_{k>n}|c_k|) per entry a, e_φ = max_a e_φ,a.
+//!   e_φ,a = max(max |p_n − φ_a| at the checks, 2Σ_{k>n}|c_k|) per entry a, e_φ = max_a e_φ,a.
 //! The lowest degree with ε_ν ≤ 5e-13 and e_φ ≤ 5e-13·max|φ| is kept, else
 //! the degree with the smallest certificate; a mode whose best certificate is
 //! above 1e-9 makes the piece uncertified (direct path). The stored bounds
