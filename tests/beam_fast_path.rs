@@ -117,15 +117,20 @@ fn results_do_not_depend_on_evaluation_history() {
     }
 }
 
-/// Outside the fast path's scope (a point mass; e0a/L beyond the range is
-/// refused by validation) the direct path answers.
+/// Outside the fast paths' scope (a point mass with viscous damping, which
+/// couples the modes; e0a/L beyond the range is refused by validation) the
+/// direct path answers. A point mass without damping has its own fast path
+/// (`tests/beam_point_mass_fast_path.rs`).
 #[test]
 fn extensions_take_the_direct_path() {
-    let mut b = beam(Support::SimplySupported, 1.0, 0.0, &[(0.4, 3e11)]);
+    let mut b = beam(Support::SimplySupported, 1.0, 1e-6, &[(0.4, 3e11)]);
     b.point_mass = Some(nanobeam::beam::PointMass { mass_kg: 3e-26, x_nm: 2.9 });
     let mut s = ModalSolver::new();
     s.modal(&b, 3).unwrap();
     assert!(!s.last_used_interpolant());
+    b.viscous_damping_n_s_m2 = 0.0;
+    s.modal(&b, 3).unwrap();
+    assert!(s.last_used_interpolant());
 }
 
 /// `ModalSolver::observables` (what the calibration posterior calls) gives

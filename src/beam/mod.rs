@@ -6,7 +6,7 @@
 //! (A15, reference; `state_space_modal` turns them into modes) or `modal`
 //! (exact decoupled families via `eigen` + `family`, with certified eigenvalue
 //! interpolants from `spectrum` (Euler–Bernoulli) and `shear_spectrum`
-//! (Timoshenko), or, in `coupled`,
+//! (Timoshenko), a point mass by the secular equation of `mass_spectrum`, or, in `coupled`,
 //! Rayleigh-quotient iteration on T(s) when the extensions couple the modes;
 //! the result types in `modal_result`) →
 //! `frf` (direct banded solves); `time_response` (impulse response by the
@@ -21,6 +21,7 @@ pub mod element;
 mod error;
 pub(crate) mod family;
 mod frf;
+mod mass_spectrum;
 mod modal;
 mod modal_result;
 pub(crate) mod model;
@@ -34,6 +35,7 @@ mod time_response;
 pub use buckling::buckling_load_n;
 pub use error::BeamError;
 pub use frf::{frf, frf_each, frf_points, max_frequency_rad_s, MAX_OMEGA_TILDE};
+pub use mass_spectrum::{point_mass_direct_eigenvalues, point_mass_eigenvalues, MASS_CERTIFIED_TOL};
 pub use modal::{modal, modal_observables, ModalSolver};
 pub use modal_result::{ModalResult, Mode, SolverPath};
 pub use shear_spectrum::{

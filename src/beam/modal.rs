@@ -36,6 +36,7 @@ use crate::beam::coupled::{general_path, Poles};
 use crate::beam::dual::Dual;
 use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
 use crate::beam::family::{decoupled_family_roots_into, family_roots, Roots};
+use crate::beam::mass_spectrum::MassSpectrumTable;
 use crate::beam::modal_result::{assemble, check_mode_count, oscillatory_pair, ModalResult, SolverPath};
 use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
 use crate::beam::shear_spectrum::ShearSpectrumTable;
@@ -69,7 +70,11 @@ use crate::beam::BeamError;
 /// only), then one root solve per family. Where no certified interpolant
 /// exists the eigenpairs are solved directly as above. So does the decoupled
 /// Timoshenko model (shear deformation, C = 0, no other extension): its pencil
-/// depends on (ẽ, g̃), interpolated in `shear_spectrum.rs`. The coupled extensions
+/// depends on (ẽ, g̃), interpolated in `shear_spectrum.rs`. So does the
+/// Euler–Bernoulli point mass with C = 0: its eigenvalues are the roots of a
+/// secular equation over the whole interpolated spectrum of the beam's own
+/// pencil (`mass_spectrum.rs`), taken when their per-evaluation error bound
+/// is within `MASS_CERTIFIED_TOL`. The coupled extensions
 /// (spring, point mass with C > 0, axial force, Timoshenko with C > 0) keep
 /// the RQI path: their poles need nonlinear RQI on T(s) whatever the pencil
 /// start costs (see `general_path`), and the pencil depends on 2–3 parameters.
@@ -80,10 +85,13 @@ pub struct ModalSolver {
     last_path: Option<SolverPath>,
     spectrum: SpectrumTable,
     shear_spectrum: ShearSpectrumTable,
+    mass_spectrum: MassSpectrumTable,
     /// Never use the interpolant (reference solver for tests and benches).
     direct_only: bool,
     last_interpolated: bool,
     lambdas: Vec<f64>,
+    /// Error bounds of `lambdas` on the point-mass path (`mass_spectrum.rs`).
+    bounds: Vec<f64>,
     roots: Vec<Roots>,
 }
 
@@ -299,6 +307,7 @@ impl ModalSolver {
             self.eigen = EigenCache::default();
             self.spectrum = SpectrumTable::default();
             self.shear_spectrum = ShearSpectrumTable::default();
+            self.mass_spectrum = MassSpectrumTable::default();
         }
         self.last_interpolated = false;
         Ok(())
@@ -356,11 +365,14 @@ impl ModalSolver {
     fn interpolated_roots(&mut self, beam: &BeamSpec, n_modes: usize) -> Option<f64> {
         let mesh = self.mesh.as_ref()?;
         let sc = Scaling::new(beam);
-        // the same tests as ScaledModel::decouples with no point mass and no rotary inertia
+        // the same tests as ScaledModel::decouples
         let spring = sc.spring > 0.0 && !mesh.spring_dofs.is_empty();
-        // Timoshenko decouples only without damping (rotary inertia: `shear_spectrum.rs`)
+        // Timoshenko decouples only without damping (rotary inertia: `shear_spectrum.rs`),
+        // a point mass likewise (it is not in the damping); the point mass has
+        // a fast path on Euler–Bernoulli meshes only (`mass_spectrum.rs`)
         let shear = mesh.shear.is_some();
-        if (shear && sc.c != 0.0) || beam.point_mass.is_some() || spring || sc.axial != 0.0 {
+        let mass = beam.point_mass.as_ref();
+        if (shear && sc.c != 0.0) || (mass.is_some() && (shear || sc.c != 0.0)) || spring || sc.axial != 0.0 {
             return None;
         }
         if n_modes == 0 || n_modes > mesh.n() {
@@ -368,7 +380,12 @@ impl ModalSolver {
         }
         self.lambdas.resize(n_modes, 0.0);
         let t = sc.e_tilde * sc.e_tilde;
-        let found = if shear {
+        let found = if let Some(pm) = mass {
+            // μ̃ and x̃ exactly as `ScaledModel::new` forms them
+            let (mu, x) = (pm.mass_kg / (sc.rho_a * sc.l), pm.x_nm / beam.length_nm);
+            self.bounds.resize(n_modes, 0.0);
+            self.mass_spectrum.lambdas(mesh, t, mu, x, &mut self.lambdas, &mut self.bounds)
+        } else if shear {
             let g = crate::beam::model::shear_params(beam).map_or(0.0, |(g, _)| g);
             self.shear_spectrum.lambdas(mesh, t, g, &mut self.lambdas)
         } else {

@@ -47,7 +47,22 @@
 //!   rank in the eigenbasis. As above, dividing by G(s): family r is exactly
 //!   s(s + c̃) + G(s)·λ̃_r(1/G(s)) = 0 with λ̃_r(τ) the r-th eigenvalue of
 //!   (K̃ + τK̃_N, M̃), |τ − 1| ≤ ΣΔᵢ/(1 + ΣΔᵢ): again one extra complex scalar.
-//! * **Point mass** (not built). M̃ → M̃ + μ̃NNᵀ, rank 1, and it is not in the
+//!   One support has more structure: on the uniform simply supported
+//!   Euler–Bernoulli mesh every element matrix is translation invariant and
+//!   the supports act as mirrors (w odd, θ̃ = w′ even about each end), so the
+//!   vectors w_i = sin(jπx̃_i), θ̃_i = cos(jπx̃_i) of one wavenumber j span a
+//!   2-D subspace that W⁻¹k, W⁻¹m₀ and W⁻¹m₁ all map into itself (W = the
+//!   identity with ½ on the two end rotations, whose rows get one element
+//!   instead of two; W cancels from det T̃). T̃(s) then splits exactly into
+//!   2 × 2 blocks T_j(s), one per j (the last, j = elements, is 1 × 1), with
+//!   entries in closed form, and family j is the lower branch of
+//!   det T_j(s) = 0 for any C, relaxation and ñ: an exact fast path for the
+//!   simply supported axial-force model (not built; checked numerically,
+//!   `benches/README.md`). The clamped and free ends break the mirror (the
+//!   same check finds residuals of order 1 there).
+//! * **Point mass**: built for Euler–Bernoulli with C = 0 in `mass_spectrum.rs`
+//!   (the secular equation below in λ̃, over the whole interpolated spectrum).
+//!   M̃ → M̃ + μ̃NNᵀ, rank 1, and it is not in the
 //!   damping (D̃ = c̃M̃_b excludes it). In the M̃-orthonormal eigenbasis Φ of
 //!   the beam's (K̃, M̃), u = ΦᵀN: ΦᵀT̃(s)Φ = diag(d_j(s)) + s²μ̃uuᵀ with
 //!   d_j = s² + c̃s + λ̃_jG(s), so for every C
