@@ -35,6 +35,7 @@ use rand_distr::{Distribution, StandardNormal};
 use independent::{poles, End, Truth};
 use nanobeam::bayes::map::map_estimate;
 use nanobeam::bayes::rng::{stream, Purpose};
+use nanobeam::bayes::transform::Coordinate;
 use nanobeam::bayes::Posterior;
 use nanobeam::beam::{BeamSpec, Support};
 use nanobeam::calibration::measured::MeasuredFile;
@@ -239,8 +240,11 @@ fn base_fit_max_z(case: &Case) -> f64 {
         .set
         .params
         .iter()
-        .zip(&params.log_scale)
-        .map(|(p, &log)| if log { 0.05 } else { 0.05 * (p.prior.support().1 - p.prior.support().0) })
+        .zip(&params.coordinates)
+        .map(|(p, &c)| match c {
+            Coordinate::Log => 0.05,
+            c => 0.05 * (c.to_u(p.prior.support().1) - c.to_u(p.prior.support().0)),
+        })
         .collect();
     let best = scored
         .iter()
@@ -387,4 +391,15 @@ fn a_wrong_diameter_is_named_section_mismatch() {
     let t = tally(&[(Kind::WrongDiameter, 500)]);
     assert_eq!(t.confident_wrong, 0, "a confident wrong name");
     assert_eq!(t.right, 1, "wrong-diameter seed 500 not named section-mismatch");
+}
+
+/// A tension of 20 N_cr (the string regime) is named `axial-force`, on a
+/// simply supported and on a clamped–clamped tube (issue 40, item 3; seed
+/// 500 of each, the independent generator). Before the prior reached the
+/// string regime (U[−0.5, 2] N_cr) neither could be fitted by the class.
+#[test]
+fn a_string_regime_tension_is_named_axial_force() {
+    let t = tally(&[(Kind::StringSs, 500), (Kind::StringCc, 500)]);
+    assert_eq!(t.confident_wrong, 0, "a confident wrong name");
+    assert_eq!(t.right, 2, "a 20 N_cr tension not named axial-force");
 }

@@ -355,6 +355,7 @@ pub fn check_prior_range(prior: &Prior, field: &str) -> Result<(), InputError> {
         Prior::Uniform { lower, upper } | Prior::LogUniform { lower, upper } => {
             vec![("lower", lower), ("upper", upper)]
         }
+        Prior::AsinhUniform { lower, upper, scale } => vec![("lower", lower), ("upper", upper), ("scale", scale)],
         Prior::Normal { mean, sd } => vec![("mean", mean), ("sd", sd)],
         Prior::InverseGamma { shape, scale } => vec![("shape", shape), ("scale", scale)],
     };

@@ -14,14 +14,28 @@
 //! - `support-rotational-stiffness`: k = κ EI/L with κ ~ log-U[1e-2, 1e2]
 //!   (κ → 0 pinned, κ ≳ 1e2 practically clamped; below 1e-2 ω₁ moves < 0.2 %).
 //! - `attached-mass`: m = μ ρAL, μ ~ log-U[1e-3, 1], x ~ U[0, L].
-//! - `axial-force`: N ~ U[−0.5, 2]·|N_cr|, N_cr = the buckling load of the
-//!   nominal local beam (π²EI/L² simply supported). Reasoning: a suspended
-//!   tube is pulled by its fabrication and its gate (tension) or pushed by
-//!   thermal mismatch (compression); compression beyond half the buckling
-//!   load lowers ω₁ by > 30 % and leaves a tube that buckles at the next
-//!   disturbance, while 2|N_cr| of tension raises ω₁ by √3, the upper end of
-//!   the gate tuning reported for suspended nanotube resonators. The model
-//!   rejects draws at or past the nonlocal buckling load (zero likelihood).
+//! - `axial-force`: N/N_cr ~ asinh-U[−0.5, 100] (uniform in asinh(N/N_cr)),
+//!   N_cr = the buckling load of the nominal local beam (π²EI/L² simply
+//!   supported, 4π²EI/L² clamped–clamped). Reasoning: a suspended tube is
+//!   pulled by its fabrication and its gate (tension) or pushed by thermal
+//!   mismatch (compression); compression beyond half the buckling load lowers
+//!   ω₁ by > 30 % and leaves a tube that buckles at the next disturbance, so
+//!   compression stops at −N_cr/2 as before. Tension reaches the string
+//!   regime: suspended nanotube resonators are tuned by more than 20× with
+//!   0–2 % strain (issue 40), and since N/N_cr = ε·AL²/(π²I) = 1.6 ε (L/d)²
+//!   for a solid section, 0.6 % strain is 100 N_cr on a tube of L/d = 100
+//!   (ω₁ × √101 ≈ 10 simply supported). A uniform prior on [−0.5, 100] N_cr
+//!   would put 98 % of its mass above 2 N_cr and cost a moderate tension
+//!   ln(100.5/2.5) ≈ 3.7 nats of Occam factor, more than the selection
+//!   threshold; uniform in asinh(N/N_cr) the prior is nearly flat for
+//!   |N| ≲ N_cr (compression keeps a density within 11 % of flat) and
+//!   log-uniform in the tension beyond, so a moderate tension costs
+//!   ln(5.78/2.5) ≈ 0.8 nats against the old U[−0.5, 2] and each decade of
+//!   the string regime is reached at the same prior mass. TMCMC samples
+//!   u = asinh(N/N_cr), where the prior is uniform on [−0.48, 5.30]: a
+//!   random walk there has one natural scale from compression to the
+//!   string, as ln x has for the log-uniform priors. The model rejects draws
+//!   at or past the nonlocal buckling load (zero likelihood).
 //! - `shear-deformation`: a nonlocal Timoshenko beam with κ ~ U[0.3, 1] and
 //!   ν = 0.2 fixed. Only κG/E = κ/(2(1 + ν)) enters, so ν is held at the
 //!   calibration default (`calibration::parameters::DEFAULT_POISSON_RATIO`,
@@ -55,11 +69,12 @@
 //!   base model then carries it.
 //! - `baseline`: the base model with β² ~ IG(9.5, 11.1) (§4.3); not a cause.
 //!
-//! Log-uniform priors are sampled in u = ln x, where they are uniform; the
-//! evidence is invariant under this change of variables.
+//! Log-uniform priors are sampled in u = ln x, the axial force's in
+//! u = asinh(N/N_cr), where each is uniform; the evidence is invariant under
+//! this change of variables.
 
 use crate::bayes::prior::Prior;
-use crate::bayes::transform::Reparameterized;
+use crate::bayes::transform::{Coordinate, Reparameterized};
 use crate::beam::{BeamError, BeamSpec, Support};
 use crate::calibration::{BeamPosterior, ModeObservation, ModeScan, Parameter, ParameterSet, Target};
 
@@ -261,8 +276,10 @@ impl Model {
 pub struct ClassParameters {
     /// Physical parameters (priors in physical units), mapped onto the beam by name.
     pub set: ParameterSet,
-    /// `true`: sampled as u = ln x (the prior is log-uniform, uniform in u; see `bayes::transform`).
-    pub log_scale: Vec<bool>,
+    /// The sampling coordinate of each parameter: the one in which its prior
+    /// is uniform (u = ln x for a log-uniform prior, asinh(x/s) for the
+    /// axial force's asinh-uniform one; see `bayes::transform`).
+    pub coordinates: Vec<Coordinate>,
 }
 
 /// Nominal scales of a beam used to place the extension priors.
@@ -339,8 +356,8 @@ pub fn model_parameters(
     for &class in model.causes() {
         add_extension(&mut params, class, beam, scans, s);
     }
-    let log_scale = params.iter().map(|p| matches!(p.prior, Prior::LogUniform { .. })).collect();
-    ClassParameters { set: ParameterSet { params }, log_scale }
+    let coordinates = params.iter().map(|p| Coordinate::uniformising(&p.prior)).collect();
+    ClassParameters { set: ParameterSet { params }, coordinates }
 }
 
 /// Upper end of the attached-mass position prior. On a beam whose supports
@@ -429,7 +446,8 @@ fn add_extension(
         }
         ModelClass::AxialForce => {
             let n = s.buckling_load_n;
-            params.push(param("axial_force_n", Prior::Uniform { lower: -0.5 * n, upper: 2.0 * n }));
+            let (lo, hi) = AXIAL_FORCE_RANGE;
+            params.push(param("axial_force_n", Prior::AsinhUniform { lower: lo * n, upper: hi * n, scale: n }));
         }
         ModelClass::ShearDeformation => {
             params.push(param("shear_coefficient", Prior::Uniform { lower: 0.3, upper: 1.0 }));
@@ -441,6 +459,10 @@ fn add_extension(
         }
     }
 }
+
+/// The prior range of the `axial-force` class in units of the nominal
+/// buckling load |N_cr| (compression < 0; the module doc's reasoning).
+pub const AXIAL_FORCE_RANGE: (f64, f64) = (-0.5, 100.0);
 
 /// The prior range of the stiffness-to-mass factor f of `section-mismatch`
 /// (the module doc's reasoning).
@@ -522,7 +544,7 @@ pub fn model_posterior(
     let p = model_parameters(model, parameters, beam, scans, scales);
     let posterior =
         BeamPosterior::from_parts(beam, modes, p.set).with_scans(scans).with_distinct_relaxations(DISTINCT_RELAXATIONS);
-    Reparameterized::new(posterior, p.log_scale)
+    Reparameterized::with_coordinates(posterior, p.coordinates)
 }
 
 #[cfg(test)]
