@@ -319,3 +319,50 @@ fn the_forward_model_is_accurate_in_the_string_regime() {
         }
     }
 }
+
+/// Per-end springs of the beam file (issue 40, item 2) against the exact
+/// dynamic stiffness: a spring at x = 0 only, one at x = L only, one apart
+/// at each end (simply supported), and at x = L of a clamped–pinned beam,
+/// with e0a, a relaxation and the both-ends field adding to an end's own.
+/// Tolerance as in `exact_damped_poles_agree_with_refined_finite_elements`:
+/// 3 times the 80-element FE error estimated by |FE₄₀ − FE₈₀|/15 (h⁴), plus
+/// 1e-9 for the root finders.
+#[test]
+fn per_end_springs_match_the_exact_dynamic_stiffness() {
+    use nanobeam::beam::{modal, BeamSpec, InternalVariable, Support};
+    let t0 = tube();
+    let k_ref = t0.ei() / (t0.length_nm * 1e-9);
+    let pin = |k: f64| End::Pinned { spring_n_m_rad: k * k_ref };
+    // (support, truth's ends, file: both-ends, left, right; all κ = kL/EI)
+    let cases = [
+        (Support::SimplySupported, [pin(4.0), pin(0.0)], [0.0, 4.0, 0.0]),
+        (Support::SimplySupported, [pin(0.0), pin(4.0)], [0.0, 0.0, 4.0]),
+        (Support::SimplySupported, [pin(7.0), pin(2.0)], [2.0, 5.0, 0.0]),
+        (Support::ClampedPinned, [End::Clamped, pin(3.0)], [1.0, 0.0, 2.0]),
+    ];
+    for (support, ends, [both, left, right]) in cases {
+        let mut t = tube();
+        t.e0a_nm = 0.9;
+        t.relaxations = vec![(0.45, 3e11)];
+        t.ends = ends;
+        let ours = poles(&t, 5);
+        let fe = |elements: usize| {
+            let mut b = BeamSpec::elastic(8.0, 1.0, 1.0e12, 2300.0, support, elements);
+            b.nonlocal_e0a_nm = t.e0a_nm;
+            b.internal_variables = vec![InternalVariable { delta: 0.45, omega_rad_s: 3e11 }];
+            b.support_rotational_stiffness_n_m_rad = both * k_ref;
+            b.support_rotational_stiffness_left_n_m_rad = left * k_ref;
+            b.support_rotational_stiffness_right_n_m_rad = right * k_ref;
+            b.validate().expect("a valid per-end spring");
+            modal(&b, 5).unwrap().modes
+        };
+        let (coarse, fine) = (fe(40), fe(80));
+        for (i, p) in ours.iter().enumerate() {
+            let (c, f) = (&coarse[i], &fine[i]);
+            let tol_w = 3.0 * (c.omega_rad_s / f.omega_rad_s - 1.0).abs() / 15.0 + 1e-9;
+            let tol_z = 3.0 * (c.zeta / f.zeta - 1.0).abs() / 15.0 + 1e-9;
+            let (dw, dz) = ((p.omega_rad_s / f.omega_rad_s - 1.0).abs(), (p.zeta / f.zeta - 1.0).abs());
+            assert!(dw <= tol_w && dz <= tol_z, "{} {ends:?} mode {}: {p:?} vs FE80 {f:?}", support.name(), i + 1);
+        }
+    }
+}

@@ -11,8 +11,25 @@
 //! - `viscous-damping` (C of eq. 13): since D = (C/ρA)·M (A5 vs A4), mode r
 //!   gets ζ_r = C/(2ρA ω_r); C ~ log-U over ζ₁ ∈ [1e-4, 0.3] at ω₁⁰, i.e.
 //!   C ∈ 2ρAω₁⁰·[1e-4, 0.3] (from unmeasurable to heavily damped).
-//! - `support-rotational-stiffness`: k = κ EI/L with κ ~ log-U[1e-2, 1e2]
-//!   (κ → 0 pinned, κ ≳ 1e2 practically clamped; below 1e-2 ω₁ moves < 0.2 %).
+//! - `support-rotational-stiffness`: a rotational spring on each rotation
+//!   the support leaves free, each end its own: k₀ = κ₀ EI/L at x = 0 and
+//!   k_L = κ_L EI/L at x = L, κ ~ log-U[1e-2, 1e3] each, independently
+//!   (simply supported: two parameters; clamped–pinned: κ_L alone). κ = 1e-2
+//!   is "no spring" at the diagnosis's noise (ω₁ moves < 0.1 % for one end,
+//!   a third of the 0.3 % sd), κ = 1e3 a clamp (a clamped–pinned beam's ω₁
+//!   within 0.3 %: `tests/diagnose_catalogue.md`), so the class spans a
+//!   spring at one end, at both alike or apart, and an end clamped that the
+//!   file declares pinned. Why two parameters and not one class per end:
+//!   left, right and both as separate classes would add two singles and 14
+//!   pairs on a simply supported beam (29 → 45 models); one class keeps the
+//!   count (29). On data that cannot tell the beam from its mirror image
+//!   ([`data_mirror`]) the two ends are folded onto κ₀ ≥ κ_L
+//!   (`BeamPosterior::with_ordered_pair`, evidence unchanged), unless the
+//!   model also holds a point mass, whose position fold already uses the
+//!   symmetry. To first order a spring shifts ω_n² by a sum over the ends,
+//!   so from ω alone κ₀ + κ_L is what is measured and the split is the weak
+//!   direction of the posterior; the second order and mode shapes tell the
+//!   ends apart.
 //! - `attached-mass`: m = μ ρAL, μ ~ log-U[1e-3, 1], x ~ U[0, L].
 //! - `axial-force`: N/N_cr ~ asinh-U[−0.5, 100] (uniform in asinh(N/N_cr)),
 //!   N_cr = the buckling load of the nominal local beam (π²EI/L² simply
@@ -153,11 +170,17 @@ impl ModelClass {
         }
     }
 
-    /// How many parameters the class appends to the base model (what
-    /// `add_extension` pushes; a test holds the two together).
-    pub fn parameter_count(self) -> usize {
+    /// How many parameters the class appends to the base model on a beam
+    /// with `support` (what `add_extension` pushes; a test holds the two
+    /// together): the support spring has one per free rotation.
+    pub fn parameter_count(self, support: Support) -> usize {
         match self {
             ModelClass::ExtraRelaxation | ModelClass::AttachedMass => 2,
+            ModelClass::SupportRotationalStiffness => match support {
+                Support::SimplySupported => 2,
+                Support::ClampedPinned => 1,
+                Support::ClampedClamped | Support::ClampedFree => 0,
+            },
             _ => 1,
         }
     }
@@ -175,9 +198,12 @@ impl ModelClass {
 /// there: 4 of 4).
 pub fn stronger_effect_ends(target: Target) -> [bool; 2] {
     match target {
-        Target::Delta(_) | Target::ViscousDamping | Target::SupportRotationalStiffness | Target::PointMassKg => {
-            [false, true]
-        }
+        Target::Delta(_)
+        | Target::ViscousDamping
+        | Target::SupportRotationalStiffness
+        | Target::SupportRotationalStiffnessLeft
+        | Target::SupportRotationalStiffnessRight
+        | Target::PointMassKg => [false, true],
         Target::ShearCoefficient => [true, false],
         Target::AxialForce | Target::YoungsModulus => [true, true],
         _ => [false, false],
@@ -361,8 +387,10 @@ pub fn model_parameters(
 }
 
 /// Upper end of the attached-mass position prior. On a beam whose supports
-/// mirror each other (simply supported, clamped–clamped; rotational springs
-/// act at each supported end alike, and the uniform mesh mirrors too) a mass
+/// mirror each other (simply supported, clamped–clamped; the file's springs
+/// alike at both ends, [`BeamSpec::mirrors_itself`], and the uniform mesh
+/// mirrors too; a model that samples the two end springs apart mirrors with
+/// them swapped, `BeamSpec::mirror_image`) a mass
 /// at x and one at L − x give the same frequencies and damping ratios, so the
 /// likelihood is symmetric about midspan and the posterior on x has two mirror
 /// peaks. The prior is folded onto the left half, U[0, L/2]: the evidence is
@@ -395,7 +423,19 @@ pub fn folds_mass_position(model: &Model, beam: &BeamSpec, scans: &[ModeScan]) -
 /// `unexplained` once their truth's scan was fed back; unfolded, all three
 /// name both causes).
 pub fn data_mirror(beam: &BeamSpec, scans: &[ModeScan]) -> bool {
-    beam.support.mirrors_itself() && scans.is_empty()
+    beam.mirrors_itself() && scans.is_empty()
+}
+
+/// Whether `model`'s two end springs are folded onto κ₀ ≥ κ_L (module doc):
+/// both ends sampled, data that cannot tell the beam from its mirror
+/// image, and no point mass (whose position fold takes the symmetry).
+/// Returns the indices of the two springs in `params`.
+fn folded_end_springs(model: &Model, params: &ParameterSet, beam: &BeamSpec, scans: &[ModeScan]) -> Option<[usize; 2]> {
+    if !data_mirror(beam, scans) || model.causes().contains(&ModelClass::AttachedMass) {
+        return None;
+    }
+    let at = |t: Target| params.params.iter().position(|p| p.target == t);
+    Some([at(Target::SupportRotationalStiffnessLeft)?, at(Target::SupportRotationalStiffnessRight)?])
 }
 
 /// Appends the parameters of one cause, with the priors of the module doc.
@@ -431,10 +471,16 @@ fn add_extension(
         }
         ModelClass::SupportRotationalStiffness => {
             let k_ref = s.ei_n_m2 / s.length_m;
-            params.push(param(
-                "support_rotational_stiffness_n_m_rad",
-                Prior::LogUniform { lower: 1e-2 * k_ref, upper: 1e2 * k_ref },
-            ));
+            let (lo, hi) = END_SPRING_RANGE;
+            let prior = Prior::LogUniform { lower: lo * k_ref, upper: hi * k_ref };
+            let ends: &[&str] = match beam.support {
+                Support::SimplySupported => {
+                    &["support_rotational_stiffness_left_n_m_rad", "support_rotational_stiffness_right_n_m_rad"]
+                }
+                Support::ClampedPinned => &["support_rotational_stiffness_right_n_m_rad"],
+                Support::ClampedClamped | Support::ClampedFree => &[],
+            };
+            params.extend(ends.iter().map(|name| param(name, prior)));
         }
         ModelClass::AttachedMass => {
             let m_ref = s.rho_a_kg_m * s.length_m;
@@ -459,6 +505,10 @@ fn add_extension(
         }
     }
 }
+
+/// The prior range of each end's κ = k L/EI of `support-rotational-stiffness`
+/// (the module doc's reasoning).
+pub const END_SPRING_RANGE: (f64, f64) = (1e-2, 1e3);
 
 /// The prior range of the `axial-force` class in units of the nominal
 /// buckling load |N_cr| (compression < 0; the module doc's reasoning).
@@ -542,8 +592,12 @@ pub fn model_posterior(
     scales: &NominalScales,
 ) -> ClassPosterior {
     let p = model_parameters(model, parameters, beam, scans, scales);
-    let posterior =
+    let fold = folded_end_springs(model, &p.set, beam, scans);
+    let mut posterior =
         BeamPosterior::from_parts(beam, modes, p.set).with_scans(scans).with_distinct_relaxations(DISTINCT_RELAXATIONS);
+    if let Some(pair) = fold {
+        posterior = posterior.with_ordered_pair(pair);
+    }
     Reparameterized::with_coordinates(posterior, p.coordinates)
 }
 
@@ -635,7 +689,7 @@ mod tests {
         let base = ParameterSet::paper_n1();
         for c in ModelClass::CAUSES {
             let n = model_parameters(&Model::with(&[c]), &base, &beam, &[], &scales).set.params.len();
-            assert_eq!(n - base.params.len(), c.parameter_count(), "{}", c.name());
+            assert_eq!(n - base.params.len(), c.parameter_count(beam.support), "{}", c.name());
         }
     }
 }

@@ -102,7 +102,8 @@ pub const ON_BOUND_FRACTION: f64 = 1e-3;
 /// so; the verdict is not changed.
 pub fn on_prior_bound(r: &ModelRun) -> Vec<BoundHit> {
     let params = &r.posterior.inner().parameters().params;
-    let causes: usize = r.model.causes().iter().map(|c| c.parameter_count()).sum();
+    let support = r.posterior.inner().base_beam().support;
+    let causes: usize = r.model.causes().iter().map(|c| c.parameter_count(support)).sum();
     let first = params.len() - causes;
     bound_hits(&params[first..], &r.posterior.coordinates()[first..], &r.map[first..])
 }
