@@ -258,9 +258,10 @@ fn section_and_adsorbate_scale_every_frequency_by_one_factor() {
 #[test]
 fn the_forward_model_is_accurate_in_the_string_regime() {
     use nanobeam::beam::{modal, BeamSpec, InternalVariable, Mode, Support};
-    for (support, ends) in
-        [(Support::SimplySupported, [End::Pinned { spring_n_m_rad: 0.0 }; 2]), (Support::ClampedClamped, [End::Clamped; 2])]
-    {
+    for (support, ends) in [
+        (Support::SimplySupported, [End::Pinned { spring_n_m_rad: 0.0 }; 2]),
+        (Support::ClampedClamped, [End::Clamped; 2]),
+    ] {
         let errors = |n_over_ncr: f64| {
             let mut t = tube();
             t.ends = ends;
@@ -305,7 +306,12 @@ fn the_forward_model_is_accurate_in_the_string_regime() {
                 );
                 for q in 0..2 {
                     let what = ["ω", "ζ"][q];
-                    assert!(e80[i][q] <= e20[i][q] / 128.0 + 1e-8, "{} {n_over_ncr} N_cr mode {} {what}: not h⁴", support.name(), i + 1);
+                    assert!(
+                        e80[i][q] <= e20[i][q] / 128.0 + 1e-8,
+                        "{} {n_over_ncr} N_cr mode {} {what}: not h⁴",
+                        support.name(),
+                        i + 1
+                    );
                     assert!(
                         e20[i][q] <= 1.5 * worst(q),
                         "{} {n_over_ncr} N_cr mode {} {what}: FE20 error {:.1e} against {:.1e} without the force",

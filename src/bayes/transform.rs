@@ -80,7 +80,8 @@ impl<P: Posterior> Reparameterized<P> {
     /// `log_scale` has one entry per coordinate of `inner`: x_i = e^{u_i}
     /// where true (the prior's support must be x > 0), else x_i = u_i.
     pub fn new(inner: P, log_scale: Vec<bool>) -> Self {
-        let coordinates = log_scale.into_iter().map(|l| if l { Coordinate::Log } else { Coordinate::Identity }).collect();
+        let coordinates =
+            log_scale.into_iter().map(|l| if l { Coordinate::Log } else { Coordinate::Identity }).collect();
         Self::with_coordinates(inner, coordinates)
     }
 

@@ -175,7 +175,12 @@ impl GridVector {
             m_form += mu * w * w;
         }
         let k_n = if params.axial != 0.0 { params.axial * (self.g_forms.0 + e2 * self.g_forms.1) } else { 0.0 };
-        let rho = (self.k_form + params.shear * self.shear_form + params.spring[0] * self.spring_sq[0] + params.spring[1] * self.spring_sq[1] + k_n) / m_form;
+        let rho = (self.k_form
+            + params.shear * self.shear_form
+            + params.spring[0] * self.spring_sq[0]
+            + params.spring[1] * self.spring_sq[1]
+            + k_n)
+            / m_form;
         RqiStart { vector: self.vector.clone(), mx, rho }
     }
 }
