@@ -427,11 +427,28 @@ pub fn data_mirror(beam: &BeamSpec, scans: &[ModeScan]) -> bool {
 }
 
 /// Whether `model`'s two end springs are folded onto κ₀ ≥ κ_L (module doc):
-/// both ends sampled, data that cannot tell the beam from its mirror
-/// image, and no point mass (whose position fold takes the symmetry).
-/// Returns the indices of the two springs in `params`.
+/// then the spring reported at x = 0 is the stiffer one, at whichever end
+/// it is, and a prediction that is not mirror-symmetric must average each
+/// draw with its mirror image, as for a folded mass position.
+pub fn folds_end_springs(model: &Model, beam: &BeamSpec, scans: &[ModeScan]) -> bool {
+    data_mirror(beam, scans)
+        && beam.support == Support::SimplySupported
+        && model.causes().contains(&ModelClass::SupportRotationalStiffness)
+        && !model.causes().contains(&ModelClass::AttachedMass)
+}
+
+/// Whether `model`'s posterior on `beam` is folded onto one of two mirror
+/// images ([`folds_mass_position`] or [`folds_end_springs`]).
+pub fn folds_mirror_image(model: &Model, beam: &BeamSpec, scans: &[ModeScan]) -> bool {
+    folds_mass_position(model, beam, scans) || folds_end_springs(model, beam, scans)
+}
+
+/// The indices of the two end springs in `params` when they are folded
+/// ([`folds_end_springs`]: both ends sampled, data that cannot tell the beam
+/// from its mirror image, and no point mass, whose position fold takes the
+/// symmetry).
 fn folded_end_springs(model: &Model, params: &ParameterSet, beam: &BeamSpec, scans: &[ModeScan]) -> Option<[usize; 2]> {
-    if !data_mirror(beam, scans) || model.causes().contains(&ModelClass::AttachedMass) {
+    if !folds_end_springs(model, beam, scans) {
         return None;
     }
     let at = |t: Target| params.params.iter().position(|p| p.target == t);
@@ -679,6 +696,56 @@ mod tests {
             });
         let e = p.set.params.last().unwrap();
         assert_eq!((e.name.as_str(), e.prior.support()), ("youngs_modulus_pa", (1.0e12 * 2.0 / 3.0, 1.5e12)));
+    }
+
+    /// The support spring samples each free end: two stiffnesses on a simply
+    /// supported beam, folded onto κ₀ ≥ κ_L on mirror data (the prior is
+    /// −∞ on the other half and ln 2 above the unfolded one inside, prior
+    /// draws are ordered), not folded beside a point mass (its position
+    /// fold takes the symmetry); one (x = L) on a clamped–pinned beam.
+    #[test]
+    fn the_support_spring_samples_each_free_end_folded_on_mirror_data() {
+        use crate::bayes::Posterior;
+        use rand::SeedableRng;
+        let spring = Model::with(&[ModelClass::SupportRotationalStiffness]);
+        let with_mass = Model::with(&[ModelClass::SupportRotationalStiffness, ModelClass::AttachedMass]);
+        let ss = BeamSpec::elastic(8.0, 1.0, 1.0e12, 2300.0, Support::SimplySupported, 20);
+        let cp = BeamSpec { support: Support::ClampedPinned, ..ss.clone() };
+        assert!(folds_end_springs(&spring, &ss, &[]) && folds_mirror_image(&spring, &ss, &[]));
+        assert!(!folds_end_springs(&with_mass, &ss, &[]) && folds_mirror_image(&with_mass, &ss, &[]));
+        assert!(!folds_end_springs(&spring, &cp, &[]));
+        let base = ParameterSet::paper_n1();
+        let names = |b: &BeamSpec| -> Vec<String> {
+            let p = model_parameters(&spring, &base, b, &[], &NominalScales::of(b, 5).unwrap());
+            p.set.params[base.params.len()..].iter().map(|p| p.name.clone()).collect()
+        };
+        assert_eq!(
+            names(&ss),
+            ["support_rotational_stiffness_left_n_m_rad", "support_rotational_stiffness_right_n_m_rad"]
+        );
+        assert_eq!(names(&cp), ["support_rotational_stiffness_right_n_m_rad"]);
+        let modes: Vec<ModeObservation> = (1..=3)
+            .map(|r| ModeObservation {
+                mode: r,
+                omega_rad_s: 1e11 * (r * r) as f64,
+                omega_sd_rad_s: 1e8,
+                zeta: 0.01,
+                zeta_sd: 1e-3,
+            })
+            .collect();
+        let scales = NominalScales::of(&ss, 3).unwrap();
+        let post = model_posterior(&spring, &base, &ss, &modes, &[], &scales).inner().clone();
+        let unfolded = BeamPosterior::from_parts(&ss, &modes, model_parameters(&spring, &base, &ss, &[], &scales).set);
+        let k = ss.youngs_modulus_pa * ss.inertia_m4() / 8e-9;
+        let theta = |k0: f64, kl: f64| [1.0, 0.5, 3e11, k0 * k, kl * k];
+        let (inside, outside) = (theta(5.0, 0.1), theta(0.1, 5.0));
+        assert!((post.log_prior(&inside) - unfolded.log_prior(&inside) - std::f64::consts::LN_2).abs() < 1e-12);
+        assert_eq!(post.log_prior(&outside), f64::NEG_INFINITY);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        assert!((0..200).all(|_| {
+            let t = post.sample_prior(&mut rng);
+            t[3] >= t[4]
+        }));
     }
 
     /// `parameter_count` is what `add_extension` appends, for every class.
