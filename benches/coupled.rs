@@ -47,6 +47,8 @@ fn nominal() -> BeamSpec {
         viscous_damping_n_s_m2: 0.0,
         internal_variables: vec![InternalVariable { delta: 0.45, omega_rad_s: 3e11 }],
         support_rotational_stiffness_n_m_rad: 0.0,
+        support_rotational_stiffness_left_n_m_rad: 0.0,
+        support_rotational_stiffness_right_n_m_rad: 0.0,
         point_mass: None,
         axial_force_n: 0.0,
         shear_deformation: None,

@@ -34,6 +34,8 @@ fn beam(n_iv: usize) -> BeamSpec {
         ][..n_iv]
             .to_vec(),
         support_rotational_stiffness_n_m_rad: 0.0,
+        support_rotational_stiffness_left_n_m_rad: 0.0,
+        support_rotational_stiffness_right_n_m_rad: 0.0,
         point_mass: None,
         axial_force_n: 0.0,
         shear_deformation: None,

@@ -21,6 +21,8 @@ fn fourier_transform_of_the_impulse_response_is_the_receptance() {
         viscous_damping_n_s_m2: 5e-4,
         internal_variables: vec![InternalVariable { delta: 0.3, omega_rad_s: 5e11 }],
         support_rotational_stiffness_n_m_rad: 0.0,
+        support_rotational_stiffness_left_n_m_rad: 0.0,
+        support_rotational_stiffness_right_n_m_rad: 0.0,
         point_mass: None,
         axial_force_n: 0.0,
         shear_deformation: None,

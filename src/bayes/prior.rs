@@ -4,7 +4,12 @@
 //! `{dist: uniform, lower, upper}`, `{dist: normal, mean, sd}`,
 //! `{dist: inverse-gamma, shape, scale}` (pdf b^a/Γ(a) x^(−a−1) e^(−b/x);
 //! Case 3 puts IG(9.5, 11.1) on β²), `{dist: log-uniform, lower, upper}`
-//! (density ∝ 1/x on [lower, upper]).
+//! (density ∝ 1/x on [lower, upper]), `{dist: asinh-uniform, lower, upper,
+//! scale}` (uniform in asinh(x/scale): density ∝ 1/√(x² + scale²) on
+//! [lower, upper], flat for |x| ≪ scale and log-uniform in |x| for
+//! |x| ≫ scale, so one prior spans a signed quantity near 0 and decades of
+//! it on one side; `diagnose`'s axial force from compression to the string
+//! regime).
 
 use rand::RngCore;
 use rand_distr::{Distribution, Normal, Uniform};
@@ -20,6 +25,13 @@ pub enum Prior {
     Normal { mean: f64, sd: f64 },
     InverseGamma { shape: f64, scale: f64 },
     LogUniform { lower: f64, upper: f64 },
+    AsinhUniform { lower: f64, upper: f64, scale: f64 },
+}
+
+/// asinh(lower/scale) and asinh(upper/scale): the support of an
+/// [`Prior::AsinhUniform`] in its uniform coordinate.
+fn asinh_bounds(lower: f64, upper: f64, scale: f64) -> (f64, f64) {
+    ((lower / scale).asinh(), (upper / scale).asinh())
 }
 
 impl Prior {
@@ -55,6 +67,14 @@ impl Prior {
                     return Err(InputError::new(format!("{field}.upper"), upper, format!("> lower = {lower}")));
                 }
             }
+            Prior::AsinhUniform { lower, upper, scale } => {
+                finite("lower", lower)?;
+                finite("upper", upper)?;
+                crate::error::positive(&format!("{field}.scale"), scale)?;
+                if upper <= lower {
+                    return Err(InputError::new(format!("{field}.upper"), upper, format!("> lower = {lower}")));
+                }
+            }
         }
         Ok(())
     }
@@ -62,7 +82,9 @@ impl Prior {
     /// Closed support [lo, hi] (±∞ where unbounded).
     pub fn support(&self) -> (f64, f64) {
         match *self {
-            Prior::Uniform { lower, upper } | Prior::LogUniform { lower, upper } => (lower, upper),
+            Prior::Uniform { lower, upper }
+            | Prior::LogUniform { lower, upper }
+            | Prior::AsinhUniform { lower, upper, .. } => (lower, upper),
             Prior::Normal { .. } => (f64::NEG_INFINITY, f64::INFINITY),
             Prior::InverseGamma { .. } => (0.0, f64::INFINITY),
         }
@@ -91,6 +113,10 @@ impl Prior {
                 shape * scale.ln() - ln_gamma(shape) - (shape + 1.0) * x.ln() - scale / x
             }
             Prior::LogUniform { lower, upper } => -x.ln() - (upper / lower).ln().ln(),
+            Prior::AsinhUniform { lower, upper, scale } => {
+                let (a, b) = asinh_bounds(lower, upper, scale);
+                -x.hypot(scale).ln() - (b - a).ln()
+            }
         }
     }
 
@@ -107,6 +133,10 @@ impl Prior {
             Prior::LogUniform { lower, upper } => {
                 (Uniform::new_inclusive(lower.ln(), upper.ln()).sample(rng)).exp().clamp(lower, upper)
             }
+            Prior::AsinhUniform { lower, upper, scale } => {
+                let (a, b) = asinh_bounds(lower, upper, scale);
+                (scale * Uniform::new_inclusive(a, b).sample(rng).sinh()).clamp(lower, upper)
+            }
         }
     }
 
@@ -117,6 +147,11 @@ impl Prior {
             Prior::Normal { mean, .. } => Some(mean),
             Prior::InverseGamma { shape, scale } => (shape > 1.0).then(|| scale / (shape - 1.0)),
             Prior::LogUniform { lower, upper } => Some((upper - lower) / (upper / lower).ln()),
+            // x = s·sinh u with u ~ U[a, b]: E x = s (cosh b − cosh a)/(b − a)
+            Prior::AsinhUniform { lower, upper, scale } => {
+                let (a, b) = asinh_bounds(lower, upper, scale);
+                Some(scale * (b.cosh() - a.cosh()) / (b - a))
+            }
         }
     }
 
@@ -130,6 +165,13 @@ impl Prior {
                 let l = (upper / lower).ln();
                 let m = (upper - lower) / l;
                 let m2 = (upper * upper - lower * lower) / (2.0 * l);
+                Some((m2 - m * m).max(0.0).sqrt())
+            }
+            // E x² = s² E sinh² u = s² (E cosh 2u − 1)/2, E cosh 2u = (sinh 2b − sinh 2a)/(2(b − a))
+            Prior::AsinhUniform { lower, upper, scale } => {
+                let (a, b) = asinh_bounds(lower, upper, scale);
+                let m = scale * (b.cosh() - a.cosh()) / (b - a);
+                let m2 = scale * scale * (((2.0 * b).sinh() - (2.0 * a).sinh()) / (2.0 * (b - a)) - 1.0) / 2.0;
                 Some((m2 - m * m).max(0.0).sqrt())
             }
         }
@@ -150,6 +192,7 @@ mod tests {
             Prior::Normal { mean: 1.0, sd: 0.5 },
             Prior::InverseGamma { shape: 9.5, scale: 11.1 },
             Prior::LogUniform { lower: 1e-2, upper: 1e2 },
+            Prior::AsinhUniform { lower: -0.5, upper: 50.0, scale: 1.0 },
         ];
         for p in priors {
             let (lo, hi) = match p {
@@ -174,7 +217,11 @@ mod tests {
     #[test]
     fn sample_moments_match() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-        for p in [Prior::InverseGamma { shape: 9.5, scale: 11.1 }, Prior::LogUniform { lower: 1.0, upper: 100.0 }] {
+        for p in [
+            Prior::InverseGamma { shape: 9.5, scale: 11.1 },
+            Prior::LogUniform { lower: 1.0, upper: 100.0 },
+            Prior::AsinhUniform { lower: -0.5, upper: 50.0, scale: 1.0 },
+        ] {
             let n = 100_000;
             let m: f64 = (0..n).map(|_| p.sample(&mut rng)).sum::<f64>() / n as f64;
             let se = p.sd().unwrap() / (n as f64).sqrt();
@@ -188,5 +235,8 @@ mod tests {
         assert_eq!(e.field, "parameters.delta.prior.upper");
         assert!(Prior::Normal { mean: 0.0, sd: -1.0 }.validate("p").is_err());
         assert!(Prior::LogUniform { lower: 0.0, upper: 1.0 }.validate("p").is_err());
+        let e = Prior::AsinhUniform { lower: -1.0, upper: 1.0, scale: 0.0 }.validate("p").unwrap_err();
+        assert_eq!(e.field, "p.scale");
+        assert!(Prior::AsinhUniform { lower: 1.0, upper: 1.0, scale: 1.0 }.validate("p").is_err());
     }
 }

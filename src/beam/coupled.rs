@@ -147,10 +147,8 @@ fn complex_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64], forms: Forms) ->
                 .zip(&model.k.data)
                 .map(|((&m, &mb), &k)| s * s * m + s * (model.c * mb) + g * k),
         );
-        if model.has_spring() {
-            for &i in &model.spring_dofs {
-                t[i * (model.k.kd + 1)] += model.spring;
-            }
+        for (i, ks) in model.springs() {
+            t[i * (model.k.kd + 1)] += ks;
         }
         if let Some(ka) = &model.k_axial {
             t.iter_mut().zip(&ka.data).for_each(|(ti, &v)| *ti += v);
@@ -242,7 +240,6 @@ fn at_roundoff(f: Complex64, scale: f64) -> bool {
 fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Complex64, BeamError> {
     let mut x: Vec<f64> = phi.to_vec();
     let mut s = s0.re;
-    let spring = if model.has_spring() { model.spring } else { 0.0 };
     for _ in 0..50 {
         let (k, m, mb, ks) = model.forms(&x);
         let mut moved = 0.0;
@@ -262,7 +259,7 @@ fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comp
         }
         let (g, dg) = model.relaxation(Complex64::new(s, 0.0));
         let lu = BandLu::factor_kd(model.n(), model.k.kd, |i, j| {
-            let ks = if i == j && model.spring_dofs.contains(&i) { spring } else { 0.0 };
+            let ks = if i == j { model.spring_at(i) } else { 0.0 };
             let ka = model.k_axial.as_ref().map_or(0.0, |ka| ka.get(i, j));
             s * s * model.m.get(i, j) + s * model.c * model.m_beam.get(i, j) + ks + ka + g.re * model.k.get(i, j)
         });

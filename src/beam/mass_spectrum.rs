@@ -607,7 +607,7 @@ pub fn point_mass_direct_eigenvalues(
     count: usize,
 ) -> Option<Vec<f64>> {
     let mesh = UnitMesh::new(elements, support);
-    let params = PencilParams { e_tilde, point_mass: Some((mu, x)), spring: 0.0, axial: 0.0, shear: 0.0 };
+    let params = PencilParams { e_tilde, point_mass: Some((mu, x)), spring: [0.0; 2], axial: 0.0, shear: 0.0 };
     let (k, m) = mesh.pencil(&params);
     let pairs = lowest_eigenpairs(&k, &m, count, &mut Vec::new(), &|v| mesh.pencil_stiffness(&params, v)).ok()?;
     Some(pairs.iter().map(|p| p.lambda).collect())

@@ -112,13 +112,13 @@ const PLAIN_GRID_CACHE: usize = 2048;
 struct EigenCache {
     work: Vec<Dual<f64>>,
     ldl: ShiftedLdl,
-    exact: Option<([u64; 6], Vec<EigenPair>)>,
+    exact: Option<([u64; 7], Vec<EigenPair>)>,
     /// Grid pencil eigenvectors keyed by [`PencilParams::bits`] of the grid
     /// point: plain pencils (ẽ, g̃) and extended ones apart, so that a
     /// population sweeping an extended grid does not evict the parents every
     /// extended cell is refined from.
-    grid: HashMap<[u64; 6], Vec<GridVector>>,
-    plain_grid: HashMap<[u64; 6], Vec<GridVector>>,
+    grid: HashMap<[u64; 7], Vec<GridVector>>,
+    plain_grid: HashMap<[u64; 7], Vec<GridVector>>,
     /// How the last [`EigenCache::lowest`] call got its answer (for tests).
     last_method: Option<EigenMethod>,
 }
@@ -133,7 +133,7 @@ enum EigenMethod {
 /// An eigenvector of a grid pencil with the parameter-free pieces of its
 /// products, so that its RQI start on any pencil of the mesh costs O(n):
 /// M̃x = M̃₀x + ẽ²M̃₁x + μ̃N(Nᵀx), xᵀM̃x = xᵀM̃₀x + ẽ²xᵀM̃₁x + μ̃(Nᵀx)²,
-/// xᵀ(K̃ + K̃_spring + K̃_N)x = xᵀK̃x + k̃_r Σ_spring xᵢ² + ñ(xᵀG̃₀x + ẽ²xᵀG̃₁x),
+/// xᵀ(K̃ + K̃_spring + K̃_N)x = xᵀK̃x + Σ_ends k̃_e x_e² + ñ(xᵀG̃₀x + ẽ²xᵀG̃₁x),
 /// with xᵀK̃x = xᵀK̃_bx + g̃·xᵀK̃_γx on a Timoshenko mesh.
 #[derive(Debug, Clone)]
 struct GridVector {
@@ -145,7 +145,8 @@ struct GridVector {
     shear_form: f64,
     m0_form: f64,
     m1_form: f64,
-    spring_sq: f64,
+    /// x_i² on the free rotation at x = 0 and at x = L (0 where the support fixes it).
+    spring_sq: [f64; 2],
     /// xᵀG̃₀x and xᵀG̃₁x (axial-force forms; 0 when the mesh pencil has no force).
     g_forms: (f64, f64),
 }
@@ -161,7 +162,7 @@ impl GridVector {
             shear_form: mesh.shear.as_ref().map_or(0.0, |sh| sh.ks.bilinear(&vector, &vector)),
             m0_form: dot(&vector, &m0x),
             m1_form: dot(&vector, &m1x),
-            spring_sq: mesh.spring_dofs.iter().map(|&i| vector[i] * vector[i]).sum(),
+            spring_sq: mesh.spring_dofs.map(|d| d.map_or(0.0, |i| vector[i] * vector[i])),
             g_forms: {
                 let f = mesh.energy_forms_ext(&vector, 0.0);
                 (f[5], f[6])
@@ -182,7 +183,12 @@ impl GridVector {
             m_form += mu * w * w;
         }
         let k_n = if params.axial != 0.0 { params.axial * (self.g_forms.0 + e2 * self.g_forms.1) } else { 0.0 };
-        let rho = (self.k_form + params.shear * self.shear_form + params.spring * self.spring_sq + k_n) / m_form;
+        let rho = (self.k_form
+            + params.shear * self.shear_form
+            + params.spring[0] * self.spring_sq[0]
+            + params.spring[1] * self.spring_sq[1]
+            + k_n)
+            / m_form;
         RqiStart { vector: self.vector.clone(), mx, rho }
     }
 }
@@ -267,7 +273,7 @@ impl EigenCache {
     }
 
     /// The plain grid (ẽ, g̃) or the extended one.
-    fn cells(&mut self, plain: bool) -> &mut HashMap<[u64; 6], Vec<GridVector>> {
+    fn cells(&mut self, plain: bool) -> &mut HashMap<[u64; 7], Vec<GridVector>> {
         if plain {
             &mut self.plain_grid
         } else {
@@ -366,7 +372,7 @@ impl ModalSolver {
         let mesh = self.mesh.as_ref()?;
         let sc = Scaling::new(beam);
         // the same tests as ScaledModel::decouples
-        let spring = sc.spring > 0.0 && !mesh.spring_dofs.is_empty();
+        let spring = mesh.springs(&sc.spring).next().is_some();
         // Timoshenko decouples only without damping (rotary inertia: `shear_spectrum.rs`),
         // a point mass likewise (it is not in the damping); the point mass has
         // a fast path on Euler–Bernoulli meshes only (`mass_spectrum.rs`)
@@ -519,6 +525,8 @@ mod tests {
             viscous_damping_n_s_m2: 0.0,
             internal_variables: vec![InternalVariable { delta: 0.3, omega_rad_s: 4e11 }],
             support_rotational_stiffness_n_m_rad: spring,
+            support_rotational_stiffness_left_n_m_rad: 0.0,
+            support_rotational_stiffness_right_n_m_rad: 0.0,
             point_mass: mass.map(|(mass_kg, x_nm)| PointMass { mass_kg, x_nm }),
             axial_force_n: 0.0,
             shear_deformation: None,

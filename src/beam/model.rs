@@ -19,9 +19,11 @@
 //! Node i has DOFs (w: 2i, θ: 2i+1). Simply supported removes w₀, w_L; clamped–
 //! clamped w₀, θ₀, w_L, θ_L; clamped–free w₀, θ₀; clamped–pinned w₀, θ₀, w_L.
 //! Removing rows/columns keeps the half-bandwidth ≤ 3.
-//! The rotational spring acts on every *remaining* rotation at a supported end
-//! (both ends for simply supported, x = L for clamped–pinned); it is elastic
-//! only (not multiplied by the relaxation factor 1 + ΣΔᵢ s/(s+Ωᵢ)).
+//! The rotational springs act on the *remaining* rotation at a supported end
+//! (both ends for simply supported, x = L for clamped–pinned), each end its
+//! own stiffness (`BeamSpec::support_rotational_stiffness_at_ends_n_m_rad`);
+//! they are elastic only (not multiplied by the relaxation factor
+//! 1 + ΣΔᵢ s/(s+Ωᵢ)).
 
 use std::borrow::Cow;
 
@@ -47,8 +49,10 @@ pub struct UnitMesh {
     pub m0: SymBand,
     /// Σ∫N'N'ᵀ dx̃.
     pub m1: SymBand,
-    /// Reduced indices of rotations carrying a support spring.
-    pub spring_dofs: Vec<usize>,
+    /// Reduced index of the rotation a support leaves free at x = 0 and at
+    /// x = L (where a support spring acts), `None` where the support fixes
+    /// it (clamped) or there is no support (free end).
+    pub spring_dofs: [Option<usize>; 2],
     /// Σ∫N_w′N_w′ᵀ dx̃ and Σ∫N_w″N_w″ᵀ dx̃: the axial-force (geometric) stiffness
     /// K̃_N = ñ(G̃₀ + ẽ²G̃₁) (for Euler–Bernoulli these are `m1` and `k`).
     pub g0: SymBand,
@@ -149,12 +153,8 @@ impl UnitMesh {
                 })
             })
             .collect();
-        let spring_global: Vec<usize> = match support {
-            Support::SimplySupported => vec![node(0, 1), node(last, 1)],
-            Support::ClampedPinned => vec![node(last, 1)],
-            Support::ClampedClamped | Support::ClampedFree => vec![],
-        };
-        mesh.spring_dofs = spring_global.iter().filter_map(|&gl| mesh.dof_map[gl]).collect();
+        let spring_global = spring_rotations(support, node(0, 1), node(last, 1));
+        mesh.spring_dofs = spring_global.map(|g| g.and_then(|gl| mesh.dof_map[gl]));
         let h = 1.0 / elements as f64;
         let te = element::timoshenko_element(h);
         let comb = |a: &element::Mat10, c: f64, b: &element::Mat10| -> element::Mat10 {
@@ -250,12 +250,7 @@ impl UnitMesh {
                 }
             }
         }
-        let spring_global: Vec<usize> = match support {
-            Support::SimplySupported => vec![1, 2 * last + 1],
-            Support::ClampedPinned => vec![2 * last + 1],
-            Support::ClampedClamped | Support::ClampedFree => vec![],
-        };
-        let spring_dofs = spring_global.iter().filter_map(|&g| dof_map[g]).collect();
+        let spring_dofs = spring_rotations(support, 1, 2 * last + 1).map(|g| g.and_then(|g| dof_map[g]));
         let gauss = std::array::from_fn(|g| {
             let xl = 0.5 * h * (1.0 + GX[g]);
             (0.5 * h * GW[g], element::shape(h, xl), element::shape_d(h, xl), element::shape_dd(h, xl))
@@ -446,6 +441,16 @@ impl UnitMesh {
     }
 }
 
+/// The global rotation DOFs (`theta_0` at x = 0, `theta_l` at x = L) that
+/// `support` leaves free at a supported end: where a support spring acts.
+fn spring_rotations(support: Support, theta_0: usize, theta_l: usize) -> [Option<usize>; 2] {
+    match support {
+        Support::SimplySupported => [Some(theta_0), Some(theta_l)],
+        Support::ClampedPinned => [None, Some(theta_l)],
+        Support::ClampedClamped | Support::ClampedFree => [None, None],
+    }
+}
+
 /// What the undamped relaxed pencil (K̃ + K̃_spring, M̃) depends on, for a
 /// given mesh: not E, ρ, C, Δ, Ω (they only scale time and enter the
 /// family polynomials); d and L only through the Timoshenko mesh's r̃² and g̃.
@@ -455,8 +460,8 @@ pub struct PencilParams {
     pub e_tilde: f64,
     /// (μ̃, x̃) of the point mass, if any.
     pub point_mass: Option<(f64, f64)>,
-    /// k̃_r on the spring DOFs (0 = none).
-    pub spring: f64,
+    /// k̃_r at x = 0 and at x = L (0 = none), on `UnitMesh::spring_dofs`.
+    pub spring: [f64; 2],
     /// ñ = NL²/EI, the axial force (0 = none).
     pub axial: f64,
     /// g̃ = κGAL²/EI, the shear stiffness of a Timoshenko mesh (0 for Euler–Bernoulli).
@@ -488,13 +493,14 @@ const GRID_LN_SHEAR: f64 = 0.1;
 
 impl PencilParams {
     /// Bitwise identity.
-    pub fn bits(&self) -> [u64; 6] {
+    pub fn bits(&self) -> [u64; 7] {
         let (mu, x) = self.point_mass.unwrap_or((0.0, 0.0));
         [
             self.e_tilde.to_bits(),
             mu.to_bits(),
             x.to_bits(),
-            self.spring.to_bits(),
+            self.spring[0].to_bits(),
+            self.spring[1].to_bits(),
             self.axial.to_bits(),
             self.shear.to_bits(),
         ]
@@ -503,7 +509,7 @@ impl PencilParams {
     /// The same pencil without its extensions (spring, point mass, axial
     /// force): ẽ and g̃ only.
     pub fn plain(&self) -> Self {
-        PencilParams { e_tilde: self.e_tilde, point_mass: None, spring: 0.0, axial: 0.0, shear: self.shear }
+        PencilParams { e_tilde: self.e_tilde, point_mass: None, spring: [0.0; 2], axial: 0.0, shear: self.shear }
     }
 
     /// The nearest grid point: a pencil whose eigenpairs serve as RQI starts
@@ -516,7 +522,7 @@ impl PencilParams {
         PencilParams {
             e_tilde: e2.sqrt(),
             point_mass: self.point_mass.map(|(mu, x)| (ln_snap(mu), ((x / GRID_X).round() * GRID_X).clamp(0.0, 1.0))),
-            spring: if self.spring > 0.0 { ln_snap(self.spring) } else { 0.0 },
+            spring: self.spring.map(|k| if k > 0.0 { ln_snap(k) } else { 0.0 }),
             axial: (self.axial / GRID_N).trunc() * GRID_N,
             shear: if self.shear > 0.0 {
                 ((self.shear.ln() / GRID_LN_SHEAR).round() * GRID_LN_SHEAR).exp()
@@ -528,13 +534,17 @@ impl PencilParams {
 }
 
 impl UnitMesh {
+    /// (reduced DOF, k̃_r) of each spring of `spring` (k̃_r at x = 0 and x = L)
+    /// that acts: positive, on a rotation the support leaves free.
+    pub fn springs<'a>(&'a self, spring: &'a [f64; 2]) -> impl Iterator<Item = (usize, f64)> + 'a {
+        self.spring_dofs.iter().zip(spring).filter_map(|(d, &k)| d.filter(|_| k > 0.0).map(|i| (i, k)))
+    }
+
     /// (K̃ + K̃_spring, M̃) for these parameters.
     pub fn pencil(&self, p: &PencilParams) -> (SymBand, SymBand) {
         let mut k = self.stiffness(p.shear);
-        if p.spring > 0.0 {
-            for &i in &self.spring_dofs {
-                k.add(i, i, p.spring);
-            }
+        for (i, ks) in self.springs(&p.spring) {
+            k.add(i, i, ks);
         }
         if p.axial != 0.0 {
             k = k.plus_scaled(1.0, &self.geometric(p.axial, p.e_tilde));
@@ -550,8 +560,7 @@ impl UnitMesh {
     /// the numerator of the pencil's Rayleigh quotients (the denominator
     /// xᵀM̃x has no such cancellation: M̃ ≻ 0 with a modest condition number).
     pub fn pencil_stiffness(&self, p: &PencilParams, x: &[f64]) -> f64 {
-        let spring = p.spring;
-        let ks: f64 = if spring > 0.0 { self.spring_dofs.iter().map(|&i| spring * x[i] * x[i]).sum() } else { 0.0 };
+        let ks: f64 = self.springs(&p.spring).map(|(i, k)| k * x[i] * x[i]).sum();
         if p.axial != 0.0 {
             let f = self.energy_forms_ext(x, p.shear);
             return f[0] + ks + p.axial * (f[5] + p.e_tilde * p.e_tilde * f[6]);
@@ -614,9 +623,10 @@ pub struct ScaledModel<'a> {
     pub axial: f64,
     /// True for a Timoshenko beam (rotary inertia: D̃ ∝ M̃ only if c̃ = 0).
     pub has_rotary: bool,
-    /// k̃_r on each spring DOF (0 = no spring).
-    pub spring: f64,
-    pub spring_dofs: Vec<usize>,
+    /// k̃_r at x = 0 and at x = L (0 = no spring; a value on an end whose
+    /// rotation the support fixes acts on nothing: `spring_dofs`).
+    pub spring: [f64; 2],
+    pub spring_dofs: [Option<usize>; 2],
     pub c: f64,
     /// Active internal variables (Δᵢ > 0) as (Δᵢ, Ω̃ᵢ).
     pub ivs: Vec<(f64, f64)>,
@@ -645,8 +655,8 @@ pub struct Scaling {
     pub e_tilde: f64,
     /// c̃ = C/(ρA ω_ref).
     pub c: f64,
-    /// k̃_r = k_r L/EI.
-    pub spring: f64,
+    /// k̃_r = k_r L/EI at x = 0 and at x = L.
+    pub spring: [f64; 2],
     /// ñ = NL²/EI.
     pub axial: f64,
 }
@@ -664,7 +674,7 @@ impl Scaling {
             omega_ref,
             e_tilde: beam.nonlocal_e0a_nm / beam.length_nm,
             c: beam.viscous_damping_n_s_m2 / (rho_a * omega_ref),
-            spring: beam.support_rotational_stiffness_n_m_rad * l / ei,
+            spring: beam.support_rotational_stiffness_at_ends_n_m_rad().map(|k| k * l / ei),
             axial: beam.axial_force_n * l * l / ei,
         }
     }
@@ -704,7 +714,7 @@ impl<'a> ScaledModel<'a> {
             axial,
             has_rotary: mesh.shear.is_some(),
             spring,
-            spring_dofs: mesh.spring_dofs.clone(),
+            spring_dofs: mesh.spring_dofs,
             c,
             ivs: ivs_all.iter().copied().filter(|&(d, _)| d > 0.0).collect(),
             ivs_all,
@@ -725,14 +735,24 @@ impl<'a> ScaledModel<'a> {
         PencilParams {
             e_tilde: self.e_tilde,
             point_mass: self.point_mass.as_ref().map(|(mu, _)| (*mu, self.point_mass_x)),
-            spring: if self.has_spring() { self.spring } else { 0.0 },
+            spring: std::array::from_fn(|e| if self.spring_dofs[e].is_some() { self.spring[e] } else { 0.0 }),
             axial: self.axial,
             shear: self.shear,
         }
     }
 
     pub fn has_spring(&self) -> bool {
-        self.spring > 0.0 && !self.spring_dofs.is_empty()
+        self.springs().next().is_some()
+    }
+
+    /// (reduced DOF, k̃_r) of each support spring that acts ([`UnitMesh::springs`]).
+    pub fn springs(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
+        self.spring_dofs.iter().zip(&self.spring).filter_map(|(d, &k)| d.filter(|_| k > 0.0).map(|i| (i, k)))
+    }
+
+    /// k̃_r on reduced DOF `i` (0 where no spring acts).
+    pub fn spring_at(&self, i: usize) -> f64 {
+        self.springs().find(|&(d, _)| d == i).map_or(0.0, |(_, k)| k)
     }
 
     /// True when the pencil decouples exactly (proof in `modal.rs`): no spring,
@@ -745,10 +765,8 @@ impl<'a> ScaledModel<'a> {
     /// K̃ + K̃_spring (the elastic stiffness of the undamped, relaxed pencil).
     pub fn k_total(&self) -> SymBand {
         let mut k = self.k.as_ref().clone();
-        if self.has_spring() {
-            for &i in &self.spring_dofs {
-                k.add(i, i, self.spring);
-            }
+        for (i, ks) in self.springs() {
+            k.add(i, i, ks);
         }
         if let Some(ka) = &self.k_axial {
             k = k.plus_scaled(1.0, ka);
@@ -758,7 +776,7 @@ impl<'a> ScaledModel<'a> {
 
     /// The entry (i, j) of the unrelaxed elastic stiffness K̃_spring + K̃_N.
     pub fn unrelaxed_entry(&self, i: usize, j: usize) -> f64 {
-        let ks = if i == j && self.has_spring() && self.spring_dofs.contains(&i) { self.spring } else { 0.0 };
+        let ks = if i == j { self.spring_at(i) } else { 0.0 };
         ks + self.k_axial.as_ref().map_or(0.0, |ka| ka.get(i, j))
     }
 
@@ -788,10 +806,8 @@ impl<'a> ScaledModel<'a> {
             m = m + w * w * *mu;
         }
         let mut ks = k_n;
-        if self.has_spring() {
-            for &i in &self.spring_dofs {
-                ks = ks + x[i] * x[i] * self.spring;
-            }
+        for (i, k) in self.springs() {
+            ks = ks + x[i] * x[i] * k;
         }
         (k, m, mb, ks)
     }

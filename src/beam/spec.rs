@@ -149,9 +149,22 @@ pub struct BeamSpec {
     /// Internal variables (Δi, Ωi) of eq. (8); empty = elastic.
     #[serde(default)]
     pub internal_variables: Vec<InternalVariable>,
-    /// Rotational spring at each supported end, N·m/rad (extension, default 0).
+    /// Rotational spring at each supported end, N·m/rad (extension, default
+    /// 0); it acts on the rotations the support leaves free (both ends
+    /// simply supported, x = L clamped–pinned, none clamped–clamped or
+    /// clamped–free).
     #[serde(default)]
     pub support_rotational_stiffness_n_m_rad: f64,
+    /// A rotational spring at x = 0 only ("left"), N·m/rad, in parallel with
+    /// [`support_rotational_stiffness_n_m_rad`](Self::support_rotational_stiffness_n_m_rad)
+    /// (the two add; default 0). Only where the support leaves the rotation
+    /// free: x = 0 of a simply supported beam.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub support_rotational_stiffness_left_n_m_rad: f64,
+    /// A rotational spring at x = L only ("right"), N·m/rad, as the left one:
+    /// x = L of a simply supported or clamped–pinned beam.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub support_rotational_stiffness_right_n_m_rad: f64,
     /// Attached point mass (extension, default none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub point_mass: Option<PointMass>,
@@ -190,6 +203,10 @@ struct BeamSpecYaml {
     #[serde(default)]
     support_rotational_stiffness_n_m_rad: f64,
     #[serde(default)]
+    support_rotational_stiffness_left_n_m_rad: f64,
+    #[serde(default)]
+    support_rotational_stiffness_right_n_m_rad: f64,
+    #[serde(default)]
     point_mass: Option<PointMass>,
     #[serde(default)]
     axial_force_n: f64,
@@ -221,6 +238,8 @@ impl From<BeamSpecYaml> for BeamSpec {
             viscous_damping_n_s_m2: y.viscous_damping_n_s_m2,
             internal_variables: y.internal_variables,
             support_rotational_stiffness_n_m_rad: y.support_rotational_stiffness_n_m_rad,
+            support_rotational_stiffness_left_n_m_rad: y.support_rotational_stiffness_left_n_m_rad,
+            support_rotational_stiffness_right_n_m_rad: y.support_rotational_stiffness_right_n_m_rad,
             point_mass: y.point_mass,
             axial_force_n: y.axial_force_n,
             shear_deformation: None,
@@ -346,11 +365,28 @@ impl BeamSpec {
             viscous_damping_n_s_m2: 0.0,
             internal_variables: vec![],
             support_rotational_stiffness_n_m_rad: 0.0,
+            support_rotational_stiffness_left_n_m_rad: 0.0,
+            support_rotational_stiffness_right_n_m_rad: 0.0,
             point_mass: None,
             axial_force_n: 0.0,
             shear_deformation: None,
             section: None,
         }
+    }
+
+    /// The rotational spring stiffness at x = 0 and at x = L, N·m/rad: the
+    /// both-ends field plus each end's own (springs in parallel add). Where
+    /// the support fixes the rotation it acts on nothing (`beam::model`).
+    pub fn support_rotational_stiffness_at_ends_n_m_rad(&self) -> [f64; 2] {
+        let both = self.support_rotational_stiffness_n_m_rad;
+        [both + self.support_rotational_stiffness_left_n_m_rad, both + self.support_rotational_stiffness_right_n_m_rad]
+    }
+
+    /// Whether this beam is its own mirror image about midspan: supports that
+    /// [`Support::mirrors_itself`] and the same spring at both ends.
+    pub fn mirrors_itself(&self) -> bool {
+        self.support.mirrors_itself()
+            && self.support_rotational_stiffness_left_n_m_rad == self.support_rotational_stiffness_right_n_m_rad
     }
 
     /// Checks every field's documented range (the error names the field,
@@ -399,6 +435,7 @@ impl BeamSpec {
             }
         }
         non_negative("support_rotational_stiffness_n_m_rad", self.support_rotational_stiffness_n_m_rad)?;
+        self.check_end_springs()?;
         if let Some(pm) = &self.point_mass {
             positive("point_mass.mass_kg", pm.mass_kg)?;
             if !(pm.x_nm.is_finite() && pm.x_nm >= 0.0 && pm.x_nm <= self.length_nm) {
@@ -515,15 +552,52 @@ impl BeamSpec {
             MAX_C_TILDE,
             rho_a * omega_ref,
         )?;
-        at_most(
-            "support_rotational_stiffness_n_m_rad",
-            self.support_rotational_stiffness_n_m_rad,
-            "k_r L/EI",
-            MAX_SPRING_TILDE,
-            ei / l,
-        )?;
+        // each end's total (both-ends field + its own), named by the field that makes it
+        let ends = self.support_rotational_stiffness_at_ends_n_m_rad();
+        for (end, own) in [
+            (ends[0], ("support_rotational_stiffness_left_n_m_rad", self.support_rotational_stiffness_left_n_m_rad)),
+            (ends[1], ("support_rotational_stiffness_right_n_m_rad", self.support_rotational_stiffness_right_n_m_rad)),
+        ] {
+            let field = if own.1 > 0.0 { own.0 } else { "support_rotational_stiffness_n_m_rad" };
+            at_most(field, end, "k_r L/EI at each end, both-ends and own field together", MAX_SPRING_TILDE, ei / l)?;
+        }
         if let Some(pm) = &self.point_mass {
             at_most("point_mass.mass_kg", pm.mass_kg, "m/(rhoA L)", MAX_MASS_TILDE, rho_a * l)?;
+        }
+        Ok(())
+    }
+
+    /// The per-end spring fields: finite, ≥ 0, and 0 on an end whose rotation
+    /// the support fixes (clamped) or that has no support (free): a spring
+    /// there would act on nothing, and a file that declares one is
+    /// contradicting its support (the both-ends field keeps its old meaning,
+    /// every free rotation at a supported end, and is accepted on any support).
+    fn check_end_springs(&self) -> Result<(), InputError> {
+        let fields = [
+            ("support_rotational_stiffness_left_n_m_rad", self.support_rotational_stiffness_left_n_m_rad, "x = 0"),
+            ("support_rotational_stiffness_right_n_m_rad", self.support_rotational_stiffness_right_n_m_rad, "x = L"),
+        ];
+        let free = match self.support {
+            Support::SimplySupported => [true, true],
+            Support::ClampedPinned => [false, true],
+            Support::ClampedClamped | Support::ClampedFree => [false, false],
+        };
+        for ((field, value, end), free) in fields.into_iter().zip(free) {
+            non_negative(field, value)?;
+            if value > 0.0 && !free {
+                return Err(InputError::new(
+                    field,
+                    fmt_num(value),
+                    format!(
+                        "0 on a {} beam ({end} is clamped or free: no rotation for a spring; {})",
+                        self.support.name(),
+                        match self.support {
+                            Support::ClampedPinned => "only support_rotational_stiffness_right_n_m_rad acts",
+                            _ => "no per-end spring acts",
+                        }
+                    ),
+                ));
+            }
         }
         Ok(())
     }
@@ -542,14 +616,17 @@ impl BeamSpec {
     }
 
     /// The beam reflected about midspan, x → L − x: its point mass moved to
-    /// the mirror position, the only feature of a beam that is not the same
-    /// all along it (a new such feature must be reflected here too). With
-    /// supports that [`Support::mirrors_itself`] it has the same modes.
+    /// the mirror position and its per-end springs swapped, the only
+    /// features of a beam that are not the same all along it or at both ends
+    /// (a new such feature must be reflected here too). With supports that
+    /// [`Support::mirrors_itself`] it has the same modes.
     pub fn mirror_image(&self) -> BeamSpec {
         let mut m = self.clone();
         if let Some(p) = m.point_mass.as_mut() {
             p.x_nm = self.length_nm - p.x_nm;
         }
+        m.support_rotational_stiffness_left_n_m_rad = self.support_rotational_stiffness_right_n_m_rad;
+        m.support_rotational_stiffness_right_n_m_rad = self.support_rotational_stiffness_left_n_m_rad;
         m
     }
 

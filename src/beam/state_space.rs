@@ -78,10 +78,8 @@ pub fn state_matrix(model: &ScaledModel) -> Result<DMatrix<f64>, BeamError> {
         .ok_or_else(|| BeamError::numerical("mass matrix is not positive definite"))?;
     let k = model.k.to_dense();
     let mut k_el = &k * (1.0 + model.ivs_all.iter().map(|v| v.0).sum::<f64>());
-    if model.has_spring() {
-        for &i in &model.spring_dofs {
-            k_el[(i, i)] += model.spring;
-        }
+    for (i, ks) in model.springs() {
+        k_el[(i, i)] += ks;
     }
     if let Some(ka) = &model.k_axial {
         k_el += ka.to_dense();

@@ -24,7 +24,11 @@ pub enum Target {
     /// β² of eq. (41): Σ̃ = β² Σεε. Acts on the likelihood, not on the beam.
     BetaSquared,
     ViscousDamping,
+    /// The rotational spring at every free rotation of a supported end.
     SupportRotationalStiffness,
+    /// The rotational spring at x = 0 only, and at x = L only.
+    SupportRotationalStiffnessLeft,
+    SupportRotationalStiffnessRight,
     PointMassKg,
     PointMassXnm,
     YoungsModulus,
@@ -42,6 +46,7 @@ pub enum Target {
 /// are the first internal variable; `delta_2`, `omega_2_rad_s`, ... further ones.
 pub const KNOWN_NAMES: &str = "nonlocal_e0a_nm, delta, omega_rad_s, delta_K, omega_K_rad_s (K >= 2), \
 diameter_nm, beta_squared, viscous_damping_n_s_m2, support_rotational_stiffness_n_m_rad, \
+support_rotational_stiffness_left_n_m_rad, support_rotational_stiffness_right_n_m_rad, \
 point_mass_kg, point_mass_x_nm, youngs_modulus_pa, density_kg_m3, length_nm, axial_force_n, \
 shear_coefficient, poisson_ratio";
 
@@ -55,6 +60,8 @@ impl Target {
             "beta_squared" => Target::BetaSquared,
             "viscous_damping_n_s_m2" => Target::ViscousDamping,
             "support_rotational_stiffness_n_m_rad" => Target::SupportRotationalStiffness,
+            "support_rotational_stiffness_left_n_m_rad" => Target::SupportRotationalStiffnessLeft,
+            "support_rotational_stiffness_right_n_m_rad" => Target::SupportRotationalStiffnessRight,
             "point_mass_kg" => Target::PointMassKg,
             "point_mass_x_nm" => Target::PointMassXnm,
             "youngs_modulus_pa" => Target::YoungsModulus,
@@ -242,6 +249,8 @@ impl ParameterSet {
                 Target::BetaSquared => {}
                 Target::ViscousDamping => beam.viscous_damping_n_s_m2 = v,
                 Target::SupportRotationalStiffness => beam.support_rotational_stiffness_n_m_rad = v,
+                Target::SupportRotationalStiffnessLeft => beam.support_rotational_stiffness_left_n_m_rad = v,
+                Target::SupportRotationalStiffnessRight => beam.support_rotational_stiffness_right_n_m_rad = v,
                 Target::PointMassKg => point_mass_mut(beam).mass_kg = v,
                 Target::PointMassXnm => point_mass_mut(beam).x_nm = v,
                 Target::YoungsModulus => beam.youngs_modulus_pa = v,
@@ -355,6 +364,7 @@ pub fn check_prior_range(prior: &Prior, field: &str) -> Result<(), InputError> {
         Prior::Uniform { lower, upper } | Prior::LogUniform { lower, upper } => {
             vec![("lower", lower), ("upper", upper)]
         }
+        Prior::AsinhUniform { lower, upper, scale } => vec![("lower", lower), ("upper", upper), ("scale", scale)],
         Prior::Normal { mean, sd } => vec![("mean", mean), ("sd", sd)],
         Prior::InverseGamma { shape, scale } => vec![("shape", shape), ("scale", scale)],
     };

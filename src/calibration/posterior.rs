@@ -53,6 +53,8 @@ pub struct BeamPosterior {
     /// sampled, the same priors as every other one here): empty unless two or
     /// more are. See [`Posterior::relabel`].
     exchangeable: Vec<[usize; 2]>,
+    /// θ indices [i, j] held to θ_i ≥ θ_j (a folded prior; see [`Self::with_ordered_pair`]).
+    ordered: Option<[usize; 2]>,
 }
 
 impl BeamPosterior {
@@ -90,7 +92,21 @@ impl BeamPosterior {
             beta_squared,
             likelihood,
             min_relaxation_log_ratio: 0.0,
+            ordered: None,
         }
+    }
+
+    /// Folds the prior of two parameters with the same prior onto θ_i ≥ θ_j
+    /// (`pair` = [i, j]): outside the prior density is 0, inside it is twice
+    /// the unfolded one (the density of the ordered pair of two i.i.d.
+    /// draws), so the evidence of a likelihood symmetric under the swap is
+    /// unchanged while the sampler sees one of the two mirror peaks. The
+    /// caller asserts the symmetry (`diagnose`: the two end springs of a
+    /// beam whose data cannot tell it from its mirror image).
+    pub fn with_ordered_pair(mut self, pair: [usize; 2]) -> Self {
+        debug_assert_eq!(self.params.params[pair[0]].prior, self.params.params[pair[1]].prior);
+        self.ordered = Some(pair);
+        self
     }
 
     /// Fits `scans` too: their relative amplitudes join y after the modes'
@@ -307,15 +323,20 @@ impl Posterior for BeamPosterior {
     }
 
     fn log_prior(&self, theta: &[f64]) -> f64 {
+        let fold = match self.ordered {
+            Some([i, j]) if theta[i] < theta[j] => return f64::NEG_INFINITY,
+            Some(_) => std::f64::consts::LN_2,
+            None => 0.0,
+        };
         if let Some(lp) = self.uniform_log_prior {
             // Prior::ln_pdf of a uniform: −ln(upper − lower) inside, −∞ outside
             return if self.params.params.iter().zip(theta).all(|(p, &x)| p.prior.in_support(x)) {
-                lp
+                lp + fold
             } else {
                 f64::NEG_INFINITY
             };
         }
-        self.params.params.iter().zip(theta).map(|(p, &x)| p.prior.ln_pdf(x)).sum()
+        self.params.params.iter().zip(theta).map(|(p, &x)| p.prior.ln_pdf(x)).sum::<f64>() + fold
     }
 
     fn log_likelihood(&self, theta: &[f64]) -> f64 {
@@ -345,7 +366,13 @@ impl Posterior for BeamPosterior {
     }
 
     fn sample_prior(&self, rng: &mut dyn RngCore) -> Vec<f64> {
-        self.params.params.iter().map(|p| p.prior.sample(rng)).collect()
+        let mut theta: Vec<f64> = self.params.params.iter().map(|p| p.prior.sample(rng)).collect();
+        if let Some([i, j]) = self.ordered {
+            if theta[i] < theta[j] {
+                theta.swap(i, j);
+            }
+        }
+        theta
     }
 }
 

@@ -11,17 +11,48 @@
 //! - `viscous-damping` (C of eq. 13): since D = (C/ρA)·M (A5 vs A4), mode r
 //!   gets ζ_r = C/(2ρA ω_r); C ~ log-U over ζ₁ ∈ [1e-4, 0.3] at ω₁⁰, i.e.
 //!   C ∈ 2ρAω₁⁰·[1e-4, 0.3] (from unmeasurable to heavily damped).
-//! - `support-rotational-stiffness`: k = κ EI/L with κ ~ log-U[1e-2, 1e2]
-//!   (κ → 0 pinned, κ ≳ 1e2 practically clamped; below 1e-2 ω₁ moves < 0.2 %).
+//! - `support-rotational-stiffness`: a rotational spring on each rotation
+//!   the support leaves free, each end its own: k₀ = κ₀ EI/L at x = 0 and
+//!   k_L = κ_L EI/L at x = L, κ ~ log-U[1e-2, 1e3] each, independently
+//!   (simply supported: two parameters; clamped–pinned: κ_L alone). κ = 1e-2
+//!   is "no spring" at the diagnosis's noise (ω₁ moves 0.08 % for one end,
+//!   a quarter of the 0.3 % sd), κ = 1e3 a clamp (a clamped–pinned beam's
+//!   ω₁–ω₅ within 0.25 %; both measured in `tests/beam_end_springs.rs`), so the class spans a
+//!   spring at one end, at both alike or apart, and an end clamped that the
+//!   file declares pinned. Why two parameters and not one class per end:
+//!   left, right and both as separate classes would add two singles and 14
+//!   pairs on a simply supported beam (29 → 45 models); one class keeps the
+//!   count (29). On data that cannot tell the beam from its mirror image
+//!   ([`data_mirror`]) the two ends are folded onto κ₀ ≥ κ_L
+//!   (`BeamPosterior::with_ordered_pair`, evidence unchanged), unless the
+//!   model also holds a point mass, whose position fold already uses the
+//!   symmetry. To first order a spring shifts ω_n² by a sum over the ends,
+//!   so from ω alone κ₀ + κ_L is what is measured and the split is the weak
+//!   direction of the posterior; the second order and mode shapes tell the
+//!   ends apart.
 //! - `attached-mass`: m = μ ρAL, μ ~ log-U[1e-3, 1], x ~ U[0, L].
-//! - `axial-force`: N ~ U[−0.5, 2]·|N_cr|, N_cr = the buckling load of the
-//!   nominal local beam (π²EI/L² simply supported). Reasoning: a suspended
-//!   tube is pulled by its fabrication and its gate (tension) or pushed by
-//!   thermal mismatch (compression); compression beyond half the buckling
-//!   load lowers ω₁ by > 30 % and leaves a tube that buckles at the next
-//!   disturbance, while 2|N_cr| of tension raises ω₁ by √3, the upper end of
-//!   the gate tuning reported for suspended nanotube resonators. The model
-//!   rejects draws at or past the nonlocal buckling load (zero likelihood).
+//! - `axial-force`: N/N_cr ~ asinh-U[−0.5, 100] (uniform in asinh(N/N_cr)),
+//!   N_cr = the buckling load of the nominal local beam (π²EI/L² simply
+//!   supported, 4π²EI/L² clamped–clamped). Reasoning: a suspended tube is
+//!   pulled by its fabrication and its gate (tension) or pushed by thermal
+//!   mismatch (compression); compression beyond half the buckling load lowers
+//!   ω₁ by > 30 % and leaves a tube that buckles at the next disturbance, so
+//!   compression stops at −N_cr/2 as before. Tension reaches the string
+//!   regime: suspended nanotube resonators are tuned by more than 20× with
+//!   0–2 % strain (issue 40), and since N/N_cr = ε·AL²/(π²I) = 1.6 ε (L/d)²
+//!   for a solid section, 0.6 % strain is 100 N_cr on a tube of L/d = 100
+//!   (ω₁ × √101 ≈ 10 simply supported). A uniform prior on [−0.5, 100] N_cr
+//!   would put 98 % of its mass above 2 N_cr and cost a moderate tension
+//!   ln(100.5/2.5) ≈ 3.7 nats of Occam factor, more than the selection
+//!   threshold; uniform in asinh(N/N_cr) the prior is nearly flat for
+//!   |N| ≲ N_cr (compression keeps a density within 11 % of flat) and
+//!   log-uniform in the tension beyond, so a moderate tension costs
+//!   ln(5.78/2.5) ≈ 0.8 nats against the old U[−0.5, 2] and each decade of
+//!   the string regime is reached at the same prior mass. TMCMC samples
+//!   u = asinh(N/N_cr), where the prior is uniform on [−0.48, 5.30]: a
+//!   random walk there has one natural scale from compression to the
+//!   string, as ln x has for the log-uniform priors. The model rejects draws
+//!   at or past the nonlocal buckling load (zero likelihood).
 //! - `shear-deformation`: a nonlocal Timoshenko beam with κ ~ U[0.3, 1] and
 //!   ν = 0.2 fixed. Only κG/E = κ/(2(1 + ν)) enters, so ν is held at the
 //!   calibration default (`calibration::parameters::DEFAULT_POISSON_RATIO`,
@@ -55,11 +86,12 @@
 //!   base model then carries it.
 //! - `baseline`: the base model with β² ~ IG(9.5, 11.1) (§4.3); not a cause.
 //!
-//! Log-uniform priors are sampled in u = ln x, where they are uniform; the
-//! evidence is invariant under this change of variables.
+//! Log-uniform priors are sampled in u = ln x, the axial force's in
+//! u = asinh(N/N_cr), where each is uniform; the evidence is invariant under
+//! this change of variables.
 
 use crate::bayes::prior::Prior;
-use crate::bayes::transform::Reparameterized;
+use crate::bayes::transform::{Coordinate, Reparameterized};
 use crate::beam::{BeamError, BeamSpec, Support};
 use crate::calibration::{BeamPosterior, ModeObservation, ModeScan, Parameter, ParameterSet, Target};
 
@@ -138,11 +170,17 @@ impl ModelClass {
         }
     }
 
-    /// How many parameters the class appends to the base model (what
-    /// `add_extension` pushes; a test holds the two together).
-    pub fn parameter_count(self) -> usize {
+    /// How many parameters the class appends to the base model on a beam
+    /// with `support` (what `add_extension` pushes; a test holds the two
+    /// together): the support spring has one per free rotation.
+    pub fn parameter_count(self, support: Support) -> usize {
         match self {
             ModelClass::ExtraRelaxation | ModelClass::AttachedMass => 2,
+            ModelClass::SupportRotationalStiffness => match support {
+                Support::SimplySupported => 2,
+                Support::ClampedPinned => 1,
+                Support::ClampedClamped | Support::ClampedFree => 0,
+            },
             _ => 1,
         }
     }
@@ -160,9 +198,12 @@ impl ModelClass {
 /// there: 4 of 4).
 pub fn stronger_effect_ends(target: Target) -> [bool; 2] {
     match target {
-        Target::Delta(_) | Target::ViscousDamping | Target::SupportRotationalStiffness | Target::PointMassKg => {
-            [false, true]
-        }
+        Target::Delta(_)
+        | Target::ViscousDamping
+        | Target::SupportRotationalStiffness
+        | Target::SupportRotationalStiffnessLeft
+        | Target::SupportRotationalStiffnessRight
+        | Target::PointMassKg => [false, true],
         Target::ShearCoefficient => [true, false],
         Target::AxialForce | Target::YoungsModulus => [true, true],
         _ => [false, false],
@@ -261,8 +302,10 @@ impl Model {
 pub struct ClassParameters {
     /// Physical parameters (priors in physical units), mapped onto the beam by name.
     pub set: ParameterSet,
-    /// `true`: sampled as u = ln x (the prior is log-uniform, uniform in u; see `bayes::transform`).
-    pub log_scale: Vec<bool>,
+    /// The sampling coordinate of each parameter: the one in which its prior
+    /// is uniform (u = ln x for a log-uniform prior, asinh(x/s) for the
+    /// axial force's asinh-uniform one; see `bayes::transform`).
+    pub coordinates: Vec<Coordinate>,
 }
 
 /// Nominal scales of a beam used to place the extension priors.
@@ -339,13 +382,15 @@ pub fn model_parameters(
     for &class in model.causes() {
         add_extension(&mut params, class, beam, scans, s);
     }
-    let log_scale = params.iter().map(|p| matches!(p.prior, Prior::LogUniform { .. })).collect();
-    ClassParameters { set: ParameterSet { params }, log_scale }
+    let coordinates = params.iter().map(|p| Coordinate::uniformising(&p.prior)).collect();
+    ClassParameters { set: ParameterSet { params }, coordinates }
 }
 
 /// Upper end of the attached-mass position prior. On a beam whose supports
-/// mirror each other (simply supported, clamped–clamped; rotational springs
-/// act at each supported end alike, and the uniform mesh mirrors too) a mass
+/// mirror each other (simply supported, clamped–clamped; the file's springs
+/// alike at both ends, [`BeamSpec::mirrors_itself`], and the uniform mesh
+/// mirrors too; a model that samples the two end springs apart mirrors with
+/// them swapped, `BeamSpec::mirror_image`) a mass
 /// at x and one at L − x give the same frequencies and damping ratios, so the
 /// likelihood is symmetric about midspan and the posterior on x has two mirror
 /// peaks. The prior is folded onto the left half, U[0, L/2]: the evidence is
@@ -378,7 +423,36 @@ pub fn folds_mass_position(model: &Model, beam: &BeamSpec, scans: &[ModeScan]) -
 /// `unexplained` once their truth's scan was fed back; unfolded, all three
 /// name both causes).
 pub fn data_mirror(beam: &BeamSpec, scans: &[ModeScan]) -> bool {
-    beam.support.mirrors_itself() && scans.is_empty()
+    beam.mirrors_itself() && scans.is_empty()
+}
+
+/// Whether `model`'s two end springs are folded onto κ₀ ≥ κ_L (module doc):
+/// then the spring reported at x = 0 is the stiffer one, at whichever end
+/// it is, and a prediction that is not mirror-symmetric must average each
+/// draw with its mirror image, as for a folded mass position.
+pub fn folds_end_springs(model: &Model, beam: &BeamSpec, scans: &[ModeScan]) -> bool {
+    data_mirror(beam, scans)
+        && beam.support == Support::SimplySupported
+        && model.causes().contains(&ModelClass::SupportRotationalStiffness)
+        && !model.causes().contains(&ModelClass::AttachedMass)
+}
+
+/// Whether `model`'s posterior on `beam` is folded onto one of two mirror
+/// images ([`folds_mass_position`] or [`folds_end_springs`]).
+pub fn folds_mirror_image(model: &Model, beam: &BeamSpec, scans: &[ModeScan]) -> bool {
+    folds_mass_position(model, beam, scans) || folds_end_springs(model, beam, scans)
+}
+
+/// The indices of the two end springs in `params` when they are folded
+/// ([`folds_end_springs`]: both ends sampled, data that cannot tell the beam
+/// from its mirror image, and no point mass, whose position fold takes the
+/// symmetry).
+fn folded_end_springs(model: &Model, params: &ParameterSet, beam: &BeamSpec, scans: &[ModeScan]) -> Option<[usize; 2]> {
+    if !folds_end_springs(model, beam, scans) {
+        return None;
+    }
+    let at = |t: Target| params.params.iter().position(|p| p.target == t);
+    Some([at(Target::SupportRotationalStiffnessLeft)?, at(Target::SupportRotationalStiffnessRight)?])
 }
 
 /// Appends the parameters of one cause, with the priors of the module doc.
@@ -414,10 +488,16 @@ fn add_extension(
         }
         ModelClass::SupportRotationalStiffness => {
             let k_ref = s.ei_n_m2 / s.length_m;
-            params.push(param(
-                "support_rotational_stiffness_n_m_rad",
-                Prior::LogUniform { lower: 1e-2 * k_ref, upper: 1e2 * k_ref },
-            ));
+            let (lo, hi) = END_SPRING_RANGE;
+            let prior = Prior::LogUniform { lower: lo * k_ref, upper: hi * k_ref };
+            let ends: &[&str] = match beam.support {
+                Support::SimplySupported => {
+                    &["support_rotational_stiffness_left_n_m_rad", "support_rotational_stiffness_right_n_m_rad"]
+                }
+                Support::ClampedPinned => &["support_rotational_stiffness_right_n_m_rad"],
+                Support::ClampedClamped | Support::ClampedFree => &[],
+            };
+            params.extend(ends.iter().map(|name| param(name, prior)));
         }
         ModelClass::AttachedMass => {
             let m_ref = s.rho_a_kg_m * s.length_m;
@@ -429,7 +509,8 @@ fn add_extension(
         }
         ModelClass::AxialForce => {
             let n = s.buckling_load_n;
-            params.push(param("axial_force_n", Prior::Uniform { lower: -0.5 * n, upper: 2.0 * n }));
+            let (lo, hi) = AXIAL_FORCE_RANGE;
+            params.push(param("axial_force_n", Prior::AsinhUniform { lower: lo * n, upper: hi * n, scale: n }));
         }
         ModelClass::ShearDeformation => {
             params.push(param("shear_coefficient", Prior::Uniform { lower: 0.3, upper: 1.0 }));
@@ -441,6 +522,14 @@ fn add_extension(
         }
     }
 }
+
+/// The prior range of each end's κ = k L/EI of `support-rotational-stiffness`
+/// (the module doc's reasoning).
+pub const END_SPRING_RANGE: (f64, f64) = (1e-2, 1e3);
+
+/// The prior range of the `axial-force` class in units of the nominal
+/// buckling load |N_cr| (compression < 0; the module doc's reasoning).
+pub const AXIAL_FORCE_RANGE: (f64, f64) = (-0.5, 100.0);
 
 /// The prior range of the stiffness-to-mass factor f of `section-mismatch`
 /// (the module doc's reasoning).
@@ -520,9 +609,13 @@ pub fn model_posterior(
     scales: &NominalScales,
 ) -> ClassPosterior {
     let p = model_parameters(model, parameters, beam, scans, scales);
-    let posterior =
+    let fold = folded_end_springs(model, &p.set, beam, scans);
+    let mut posterior =
         BeamPosterior::from_parts(beam, modes, p.set).with_scans(scans).with_distinct_relaxations(DISTINCT_RELAXATIONS);
-    Reparameterized::new(posterior, p.log_scale)
+    if let Some(pair) = fold {
+        posterior = posterior.with_ordered_pair(pair);
+    }
+    Reparameterized::with_coordinates(posterior, p.coordinates)
 }
 
 #[cfg(test)]
@@ -605,6 +698,56 @@ mod tests {
         assert_eq!((e.name.as_str(), e.prior.support()), ("youngs_modulus_pa", (1.0e12 * 2.0 / 3.0, 1.5e12)));
     }
 
+    /// The support spring samples each free end: two stiffnesses on a simply
+    /// supported beam, folded onto κ₀ ≥ κ_L on mirror data (the prior is
+    /// −∞ on the other half and ln 2 above the unfolded one inside, prior
+    /// draws are ordered), not folded beside a point mass (its position
+    /// fold takes the symmetry); one (x = L) on a clamped–pinned beam.
+    #[test]
+    fn the_support_spring_samples_each_free_end_folded_on_mirror_data() {
+        use crate::bayes::Posterior;
+        use rand::SeedableRng;
+        let spring = Model::with(&[ModelClass::SupportRotationalStiffness]);
+        let with_mass = Model::with(&[ModelClass::SupportRotationalStiffness, ModelClass::AttachedMass]);
+        let ss = BeamSpec::elastic(8.0, 1.0, 1.0e12, 2300.0, Support::SimplySupported, 20);
+        let cp = BeamSpec { support: Support::ClampedPinned, ..ss.clone() };
+        assert!(folds_end_springs(&spring, &ss, &[]) && folds_mirror_image(&spring, &ss, &[]));
+        assert!(!folds_end_springs(&with_mass, &ss, &[]) && folds_mirror_image(&with_mass, &ss, &[]));
+        assert!(!folds_end_springs(&spring, &cp, &[]));
+        let base = ParameterSet::paper_n1();
+        let names = |b: &BeamSpec| -> Vec<String> {
+            let p = model_parameters(&spring, &base, b, &[], &NominalScales::of(b, 5).unwrap());
+            p.set.params[base.params.len()..].iter().map(|p| p.name.clone()).collect()
+        };
+        assert_eq!(
+            names(&ss),
+            ["support_rotational_stiffness_left_n_m_rad", "support_rotational_stiffness_right_n_m_rad"]
+        );
+        assert_eq!(names(&cp), ["support_rotational_stiffness_right_n_m_rad"]);
+        let modes: Vec<ModeObservation> = (1..=3)
+            .map(|r| ModeObservation {
+                mode: r,
+                omega_rad_s: 1e11 * (r * r) as f64,
+                omega_sd_rad_s: 1e8,
+                zeta: 0.01,
+                zeta_sd: 1e-3,
+            })
+            .collect();
+        let scales = NominalScales::of(&ss, 3).unwrap();
+        let post = model_posterior(&spring, &base, &ss, &modes, &[], &scales).inner().clone();
+        let unfolded = BeamPosterior::from_parts(&ss, &modes, model_parameters(&spring, &base, &ss, &[], &scales).set);
+        let k = ss.youngs_modulus_pa * ss.inertia_m4() / 8e-9;
+        let theta = |k0: f64, kl: f64| [1.0, 0.5, 3e11, k0 * k, kl * k];
+        let (inside, outside) = (theta(5.0, 0.1), theta(0.1, 5.0));
+        assert!((post.log_prior(&inside) - unfolded.log_prior(&inside) - std::f64::consts::LN_2).abs() < 1e-12);
+        assert_eq!(post.log_prior(&outside), f64::NEG_INFINITY);
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        assert!((0..200).all(|_| {
+            let t = post.sample_prior(&mut rng);
+            t[3] >= t[4]
+        }));
+    }
+
     /// `parameter_count` is what `add_extension` appends, for every class.
     #[test]
     fn parameter_count_matches_the_extension() {
@@ -613,7 +756,7 @@ mod tests {
         let base = ParameterSet::paper_n1();
         for c in ModelClass::CAUSES {
             let n = model_parameters(&Model::with(&[c]), &base, &beam, &[], &scales).set.params.len();
-            assert_eq!(n - base.params.len(), c.parameter_count(), "{}", c.name());
+            assert_eq!(n - base.params.len(), c.parameter_count(beam.support), "{}", c.name());
         }
     }
 }

@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use crate::bayes::importance::ImportanceEvidence;
 use crate::bayes::prior::Prior;
+use crate::bayes::transform::Coordinate;
 use crate::bayes::Posterior;
 use crate::calibration::MeasuredData;
 
@@ -101,32 +102,32 @@ pub const ON_BOUND_FRACTION: f64 = 1e-3;
 /// so; the verdict is not changed.
 pub fn on_prior_bound(r: &ModelRun) -> Vec<BoundHit> {
     let params = &r.posterior.inner().parameters().params;
-    let causes: usize = r.model.causes().iter().map(|c| c.parameter_count()).sum();
+    let support = r.posterior.inner().base_beam().support;
+    let causes: usize = r.model.causes().iter().map(|c| c.parameter_count(support)).sum();
     let first = params.len() - causes;
-    bound_hits(&params[first..], &r.posterior.log_scale()[first..], &r.map[first..])
+    bound_hits(&params[first..], &r.posterior.coordinates()[first..], &r.map[first..])
 }
 
-/// The parameters whose value `map` (sampling coordinates: ln x where
-/// `log_scale`) lies within [`ON_BOUND_FRACTION`] of a stronger-effect bound
-/// of a uniform or log-uniform prior.
-fn bound_hits(params: &[crate::calibration::Parameter], log_scale: &[bool], map: &[f64]) -> Vec<BoundHit> {
+/// The parameters whose value `map` (sampling coordinates, `coordinates`)
+/// lies within [`ON_BOUND_FRACTION`] of a stronger-effect bound of a
+/// uniform, log-uniform or asinh-uniform prior (the fraction of the prior's
+/// width in the coordinate where it is uniform).
+fn bound_hits(params: &[crate::calibration::Parameter], coordinates: &[Coordinate], map: &[f64]) -> Vec<BoundHit> {
     params
         .iter()
-        .zip(log_scale)
+        .zip(coordinates)
         .zip(map)
-        .filter_map(|((p, &log), &u)| {
-            if !matches!(p.prior, Prior::Uniform { .. } | Prior::LogUniform { .. }) {
+        .filter_map(|((p, &c), &u)| {
+            if !matches!(p.prior, Prior::Uniform { .. } | Prior::LogUniform { .. } | Prior::AsinhUniform { .. }) {
                 return None;
             }
             let (lo, hi) = p.prior.support();
-            let t = |x: f64| if log { x.ln() } else { x };
-            let tol = ON_BOUND_FRACTION * (t(hi) - t(lo));
-            let phys = if log { u.exp() } else { u };
+            let tol = ON_BOUND_FRACTION * (c.to_u(hi) - c.to_u(lo));
             [lo, hi]
                 .into_iter()
                 .zip(classes::stronger_effect_ends(p.target))
-                .find(|&(b, strong)| strong && (u - t(b)).abs() <= tol)
-                .map(|(bound, _)| BoundHit { parameter: p.name.clone(), map: phys, bound })
+                .find(|&(b, strong)| strong && (u - c.to_u(b)).abs() <= tol)
+                .map(|(bound, _)| BoundHit { parameter: p.name.clone(), map: c.to_x(u), bound })
         })
         .collect()
 }
@@ -373,7 +374,8 @@ mod tests {
             param("point_mass_x_nm", Prior::Uniform { lower: 0.0, upper: 4.0 }),
             param("nonlocal_e0a_nm", Prior::Normal { mean: 1.0, sd: 0.1 }),
         ];
-        let log = [false, true, false, false];
+        let (id, ln) = (Coordinate::Identity, Coordinate::Log);
+        let log = [id, ln, id, id];
         // a κ pressed on its bound by Nelder–Mead; ln k 1e-4 below ln 1e2 (width ln 1e4 = 9.2, so 1.1e-5 of it); x at 2 nm; e0a far out
         let hits = bound_hits(&params, &log, &[0.3000016, 1e2f64.ln() - 1e-4, 2.0, 5.0]);
         assert_eq!(hits.len(), 2);
@@ -386,5 +388,13 @@ mod tests {
         assert!(bound_hits(&params[..1], &log[..1], &[1.0 - 1e-6]).is_empty());
         assert!(bound_hits(&params[1..2], &log[1..2], &[1e-2f64.ln() + 1e-6]).is_empty());
         assert!(bound_hits(&params[2..3], &log[2..3], &[0.003]).is_empty());
+        // an axial force (asinh-uniform, scale 1 N_cr) at 99.99 N_cr of a
+        // 100 N_cr tension bound is on it (1e-4/100 in asinh of a width of
+        // 5.78), at 90 N_cr not (0.105 of 5.78 inside)
+        let axial = [param("axial_force_n", Prior::AsinhUniform { lower: -0.5, upper: 100.0, scale: 1.0 })];
+        let c = [Coordinate::Asinh { scale: 1.0 }];
+        let hit = bound_hits(&axial, &c, &[99.99f64.asinh()]);
+        assert!(hit.len() == 1 && hit[0].bound == 100.0 && (hit[0].map - 99.99).abs() < 1e-9, "{hit:?}");
+        assert!(bound_hits(&axial, &c, &[90f64.asinh()]).is_empty());
     }
 }

@@ -278,8 +278,9 @@ pub fn shape_measurement<'r>(
 
 /// Per posterior draw of `run` (in order; draws whose [`resonance_scan`]
 /// fails are left out): the scans of modes 1..=`modes`. When the model's
-/// mass position is folded onto the left half
-/// ([`super::classes::folds_mass_position`]) each draw is followed by its
+/// posterior is folded onto one of two mirror images (the mass position
+/// onto the left half, or the stiffer end spring onto x = 0:
+/// [`super::classes::folds_mirror_image`]) each draw is followed by its
 /// mirror image's scan: the predictive of the unfolded posterior, an equal
 /// mixture of the two. Without it the prediction is that of a mass on the
 /// left only, wrong by the mirror's difference for a mass on the right, and
@@ -293,7 +294,7 @@ fn shape_draws(
     xs: &[f64],
     solves: &AtomicU64,
 ) -> Vec<Vec<f64>> {
-    let images = if super::classes::folds_mass_position(&run.model, &data.beam, &data.mode_scans) { 2 } else { 1 };
+    let images = if super::classes::folds_mirror_image(&run.model, &data.beam, &data.mode_scans) { 2 } else { 1 };
     solves.fetch_add((images * run.draws.len() * (1 + modes)) as u64, std::sync::atomic::Ordering::Relaxed);
     let post = &run.posterior;
     let rows: Vec<Vec<Option<Vec<f64>>>> = run

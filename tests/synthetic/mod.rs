@@ -29,6 +29,7 @@ use rand_distr::{Distribution, StandardNormal};
 
 use nanobeam::bayes::map::map_estimate;
 use nanobeam::bayes::rng::{stream, Purpose};
+use nanobeam::bayes::transform::Coordinate;
 use nanobeam::bayes::Posterior;
 use nanobeam::beam::{self, BeamSpec, InternalVariable, Mode, PointMass, ShearDeformation, Support};
 use nanobeam::calibration::measured::MeasuredFile;
@@ -729,7 +730,8 @@ fn catalogue_fits(y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -
 /// [`CATALOGUE_STARTS`] points screened (a quarter with the base
 /// coordinates at the truth's, the rest prior draws), Nelder–Mead (600
 /// iterations) from the best [`CATALOGUE_RESTARTS`], simplex 5 % of each
-/// prior's width (0.05 in ln x for log-uniform priors). The random stream
+/// prior's width in its sampling coordinate (0.05 in ln x for log-uniform
+/// priors, 5 % of the asinh width for the axial force). The random stream
 /// is keyed by the model's place in [`catalogue_models`], so a model's fit
 /// to the same data is the same wherever it is asked for.
 pub fn model_fit_max_z(model: &Model, y0: &[Mode], truth: &BeamSpec, s: &NominalScales, seed: u64) -> f64 {
@@ -742,13 +744,12 @@ pub fn model_fit_max_z(model: &Model, y0: &[Mode], truth: &BeamSpec, s: &Nominal
         .set
         .params
         .iter()
-        .zip(&params.log_scale)
-        .map(|(p, &log)| {
+        .zip(&params.coordinates)
+        .map(|(p, &c)| {
             let (lo, hi) = p.prior.support();
-            if log {
-                0.05
-            } else {
-                0.05 * (hi - lo)
+            match c {
+                Coordinate::Log => 0.05,
+                c => 0.05 * (c.to_u(hi) - c.to_u(lo)),
             }
         })
         .collect();
