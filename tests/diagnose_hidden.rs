@@ -117,6 +117,14 @@ fn ci_cases() -> Vec<(u64, Hidden)> {
 /// decisive to ±0.015, measured 2026-11-26), and the truth's scan, fed back
 /// as data, must decide for the tension ([`measure_scan`], [`scan_gap`];
 /// 2026-11-27: the spring went from 0.36 to 29.7 nats behind).
+///
+/// Since seed 104's 6 modes cannot separate the two, its first verdict may
+/// name either (a 0.36-nat call for the tension before the per-end spring
+/// class; the spring's second end tips it to the spring after, tests/
+/// diagnose_hidden.md). Either is honest only as "cannot separate": nothing
+/// decided, the truth an alternative, and the truth's scan fed back deciding
+/// for it ([`Tally::singles_undecided`]); a confounded seed other than 104 is
+/// a regression.
 #[test]
 fn first_seed_of_every_single_cause_is_named_and_clean_data_raise_no_alarm() {
     let t = tally(ci_cases(), Follow::No, NoiseFree::Skip);
@@ -127,7 +135,19 @@ fn first_seed_of_every_single_cause_is_named_and_clean_data_raise_no_alarm() {
         assert!(t.shape_checkable >= 1, "seed 104's mode-shape suggestion between the tension and the spring");
         assert!(t.scan_checkable >= 1, "seed 104's scan fed back");
     }
-    assert_eq!(t.singles_right, t.singles, "singles {}/{}", t.singles_right, t.singles);
+    assert_eq!(
+        t.singles_right + t.singles_undecided.len(),
+        t.singles,
+        "singles named {} + honestly undecided {:?} of {}",
+        t.singles_right,
+        t.singles_undecided,
+        t.singles
+    );
+    assert!(
+        t.singles_undecided.iter().all(|&s| s == 104),
+        "undecided beyond the confounded seed 104: {:?}",
+        t.singles_undecided
+    );
     assert_eq!(t.false_alarms, 0);
     assert_eq!(t.decided_wrong, 0, "a decided cause that is not a true cause");
     if let Some(d) = t.diagnoses.get(&100) {
@@ -244,6 +264,10 @@ fn pairs_are_named_and_foreign_effects_are_unexplained() {
 struct Tally {
     singles: usize,
     singles_right: usize,
+    /// Seeds of singles named wrongly but honestly: nothing decided, the
+    /// truth among the alternatives, and the truth's scan (the shape
+    /// suggestion, fed back) deciding for it by the threshold.
+    singles_undecided: Vec<u64>,
     pairs: usize,
     pairs_right: usize,
     /// Pairs named wrongly with the true pair not among the alternatives
@@ -532,6 +556,12 @@ fn tally(cases: Vec<(u64, Hidden)>, follow: Follow, noise_free: NoiseFree) -> Ta
             (None, 1) => {
                 t.singles += 1;
                 t.singles_right += usize::from(d.cause == truth);
+                let honest = d.decided_causes.is_empty()
+                    && d.alternatives.iter().any(|a| a.extension == truth)
+                    && scan_gap.is_some_and(|g| g >= threshold);
+                if d.cause != truth && honest {
+                    t.singles_undecided.push(*seed);
+                }
             }
             (None, _) => {
                 t.pairs += 1;
