@@ -211,18 +211,28 @@ fn first_pair_is_named_and_first_foreign_effect_is_unexplained() {
     assert_eq!(t.decided_wrong, 0, "a decided cause that is not a true cause");
 }
 
-/// The screening search's shortfall, where it can be measured (the models
-/// whose full evidence was computed after all: the likelihood at their MAP,
-/// found by the evidence's own searches, against the screening search's
-/// best), stays below the margin the bound adds for it
-/// (`diagnose::screen::OPTIMISER_MARGIN_NATS`): a shortfall beyond it on a
-/// screened model could hide one that changes a decision.
+/// The screening's two margins (`diagnose::screen`), where they can be
+/// measured (the models whose full evidence was computed after all): the
+/// likelihood at their MAP, found by the evidence's own searches, above the
+/// screening search's best stays below `OPTIMISER_MARGIN_NATS`, and their
+/// full ln Z above the screening search's Laplace evidence below
+/// `LAPLACE_MARGIN_NATS`. Either in full on a screened model could hide one
+/// that changes a decision.
 fn screening_is_covered(t: &Tally) {
-    println!("screened models {}; largest screening shortfall {:.2} nats", t.screened, t.screen_shortfall_max);
+    use nanobeam::diagnose::screen::{LAPLACE_MARGIN_NATS, OPTIMISER_MARGIN_NATS};
+    println!(
+        "screened models {}; largest screening shortfall {:.2} nats, largest ln Z over the screening Laplace {:.2} nats",
+        t.screened, t.screen_shortfall_max, t.screen_laplace_excess_max
+    );
     assert!(
-        t.screen_shortfall_max < nanobeam::diagnose::screen::OPTIMISER_MARGIN_NATS,
+        t.screen_shortfall_max < OPTIMISER_MARGIN_NATS,
         "a screening search fell {:.2} nats short of a computed model's MAP",
         t.screen_shortfall_max
+    );
+    assert!(
+        t.screen_laplace_excess_max < LAPLACE_MARGIN_NATS,
+        "a computed model's ln Z exceeds its screening Laplace evidence by {:.2} nats",
+        t.screen_laplace_excess_max
     );
 }
 
@@ -263,6 +273,9 @@ struct Tally {
     /// likelihood at a computed model's MAP above the search's best, over
     /// every model of every diagnosis that has both.
     screen_shortfall_max: f64,
+    /// The largest excess of a computed model's ln Z over the screening
+    /// search's Laplace evidence, over every model that has both.
+    screen_laplace_excess_max: f64,
     /// Models screened out, over every diagnosis.
     screened: usize,
     singles: usize,
@@ -495,6 +508,9 @@ fn tally(cases: Vec<(u64, Hidden)>, follow: Follow, noise_free: NoiseFree) -> Ta
         t.screened += d.screened.len();
         for c in &d.screen_checks {
             t.screen_shortfall_max = t.screen_shortfall_max.max(c.log_likelihood_at_map - c.log_likelihood_max_found);
+            if let Some(l) = c.log_evidence_laplace {
+                t.screen_laplace_excess_max = t.screen_laplace_excess_max.max(c.log_evidence - l);
+            }
         }
         let truth = hidden.label();
         let got = verdict(d);

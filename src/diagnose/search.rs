@@ -136,6 +136,8 @@ impl Problem<'_> {
                     extension: b.model.name(),
                     log_likelihood_max_found: b.log_likelihood_max_found,
                     log_likelihood_at_map: r.posterior.log_likelihood(&r.map),
+                    log_evidence_laplace: b.log_evidence_laplace,
+                    log_evidence: r.log_evidence,
                 }
             })
             .collect();

@@ -95,6 +95,7 @@ impl Decision {
                 extension: s.bound.model.name(),
                 causes: s.bound.model.causes().iter().map(|c| c.name().to_string()).collect(),
                 log_likelihood_max_found: s.bound.log_likelihood_max_found,
+                log_evidence_laplace: s.bound.log_evidence_laplace,
                 log_evidence_bound: s.bound.log_evidence_bound(),
                 log_bayes_factor_bound: s.bound.log_evidence_bound() - z_base,
                 log_evidence_needed: s.log_evidence_needed,
