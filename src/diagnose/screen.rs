@@ -77,24 +77,26 @@ pub const SCREEN_POINTS: usize = 500;
 pub const SCREEN_KEEP: usize = 2;
 
 /// Added to the best log-likelihood the search found before it is used as
-/// the bound on ln Z: 10 nats. The search's optimum is a lower bound of the
-/// true maximum, and on a pair with two relaxations (several modes by
-/// construction) the likelihood at the full evidence's MAP was seen 6.4
-/// nats above it ([`Check`]; `tests/diagnose_hidden.md`, "Screening",
-/// records the largest shortfall on every case measured).
-pub const OPTIMISER_MARGIN_NATS: f64 = 10.0;
+/// the bound on ln Z: 15 nats. The search's optimum is a lower bound of the
+/// true maximum, and on pairs with several modes by construction (two
+/// relaxations; a relaxation and a point mass) the likelihood at the full
+/// evidence's MAP was seen 6.4 and 9.9 nats above it ([`Check`];
+/// `tests/diagnose_hidden.md`, "Screening", records the largest shortfall
+/// on every case measured); 15 keeps 5 nats above the worst seen.
+pub const OPTIMISER_MARGIN_NATS: f64 = 15.0;
 
 /// Added to the Laplace evidence at the screening search's optimum before
-/// it is used as a bound on ln Z: 15 nats. Not a bound by itself: the
+/// it is used as a bound on ln Z: 20 nats. Not a bound by itself: the
 /// Laplace evidence misses the mass of other modes and of non-Gaussian
 /// tails, and sits at a less exact optimum than the evidence's own. On the
-/// pairs of the hidden suite's CI cases measured, the full evidence exceeded
-/// the Laplace evidence at its own MAP by at most 2.85 nats, and the
-/// screening optimum fell short of the full MAP by at most 6.4 nats of
-/// likelihood; 15 nats cover both with room, and every computed pair's
+/// pairs of the hidden suite's CI cases the full ln Z exceeded the Laplace
+/// evidence at its own MAP by at most 2.85 nats and the screening Laplace
+/// evidence by at most 2.6; the screening optimum can fall short of the
+/// full MAP by as much as [`OPTIMISER_MARGIN_NATS`] covers, so this margin
+/// keeps that one's room above the Laplace error. Every computed pair's
 /// ln Z − this Laplace evidence is recorded ([`Check`];
 /// `tests/diagnose_hidden.md`, "Screening").
-pub const LAPLACE_MARGIN_NATS: f64 = 15.0;
+pub const LAPLACE_MARGIN_NATS: f64 = 20.0;
 
 /// What the screening search found for one model.
 #[derive(Debug, Clone)]
