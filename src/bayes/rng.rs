@@ -28,7 +28,8 @@ pub enum Purpose {
     TmcmcResample = 5,
     /// TMCMC Metropolis moves of `[stage, sample]`.
     TmcmcMove = 6,
-    /// Child seed of one model class in a diagnosis `[class, 0]`.
+    /// Child seed of one model class in a diagnosis `[class, 0]`; of its
+    /// evidence bound's search (`diagnose::screen`) `[class, 1]`.
     ModelClass = 7,
     /// Hidden-effect generator of the tests (`tests/synthetic/mod.rs`, not shipped): which effect a case carries `[0, 0]`.
     SyntheticEffect = 8,
@@ -50,7 +51,8 @@ pub enum Purpose {
     /// Prior points screened by a diagnosed model's global MAP search `[0, 0]` (`diagnose::evidence`).
     GlobalMapSearch = 16,
     /// Prior draws of the parameters a diagnosed model adds to its `[k, 0]`-th
-    /// sub-model, screened at that sub-model's MAP (`diagnose::evidence`).
+    /// sub-model, screened at that sub-model's MAP (`diagnose::evidence`; and
+    /// by likelihood, under the evidence-bound seed, in `diagnose::screen`).
     NestedMapSearch = 17,
 }
 

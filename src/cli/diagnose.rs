@@ -76,7 +76,12 @@ pub fn run(args: &DiagnoseArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
     for r in &run.runs {
         eprintln!("  {:<48} {:>8} evaluations {:>7.1} s", r.model.name(), r.forward_evaluations, r.elapsed_s);
     }
-    let per_model: u64 = run.runs.iter().map(|r| r.forward_evaluations).sum();
+    // the models screened out: their bound's search only (`diagnose::screen`)
+    for s in &run.diagnosis.screened {
+        eprintln!("  {:<48} {:>8} evaluations (screened)", s.extension, s.forward_evaluations);
+    }
+    let per_model: u64 = run.runs.iter().map(|r| r.forward_evaluations).sum::<u64>()
+        + run.diagnosis.screened.iter().map(|s| s.forward_evaluations).sum::<u64>();
     eprintln!(
         "  {:<48} {:>8} evaluations",
         "predictive draws (checks, gain, next)",

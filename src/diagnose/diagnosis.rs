@@ -15,7 +15,8 @@ use crate::calibration::MeasuredData;
 use super::classes::{self, Model, ModelClass};
 use super::evidence::{ModelRun, LAPLACE_DISAGREEMENT_NATS};
 use super::next;
-use super::ppc::Check;
+use super::ppc::Check as PpcCheck;
+use super::screen::{Check, ScreenedModel};
 
 /// Posterior summary of one parameter (physical units).
 #[derive(Debug, Clone, Serialize, PartialEq)]
@@ -153,7 +154,7 @@ pub struct Gain {
     pub rms_z_before: f64,
     pub rms_z_after: f64,
     /// The posterior predictive checks under the extended model.
-    pub misfit_after: Vec<Check>,
+    pub misfit_after: Vec<PpcCheck>,
     pub held_out: Option<HeldOut>,
 }
 
@@ -192,9 +193,18 @@ pub struct Thresholds {
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct Diagnosis {
     pub misfit_detected: bool,
-    pub misfit: Vec<Check>,
-    /// Every extended model the search evaluated, in the order visited.
+    pub misfit: Vec<PpcCheck>,
+    /// Every extended model whose evidence the search computed, in the
+    /// order visited. `probability` is normalised over these and the base.
     pub candidates: Vec<Candidate>,
+    /// The models whose evidence was not computed because its bound showed
+    /// they cannot change a decision (`diagnose::screen`), in the order of
+    /// the candidates. Each one's probability relative to the most probable
+    /// model is below e^(`log_evidence_bound` − its ln Z).
+    pub screened: Vec<ScreenedModel>,
+    /// For each computed model that was screened first: the screening
+    /// search's best log-likelihood beside the likelihood at its MAP.
+    pub screen_checks: Vec<Check>,
     /// The causes of the selected model, ordered by evidence gain (empty when unexplained).
     pub causes: Vec<String>,
     /// `none`, a cause's name, `multiple`, or `unexplained`.
@@ -219,8 +229,8 @@ pub struct Diagnosis {
     pub baseline: Candidate,
     pub thresholds: Thresholds,
     /// Forward-model solves of the whole diagnosis: every model visited and
-    /// the baseline, and the posterior predictive draws of the misfit tests,
-    /// the gain and the next measurement.
+    /// the baseline, the screening searches, and the posterior predictive
+    /// draws of the misfit tests, the gain and the next measurement.
     pub forward_evaluations: u64,
 }
 

@@ -15,7 +15,9 @@
 //!    file's parameters already sample the section, [`ModelClass::free_in`]) gets its
 //!    evidence ([`evidence`]), in one parallel batch per number of causes
 //!    (a multimodal model's MAP search also starts from its sub-models'
-//!    MAPs). A cause
+//!    MAPs); a model of the most causes is left uncomputed when its evidence
+//!    bound, its best likelihood found from its sub-models' MAPs, shows that
+//!    it can change no decision ([`screen`]; listed as screened). A cause
 //!    earns its place in a model when the model's ln B against the same
 //!    model without it is ≥ 3 ("strong" on the Kass–Raftery scale, B ≥ 20,
 //!    and more than ten times the TMCMC log-evidence spread between seeds,
@@ -56,6 +58,7 @@ pub mod next;
 pub mod ppc;
 mod predictive;
 pub mod report;
+pub mod screen;
 mod search;
 mod settings;
 mod verdict;

@@ -97,6 +97,8 @@ pub fn markdown(run: &DiagnosisRun, data: &MeasuredData, s: &DiagnoseSettings) -
         "seed": s.seed.unwrap_or(data.sampler.seed),
         "samples": s.samples,
         "mh_steps": s.mh_steps,
+        "screen_optimiser_margin": super::screen::OPTIMISER_MARGIN_NATS,
+        "screen_laplace_margin": super::screen::LAPLACE_MARGIN_NATS,
         "next_max_mode": super::next::MAX_MODE,
         "next_min_separation_sd": super::next::MIN_SEPARATION_SD,
         "shape_grid": super::next::SHAPE_GRID,

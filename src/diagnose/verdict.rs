@@ -12,6 +12,7 @@ use super::evidence::ModelRun;
 use super::next;
 use super::ppc::{self, Check, Draws};
 use super::predictive::predictive;
+use super::screen::ScreenedModel;
 use super::search::{misfits, Problem, Search};
 use super::settings::DiagnoseError;
 
@@ -87,6 +88,22 @@ impl Decision {
         let candidate = |r: &ModelRun, p: f64| candidate(r, z_base, p, problem.data);
         let candidates: Vec<Candidate> =
             search.visited.iter().skip(1).map(|m| candidate(run(m), prob(run(m)))).collect();
+        let screened: Vec<ScreenedModel> = search
+            .screened
+            .iter()
+            .map(|s| ScreenedModel {
+                extension: s.bound.model.name(),
+                causes: s.bound.model.causes().iter().map(|c| c.name().to_string()).collect(),
+                log_likelihood_max_found: s.bound.log_likelihood_max_found,
+                log_evidence_laplace: s.bound.log_evidence_laplace,
+                log_evidence_bound: s.bound.log_evidence_bound(),
+                log_bayes_factor_bound: s.bound.log_evidence_bound() - z_base,
+                log_evidence_needed: s.log_evidence_needed,
+                forward_evaluations: s.bound.forward_evaluations,
+                reason: "screened: cannot reach the leader".to_string(),
+            })
+            .collect();
+        let screening_solves: u64 = screened.iter().map(|s| s.forward_evaluations).sum();
         let baseline_run = run(&Model::Baseline);
         let lb = baseline_run.log_evidence - z_base;
 
@@ -159,6 +176,8 @@ impl Decision {
             misfit_detected,
             misfit,
             candidates,
+            screened,
+            screen_checks: search.checks.clone(),
             causes: if explained { causes.clone() } else { vec![] },
             cause,
             explained,
@@ -177,6 +196,7 @@ impl Decision {
                 alternative_margin: s.alternative_margin,
             },
             forward_evaluations: runs.iter().map(|r| r.forward_evaluations).sum::<u64>()
+                + screening_solves
                 + problem.predictive_solves.load(Ordering::Relaxed),
         })
     }
