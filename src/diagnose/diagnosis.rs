@@ -202,6 +202,11 @@ pub struct Diagnosis {
     /// the candidates. Each one's probability relative to the most probable
     /// model is below e^(`log_evidence_bound` − its ln Z).
     pub screened: Vec<ScreenedModel>,
+    /// The models no prior draw of which gives a finite likelihood (e.g. every
+    /// draw past the buckling load the model's own parameters set), in the
+    /// order of the candidates: evidence zero to the estimator's resolution,
+    /// left out of the comparison.
+    pub not_evaluable: Vec<String>,
     /// For each computed model that was screened first: the screening
     /// search's best log-likelihood beside the likelihood at its MAP.
     pub screen_checks: Vec<Check>,

@@ -109,6 +109,7 @@ pub fn diagnose_run(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<
         seed: settings.seed.unwrap_or(data.sampler.seed),
         predictive_solves: AtomicU64::new(0),
         misfit_verdicts: Mutex::new(BTreeMap::new()),
+        not_evaluable: Mutex::new(vec![]),
     };
 
     // progress: the base, the β baseline and every candidate but the base

@@ -33,6 +33,13 @@ pub(super) struct Problem<'a> {
     /// search's fallback and the alternatives' screening can ask for the same
     /// model, at one predictive solve per posterior draw each time.
     pub(super) misfit_verdicts: Mutex<BTreeMap<String, bool>>,
+    /// The candidate models none of whose prior draws gives a finite
+    /// likelihood (TMCMC's first stage finds no finite sample: e.g. a shear
+    /// model whose every draw puts a compressed beam past its own, lower,
+    /// buckling load). Their evidence is zero to the estimator's resolution:
+    /// they are left out of the comparison and listed in the diagnosis
+    /// (`Diagnosis::not_evaluable`) instead of ending it.
+    pub(super) not_evaluable: Mutex<Vec<Model>>,
 }
 
 impl Problem<'_> {
@@ -63,7 +70,8 @@ impl Problem<'_> {
             }
         }
         let control = &self.settings.control;
-        let runs: Vec<ModelRun> = models
+        // Ok(Err(model)): a model no prior draw can explain
+        let outcomes: Vec<Result<ModelRun, Model>> = models
             .into_par_iter()
             .map(|m| {
                 control.check()?;
@@ -72,10 +80,22 @@ impl Problem<'_> {
                     m.causes().iter().filter_map(|&c| done.iter().find(|r| r.model == m.without(c))).collect();
                 let run = evidence::run_model(m.clone(), self.posterior(&m), self.settings, seed, &subs);
                 control.advance(1);
-                run.map_err(err(&m))
+                match run {
+                    // a candidate no prior draw can explain; the base and the
+                    // β baseline have no such excuse: their failure ends the run
+                    Err(BayesError::NoFiniteLikelihood { .. }) if !m.causes().is_empty() => Ok(Err(m)),
+                    run => run.map(Ok).map_err(err(&m)),
+                }
             })
             .collect::<Result<_, _>>()?;
         control.check()?;
+        let mut runs: Vec<ModelRun> = Vec::with_capacity(outcomes.len());
+        for outcome in outcomes {
+            match outcome {
+                Ok(run) => runs.push(run),
+                Err(m) => self.not_evaluable.lock().expect("no panic holds the lock").push(m),
+            }
+        }
         // the β baseline is never a cause: a misfit it absorbs as noise must not
         // lift the bar a candidate's evidence is judged in contention against
         let best = runs
@@ -129,7 +149,10 @@ impl Problem<'_> {
         let mut runs = self.run(models, done)?;
         let checks = runs
             .iter_mut()
-            .zip(&bounds)
+            .filter_map(|r| {
+                let b = bounds.iter().find(|b| b.model == r.model)?;
+                Some((r, b))
+            })
             .map(|(r, b)| {
                 r.evidence.forward_evaluations += b.forward_evaluations + 1;
                 screen::Check {

@@ -177,6 +177,13 @@ impl Decision {
             misfit,
             candidates,
             screened,
+            not_evaluable: problem
+                .not_evaluable
+                .lock()
+                .expect("no panic holds the lock")
+                .iter()
+                .map(Model::name)
+                .collect(),
             screen_checks: search.checks.clone(),
             causes: if explained { causes.clone() } else { vec![] },
             cause,
