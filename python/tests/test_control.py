@@ -134,14 +134,15 @@ def sweep_record(tmp_path, points: int) -> str:
 
 
 def test_ctrl_c_stops_identify(tmp_path):
-    # identify polls the control between its phases (the stabilisation
-    # diagram, the initial poles, the refinement, the noise model's
-    # reweighting), not within them: the latency is the rest of the running
-    # phase, which on a 20 000-row sweep is the refinement, most of the call
-    # (4.3 s of 4.7 s under load 15, tests/python_cancel.md). What this
-    # checks is that the call stops: it raises, its worker has ended and
-    # nothing computes after the return; the latency is bounded by the
-    # uncancelled call's time (measured here) plus the signal poll.
+    # identify polls the control between its phases and, inside every
+    # least-squares fit of the refinement, at each residual evaluation
+    # (identify::Stop). What is left unpolled is reading the record and the
+    # stabilisation diagram: at most 0.164 s of a 1.89 s call on a 20 000-row
+    # sweep, idle (signals at 0.05-1.6 s; tests/python_cancel.md), i.e. < 9 %
+    # of the call. The bound allows 2.5 times that share of the uncancelled
+    # call measured here (which scales with the machine's load) plus 0.1 s
+    # for the signal poll. Before the fits were polled the latency was the
+    # rest of the refinement, up to 4.3 s of a 4.7 s call under load.
     import time
 
     beam = write(tmp_path, "beam.yaml", VISCO)
@@ -149,12 +150,13 @@ def test_ctrl_c_stops_identify(tmp_path):
     t0 = time.monotonic()
     nanobeam.identify(path, beam)
     full = time.monotonic() - t0
-    r = interrupt("identify", path, 0.3, tmp_path, beam)
-    assert r["outcome"] == "interrupted", r
-    assert r["latency_s"] < 2 * full + 1.0, (r, full)
-    if r["threads_before"] is not None:
-        assert r["threads_after"] == r["threads_before"], r
-    assert r["cpu_after_s"] < CPU_AFTER_BOUND_S, r
+    for at in (0.05, 0.4 * full, 0.8 * full):
+        r = interrupt("identify", path, at, tmp_path, beam)
+        assert r["outcome"] == "interrupted", (at, r)
+        assert r["latency_s"] < 0.1 + 0.25 * full, (at, r, full)
+        if r["threads_before"] is not None:
+            assert r["threads_after"] == r["threads_before"], r
+        assert r["cpu_after_s"] < CPU_AFTER_BOUND_S, r
 
 
 def test_ctrl_c_cancels_a_long_calibration(tmp_path):

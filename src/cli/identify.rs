@@ -19,7 +19,7 @@ use crate::calibration::ModeObservation;
 use crate::cli::{read_beam, write_out, CliError};
 use crate::error::InputError;
 use crate::identify::{
-    identify_controlled, Identification, IdentifyError, IdentifySettings, Measurement, DEFAULT_MAX_ORDER,
+    identify_controlled, Identification, IdentifyError, IdentifySettings, Measurement, Stop, DEFAULT_MAX_ORDER,
 };
 use crate::report::render::{check_out_dir, check_out_file, write_dir_atomically, StagedFile};
 use crate::report::svg::{line_plot, scatter_plot, Axis, LinePlot, RefLine, ScatterPlot, Series};
@@ -167,7 +167,8 @@ pub fn identify_record(
     let record = Measurement::from_csv(text)?;
     control.check().map_err(|c| CliError::Failure(c.to_string()))?;
     let settings = IdentifySettings { modes, max_order };
-    let id = identify_controlled(&record, &settings, &|| control.is_cancelled())?;
+    let polled = control.clone();
+    let id = identify_controlled(&record, &settings, &Stop::new(move || polled.is_cancelled()))?;
     // numbered against every mode the record holds clearly (a subset chosen
     // by --modes is numbered within them, never renumbered into a gap)
     let found = &id.found_omegas_rad_s;

@@ -52,6 +52,7 @@ use serde::Serialize;
 use crate::error::InputError;
 pub use data::Measurement;
 pub use noise::NoiseModel;
+pub use refine::Stop;
 use refine::{FitKind, FitResult, Model, PER_MODE, PER_REAL};
 pub use stabilisation::Diagram;
 
@@ -195,9 +196,12 @@ struct Scaled {
     /// data scale (PSD: scale of the PSD itself).
     y_ref: f64,
     band: (f64, f64),
+    /// The caller's stop request, handed to every fit ([`Stop`]).
+    stop: Stop,
 }
 
-fn scale(m: &Measurement) -> Scaled {
+fn scale(m: &Measurement, stop: &Stop) -> Scaled {
+    let stop = stop.clone();
     let c = |v: f64| Complex64::new(v, 0.0);
     let (kind, x, y, x_ref, band) = match m {
         Measurement::Complex { omega_rad_s, h_m_per_n } => {
@@ -220,7 +224,7 @@ fn scale(m: &Measurement) -> Scaled {
     let y_ref = y.iter().map(|v| v.norm()).fold(0.0, f64::max).max(f64::MIN_POSITIVE);
     let y = y.iter().map(|v| v / y_ref).collect();
     if kind == FitKind::Time {
-        return Scaled { kind, x, y, x_ref, y_ref, band };
+        return Scaled { kind, x, y, x_ref, y_ref, band, stop };
     }
     // ω̃ = ω/(REACH·ω_max): the initial estimator represents poles up to
     // REACH·ω_max, so a mode just above the band is fitted as a background mode
@@ -228,29 +232,39 @@ fn scale(m: &Measurement) -> Scaled {
     let w_ref = REACH * x.last().copied().unwrap_or(1.0);
     let xs: Vec<f64> = x.iter().map(|w| w / w_ref).collect();
     let band = (xs[0], 1.0 / REACH);
-    Scaled { kind, x: xs, y, x_ref: w_ref, y_ref, band }
+    Scaled { kind, x: xs, y, x_ref: w_ref, y_ref, band, stop }
 }
 
 /// Identifies the modes of a record.
 pub fn identify(m: &Measurement, settings: &IdentifySettings) -> Result<Identification, IdentifyError> {
-    identify_controlled(m, settings, &|| false)
+    identify_controlled(m, settings, &Stop::default())
 }
 
 /// [`identify`], asking `stop` between its phases (the stabilisation
 /// diagram, the initial poles, the refinement, the noise model's reweighting)
-/// and returning [`IdentifyError::Cancelled`] once it says yes. `stop` only
-/// reads a flag: a run it never stops gives the same result as [`identify`].
-/// (A closure, not `bayes::Control`: this layer uses `error` only.)
+/// and inside every least-squares fit at each residual evaluation ([`Stop`]),
+/// and returning [`IdentifyError::Cancelled`] once it says yes (whatever a
+/// fit it cut short would have reported). `stop` only reads a flag: a run it
+/// never stops gives the same result as [`identify`]. (A closure, not
+/// `bayes::Control`: this layer uses `error` only.)
 pub fn identify_controlled(
     m: &Measurement,
     settings: &IdentifySettings,
-    stop: &dyn Fn() -> bool,
+    stop: &Stop,
 ) -> Result<Identification, IdentifyError> {
-    let check = || if stop() { Err(IdentifyError::Cancelled) } else { Ok(()) };
+    match identify_until(m, settings, stop) {
+        Err(_) if stop.requested() => Err(IdentifyError::Cancelled),
+        result => result,
+    }
+}
+
+/// The body of [`identify_controlled`].
+fn identify_until(m: &Measurement, settings: &IdentifySettings, stop: &Stop) -> Result<Identification, IdentifyError> {
+    let check = || if stop.requested() { Err(IdentifyError::Cancelled) } else { Ok(()) };
     if settings.modes == Some(0) {
         return Err(InputError::new("--modes", 0, ">= 1").into());
     }
-    let sc = scale(m);
+    let sc = scale(m, stop);
     let diagram = stabilisation_diagram(&sc, settings.max_order)?;
     check()?;
     // PSD: a Welch bin's relative sd 1/√ν (0.22 for ν = 20) moves LSCF's
@@ -518,6 +532,7 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
         n_real,
         poly: poly.clone(),
         weights: None,
+        stop: sc.stop.clone(),
     };
     let scored = |model: Model, fit: FitResult| {
         if !stable_modes(&fit, n_identified) {
@@ -620,6 +635,7 @@ fn without_growing_poles(sc: &Scaled, initial: &[Complex64]) -> Option<(Vec<Comp
                 n_real,
                 poly: vec![0],
                 weights: None,
+                stop: sc.stop.clone(),
             };
             if model.n_params() + 1 >= model.n_residuals() {
                 break;
@@ -664,6 +680,7 @@ fn restart_from_prefix(sc: &Scaled, initial: &[Complex64]) -> Option<(Model, Fit
             x_ref: sc.x_ref,
             y_ref: sc.y_ref,
             band: sc.band,
+            stop: sc.stop.clone(),
         };
         let Ok((_, fit)) = best_refinement(&prefix, initial) else { continue };
         let poles: Vec<Complex64> =
