@@ -11,13 +11,15 @@
 //! draw buckles at N ≤ 0.977 N_E < 0.99 N_E. Such a model has evidence zero;
 //! the diagnosis must list it as not evaluable and go on, not end.
 //!
+//! Its pairs with the shear find no finite likelihood in their screening
+//! search either (unless a spring or a tension lifts the load): their bound
+//! is −∞, which the report must print rather than fail on.
+//!
 //! Data: written by hand here (the hardening suite's 8 nm beam and three
-//! modes near those of its exact model); one cause at a time
-//! (`max_causes: 1`) and 50 TMCMC samples keep it to the singles, which is
-//! where the model failed.
+//! modes near those of its exact model), 50 TMCMC samples.
 
 use nanobeam::calibration::MeasuredData;
-use nanobeam::diagnose::{diagnose, DiagnoseSettings};
+use nanobeam::diagnose::{diagnose_run, report, DiagnoseSettings};
 
 const NEAR_BUCKLING: &str =
     "beam: { length_nm: 8.0, diameter_nm: 1.0, youngs_modulus_pa: 1.0e12, density_kg_m3: 2300.0, \
@@ -31,9 +33,14 @@ modes:
 #[test]
 fn a_model_that_buckles_under_every_prior_draw_is_listed_not_fatal() {
     let data = MeasuredData::from_yaml(NEAR_BUCKLING).expect("a valid file: 0.99 of the buckling load");
-    let settings = DiagnoseSettings { samples: 50, max_causes: 1, ..DiagnoseSettings::quick() };
-    let d = diagnose(&data, &settings).expect("a diagnosis, not an error");
+    let settings = DiagnoseSettings { samples: 50, ..DiagnoseSettings::quick() };
+    let run = diagnose_run(&data, &settings).expect("a diagnosis, not an error");
+    let d = &run.diagnosis;
     assert!(d.not_evaluable.iter().any(|m| m == "shear-deformation"), "{:?}", d.not_evaluable);
     assert!(d.not_evaluable.iter().all(|m| m.contains("shear-deformation")), "{:?}", d.not_evaluable);
     assert!(d.candidates.iter().all(|c| c.extension != "shear-deformation"));
+    let hopeless = d.screened.iter().filter(|s| s.log_evidence_bound == f64::NEG_INFINITY).count();
+    assert!(hopeless >= 1, "a shear pair with no finite draw: {:?}", d.screened);
+    let md = report::markdown(&run, &data, &settings).expect("the report renders a −∞ bound");
+    assert!(md.contains("shear-deformation") && md.contains("−∞"), "{md}");
 }
