@@ -54,8 +54,8 @@ pub enum FitKind {
 /// residual evaluation: once it says yes the residuals count as not finite,
 /// so Levenberg–Marquardt ends at its next step and the fit fails, and the
 /// caller (`identify_controlled`) reports the cancellation instead of the
-/// failure. Without it a stop waited for the whole refinement (seconds on
-/// 10⁴–10⁵-row records). `Stop::default()` never stops.
+/// failure. Without it a stop waited for the whole refinement, most of a
+/// large record's call. `Stop::default()` never stops.
 #[derive(Clone, Default)]
 pub struct Stop(Option<Arc<dyn Fn() -> bool + Send + Sync>>);
 
