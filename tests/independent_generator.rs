@@ -7,7 +7,8 @@ mod independent;
 
 use std::f64::consts::PI;
 
-use independent::{poles, poles_with_basis, undamped_omegas, End, Truth};
+use independent::{poles, poles_with_basis, undamped_omegas, End, Pole, Truth};
+use nanobeam::beam::Mode;
 
 /// A 1 nm, 1 TPa, 2300 kg/m³ tube 8 nm long (the hidden suite's nominal beam).
 fn tube() -> Truth {
@@ -158,6 +159,20 @@ fn damped_poles_solve_the_closed_form_family() {
     }
 }
 
+/// Each exact pole of `ours` agrees with the 80-element FE mode `fine` within
+/// 3 times that mesh's own error, estimated from the h⁴ rate as
+/// |FE₄₀ − FE₈₀|/15 (`coarse` is FE₄₀), plus 1e-9 for the two root finders.
+fn assert_within_fe_error(ours: &[Pole], coarse: &[Mode], fine: &[Mode], label: &str) {
+    for (i, p) in ours.iter().enumerate() {
+        let (c, f) = (&coarse[i], &fine[i]);
+        let tol_w = 3.0 * (c.omega_rad_s / f.omega_rad_s - 1.0).abs() / 15.0 + 1e-9;
+        let tol_z = 3.0 * (c.zeta / f.zeta - 1.0).abs() / 15.0 + 1e-9;
+        let (dw, dz) = ((p.omega_rad_s / f.omega_rad_s - 1.0).abs(), (p.zeta / f.zeta - 1.0).abs());
+        println!("{label}mode {}: dω {dw:.2e} (tol {tol_w:.2e}), dζ {dz:.2e} (tol {tol_z:.2e})", i + 1);
+        assert!(dw <= tol_w && dz <= tol_z, "{label}mode {}: {p:?} vs FE80 {f:?}", i + 1);
+    }
+}
+
 /// The exact damped poles against the project's finite elements (the one
 /// comparison with the code under test, as a cross-check of both): a
 /// simply supported tube with a rotational spring at both ends, a tension
@@ -184,15 +199,7 @@ fn exact_damped_poles_agree_with_refined_finite_elements() {
         b.axial_force_n = t.axial_force_n;
         modal(&b, 5).unwrap().modes
     };
-    let (coarse, fine) = (fe(40), fe(80));
-    for (i, p) in ours.iter().enumerate() {
-        let (c, f) = (&coarse[i], &fine[i]);
-        let tol_w = 3.0 * (c.omega_rad_s / f.omega_rad_s - 1.0).abs() / 15.0 + 1e-9;
-        let tol_z = 3.0 * (c.zeta / f.zeta - 1.0).abs() / 15.0 + 1e-9;
-        let (dw, dz) = ((p.omega_rad_s / f.omega_rad_s - 1.0).abs(), (p.zeta / f.zeta - 1.0).abs());
-        println!("mode {}: dω {dw:.2e} (tol {tol_w:.2e}), dζ {dz:.2e} (tol {tol_z:.2e})", i + 1);
-        assert!(dw <= tol_w && dz <= tol_z, "mode {}: {p:?} vs FE80 {f:?}", i + 1);
-    }
+    assert_within_fe_error(&ours, &fe(40), &fe(80), "");
 }
 
 /// The refined poles do not depend on the projection basis that seeds them
@@ -362,13 +369,6 @@ fn per_end_springs_match_the_exact_dynamic_stiffness() {
             b.validate().expect("a valid per-end spring");
             modal(&b, 5).unwrap().modes
         };
-        let (coarse, fine) = (fe(40), fe(80));
-        for (i, p) in ours.iter().enumerate() {
-            let (c, f) = (&coarse[i], &fine[i]);
-            let tol_w = 3.0 * (c.omega_rad_s / f.omega_rad_s - 1.0).abs() / 15.0 + 1e-9;
-            let tol_z = 3.0 * (c.zeta / f.zeta - 1.0).abs() / 15.0 + 1e-9;
-            let (dw, dz) = ((p.omega_rad_s / f.omega_rad_s - 1.0).abs(), (p.zeta / f.zeta - 1.0).abs());
-            assert!(dw <= tol_w && dz <= tol_z, "{} {ends:?} mode {}: {p:?} vs FE80 {f:?}", support.name(), i + 1);
-        }
+        assert_within_fe_error(&ours, &fe(40), &fe(80), &format!("{} {ends:?} ", support.name()));
     }
 }
