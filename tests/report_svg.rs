@@ -173,6 +173,33 @@ fn line_plot_draws_legend_entries_and_every_element_kind() {
     assert!(svg.contains("#BEBEBE"), "realization grey missing");
 }
 
+/// The tick labels of an SVG: the text of every `<text>` element.
+fn texts(svg: &str) -> Vec<String> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| Some(t.split_once('>')?.1.split_once("</text>")?.0.trim().to_string()))
+        .collect()
+}
+
+#[test]
+fn a_log_axis_of_tiny_values_is_labelled() {
+    // A thermal displacement PSD (m²·s/rad) spans about 1e-41 to 1e-34; plotters'
+    // own log key points drop everything below f64::EPSILON, which left such an
+    // axis without a single number.
+    let x: Vec<f64> = (0..=300).map(|i| 1e11 * 10f64.powf(i as f64 / 100.0)).collect();
+    let y: Vec<f64> = x.iter().map(|&w| 1e-34 / (1.0 + (w / 2e12).powi(4))).collect();
+    let spec = LinePlot {
+        x_axis: Axis::log("frequency (rad/s)"),
+        y_axis: Axis::log("PSD (m²·s/rad)"),
+        series: vec![Series::new("measured", x, y)],
+        ..Default::default()
+    };
+    let labels = texts(&line_plot(&spec).unwrap());
+    for decade in ["1e-34", "1e-36", "1e-38", "1e11", "1e12", "1e13"] {
+        assert!(labels.iter().any(|l| l == decade), "no tick label {decade} in {labels:?}");
+    }
+}
+
 #[test]
 fn log_axis_skips_non_positive_values_and_rejects_all_non_positive() {
     let mut spec = frf_like();

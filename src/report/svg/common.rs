@@ -164,6 +164,46 @@ pub(crate) fn tick_label(v: &f64) -> String {
     format!("{mantissa}{exponent}")
 }
 
+/// Most tick labels a log-10 axis gets from [`log_ticks`].
+pub(crate) const MAX_LOG_TICKS: usize = 8;
+
+/// Tick positions of a log-10 axis over `[lo, hi]` (0 < lo < hi), chosen here
+/// rather than by plotters: its log coordinate drops every key point within
+/// `f64::EPSILON` of zero in absolute value (it takes them for its zero
+/// point, `LogCoord::is_inf` in plotters 0.3.7), so an axis of PSD values
+/// (1e-35 m²·s/rad) got no tick and no number at all.
+///
+/// Whole decades inside the range, thinned to every s-th decade (s the
+/// smallest stride leaving at most [`MAX_LOG_TICKS`], aligned to multiples of
+/// s so that the labels read 1e-40, 1e-36, …); a range holding fewer than two
+/// decades gets the 1-2-5 multiples, then 1…9; a range narrower than
+/// that gets three geometrically spaced points rounded to three significant
+/// digits. Every position is parsed from its decimal text (`"5e-35"`), so the
+/// tick sits at exactly the number its label prints.
+pub(crate) fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let inside = |v: &f64| *v >= lo && *v <= hi;
+    let (a, b) = (lo.log10().floor() as i32 - 1, hi.log10().ceil() as i32 + 1);
+    let number = |m: u32, k: i32| format!("{m}e{k}").parse::<f64>().unwrap_or(f64::NAN);
+    let decades: Vec<(i32, f64)> = (a..=b).map(|k| (k, number(1, k))).filter(|(_, v)| inside(v)).collect();
+    if decades.len() >= 2 {
+        let stride = decades.len().div_ceil(MAX_LOG_TICKS) as i32;
+        let aligned: Vec<f64> = decades.iter().filter(|(k, _)| k.rem_euclid(stride) == 0).map(|&(_, v)| v).collect();
+        if aligned.len() >= 2 {
+            return aligned;
+        }
+        return decades.iter().step_by(stride as usize).map(|&(_, v)| v).collect();
+    }
+    for multiples in [&[1, 2, 5][..], &[1, 2, 3, 4, 5, 6, 7, 8, 9]] {
+        let ticks: Vec<f64> =
+            (a..=b).flat_map(|k| multiples.iter().map(move |&m| number(m, k))).filter(inside).collect();
+        if ticks.len() >= 2 {
+            return ticks;
+        }
+    }
+    let ratio = hi / lo;
+    [0.1, 0.5, 0.9].iter().filter_map(|f| fmt_sig(lo * ratio.powf(*f), 3).parse::<f64>().ok()).filter(inside).collect()
+}
+
 /// How many x-axis tick labels fit side by side in `width_px` without
 /// overlapping (2..=5). Plotters' SVG text is about 0.6·size px per character
 /// (its built-in estimate, no font is read); a label is sized by the longest
@@ -206,8 +246,8 @@ pub(crate) fn same_len(what: &str, a: usize, b: usize) -> Result<()> {
 /// types; the body is compiled once per combination.
 macro_rules! with_chart {
     ($builder:expr, $xs:expr, $xr:expr, $ys:expr, $yr:expr, |$chart:ident| $body:block) => {{
-        use plotters::coord::combinators::IntoLogRange;
-        use $crate::report::svg::common::{draw_err, Scale};
+        use plotters::coord::combinators::{BindKeyPoints, IntoLogRange};
+        use $crate::report::svg::common::{draw_err, log_ticks, Scale};
         let (x0, x1) = $xr;
         let (y0, y1) = $yr;
         match ($xs, $ys) {
@@ -216,16 +256,19 @@ macro_rules! with_chart {
                 $body
             }
             (Scale::Log, Scale::Linear) => {
-                let mut $chart = $builder.build_cartesian_2d((x0..x1).log_scale(), y0..y1).map_err(draw_err)?;
+                let x = (x0..x1).log_scale().with_key_points(log_ticks(x0, x1));
+                let mut $chart = $builder.build_cartesian_2d(x, y0..y1).map_err(draw_err)?;
                 $body
             }
             (Scale::Linear, Scale::Log) => {
-                let mut $chart = $builder.build_cartesian_2d(x0..x1, (y0..y1).log_scale()).map_err(draw_err)?;
+                let y = (y0..y1).log_scale().with_key_points(log_ticks(y0, y1));
+                let mut $chart = $builder.build_cartesian_2d(x0..x1, y).map_err(draw_err)?;
                 $body
             }
             (Scale::Log, Scale::Log) => {
-                let mut $chart =
-                    $builder.build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale()).map_err(draw_err)?;
+                let x = (x0..x1).log_scale().with_key_points(log_ticks(x0, x1));
+                let y = (y0..y1).log_scale().with_key_points(log_ticks(y0, y1));
+                let mut $chart = $builder.build_cartesian_2d(x, y).map_err(draw_err)?;
                 $body
             }
         }
@@ -254,6 +297,20 @@ pub(crate) use axes_mesh;
 #[cfg(test)]
 mod tick_tests {
     use super::*;
+
+    #[test]
+    fn log_ticks_label_tiny_values_and_stay_few() {
+        // A thermal PSD in m²·s/rad: every decade inside, as exact decimals.
+        assert_eq!(log_ticks(3e-39, 2e-34), vec![1e-38, 1e-37, 1e-36, 1e-35, 1e-34]);
+        // Twenty decades: every third, aligned, at most MAX_LOG_TICKS.
+        let wide = log_ticks(1e-20, 1e0);
+        assert!(wide.len() >= 2 && wide.len() <= MAX_LOG_TICKS, "{wide:?}");
+        assert_eq!(wide[0], 1e-18);
+        // Less than two decades: 1-2-5; a narrow range: points inside it.
+        assert_eq!(log_ticks(1.5e11, 6e11), vec![2e11, 5e11]);
+        let narrow = log_ticks(4.0e11, 4.2e11);
+        assert!(narrow.len() >= 2 && narrow.iter().all(|v| (4.0e11..=4.2e11).contains(v)), "{narrow:?}");
+    }
 
     #[test]
     fn x_ticks_of_a_narrow_omega_axis_fit_their_cell() {
