@@ -8,6 +8,12 @@
 //! (Box & Jenkins, *Time Series Analysis*, §3.2.4), its spectral peak
 //! cos ωΔt = φ1(φ2 − 1)/(4φ2), and Bartlett's formula for the standard error
 //! of a sample variance.
+//!
+//! The MD test (`identify_on_the_cc7_md_record_finds_six_modes_numbered_1_to_6`)
+//! reads the committed LAMMPS record `data/md/cc7.langevin.csv.gz` (made by
+//! LAMMPS, `data/md/README.md`); its reference is the PSD peak list of
+//! `docs/md.md` §4, read off a Welch estimate by `data/md/psd.py` (numpy), not
+//! by `identify`.
 
 use nanobeam::identify::data::Measurement;
 use rand::SeedableRng;
@@ -126,4 +132,43 @@ fn only_thermal_columns_make_a_thermal_record() {
     assert!(matches!(Measurement::from_csv(&free).unwrap(), Measurement::Time { .. }));
     let mixed = csv(&[col.clone(), col]).replace("thermal_c1_m", "displacement_m");
     assert!(Measurement::from_csv(&mixed).is_err());
+}
+
+/// The committed clamped–clamped MD record of the 7.39 nm tube, untouched:
+/// `nanobeam identify` with the nominal beam reports six modes numbered 1–6
+/// at the PSD's peaks of `docs/md.md` §4 (305, 751, 1318, 1953, 2612,
+/// 3308 GHz). Tolerance: the reference is the argmax bin of a Welch
+/// estimate (6.1 GHz bins), which sits anywhere within the line's top: the
+/// bath gives every line the half-power half-width 1/(4πτ) = 15.9 GHz
+/// (τ = 5 ps, `data/md/README.md`), plus half a bin of the reference's
+/// quantisation, 3.05 GHz: 19 GHz. The frequencies' own sd (≤ 8 GHz here) is
+/// inside that.
+#[test]
+fn identify_on_the_cc7_md_record_finds_six_modes_numbered_1_to_6() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("cc7.csv");
+    let unzipped = std::process::Command::new("gzip")
+        .args(["-dc", &format!("{root}/data/md/cc7.langevin.csv.gz")])
+        .output()
+        .expect("gzip runs");
+    assert!(unzipped.status.success());
+    std::fs::write(&csv, unzipped.stdout).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_nanobeam"))
+        .args(["identify", "--beam", &format!("{root}/data/md/tube-cc7.yaml")])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let yaml: serde_yaml::Value = serde_yaml::from_slice(&out.stdout).unwrap();
+    let modes = yaml["modes"].as_sequence().unwrap();
+    let peaks_ghz = [305.0, 751.0, 1318.0, 1953.0, 2612.0, 3308.0];
+    assert_eq!(modes.len(), peaks_ghz.len(), "{modes:?}");
+    let tolerance_ghz = 15.9 + 3.05;
+    for (k, (m, peak)) in modes.iter().zip(peaks_ghz).enumerate() {
+        assert_eq!(m["mode"].as_u64(), Some(k as u64 + 1), "{modes:?}");
+        let f_ghz = m["omega_rad_s"].as_f64().unwrap() / (2.0 * std::f64::consts::PI) / 1e9;
+        assert!((f_ghz - peak).abs() < tolerance_ghz, "mode {}: {f_ghz:.1} GHz vs the PSD peak {peak} GHz", k + 1);
+    }
 }
