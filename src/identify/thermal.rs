@@ -17,7 +17,9 @@
 //! half power; the shortest power-of-two segment that keeps it so is used
 //! (the most averages, the least variance). A record whose narrowest line
 //! spans fewer bins even then is refused, naming the record length that
-//! would resolve it.
+//! would resolve it. The PSD handed on stops where the floor under the lines
+//! stops falling (`flexural_band`): the beam's lines sit in the lowest few
+//! per cent of a molecular-dynamics record's Welch band.
 
 use std::f64::consts::PI;
 
@@ -122,12 +124,12 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
     Ok((omega, value))
 }
 
-/// Octaves above the record's strongest line where the band's top is first
-/// looked for (see [`flexural_band`]).
+/// Factor above the frequency of the record's strongest line at which the band's top is first
+/// looked for (see `flexural_band`).
 pub const BAND_SEARCH_START: f64 = 8.0;
 
 /// How close (decades) the PSD's floor must come to its lowest value over
-/// the next octave for the background to count as flat (see [`flexural_band`]).
+/// the next octave for the background to count as flat (see `flexural_band`).
 pub const FLAT_FLOOR_DECADES: f64 = 0.2;
 
 /// The number of bins (from the first) that hold the beam's lines: the
@@ -140,7 +142,7 @@ pub const FLAT_FLOOR_DECADES: f64 = 0.2;
 /// The floor at bin i is the 20th percentile of the PSD over ±25 % of its
 /// frequency (at least ±8 bins: a line fills less than that, so the floor is
 /// the background between lines); it is flat at i when it lies within
-/// [`FLAT_FLOOR_DECADES`] of its lowest value over [i, 2i]. The search
+/// [`FLAT_FLOOR_DECADES`] of its lowest value over bins i … 2i. The search
 /// starts [`BAND_SEARCH_START`] times above the frequency of the strongest
 /// line (a clamped or free beam's first three modes span a factor 5.4 or
 /// 17.5, so the lowest lines are never cut; below a cantilever's overdamped
