@@ -3,7 +3,8 @@
 //!
 //! Generator: a second-order autoregressive process x_k = φ1 x_{k−1} +
 //! φ2 x_{k−2} + e_k (a sampled damped oscillator driven by white noise),
-//! seeded ChaCha8 Gaussian noise, written here. References independent of the
+//! seeded ChaCha8 Gaussian noise (plus independent white noise for the band
+//! test), written here. References independent of the
 //! code under test: the AR(2) variance and autocorrelation in closed form
 //! (Box & Jenkins, *Time Series Analysis*, §3.2.4), its spectral peak
 //! cos ωΔt = φ1(φ2 − 1)/(4φ2), and Bartlett's formula for the standard error
@@ -171,4 +172,43 @@ fn identify_on_the_cc7_md_record_finds_six_modes_numbered_1_to_6() {
         let f_ghz = m["omega_rad_s"].as_f64().unwrap() / (2.0 * std::f64::consts::PI) / 1e9;
         assert!((f_ghz - peak).abs() < tolerance_ghz, "mode {}: {f_ghz:.1} GHz vs the PSD peak {peak} GHz", k + 1);
     }
+}
+
+/// The band stops where the line's tail meets a white floor. Generator: an
+/// AR(2) line (poles 0.995·e^{±0.05i} per sample) plus independent white
+/// noise whose level equals the AR(2) spectrum σ²/|1 − φ1e^{−iθ} − φ2e^{−2iθ}|²
+/// (closed form) at θ_c = 0.8 rad per sample. Expected top: a tail falling
+/// as θ⁻⁴ on a white floor S_w has floor S_w(1 + (θ_c/θ)⁴), which lies within
+/// 0.2 decade (thermal::FLAT_FLOOR_DECADES) of its lowest value over the next
+/// octave from θ ≈ 1.15 θ_c on; the floor is read over ±25 % of the
+/// frequency, which moves that point by up to 25 % either way: [0.9, 1.45]·θ_c,
+/// widened to [0.8, 1.6]·θ_c for the AR(2) tail's departure from θ⁻⁴ and the
+/// estimate's scatter (≥ 8 averages, a 20th percentile over ≥ 100 bins).
+/// The line itself (at 0.05) stays in the band.
+#[test]
+fn the_band_ends_where_the_line_tail_meets_a_white_floor() {
+    let (r, theta) = (0.995, 0.05);
+    let phi = ar2(r, theta);
+    let theta_c: f64 = 0.8;
+    let a = num_complex::Complex64::new(0.0, -theta_c).exp();
+    let denom = (num_complex::Complex64::new(1.0, 0.0) - phi.0 * a - phi.1 * a * a).norm_sqr();
+    // AR(2) driven by 1e-12·N(0,1): its spectrum at θ_c is 1e-24/denom; white noise of that variance
+    let sd_white = 1e-12 / denom.sqrt();
+    let n = 1 << 16;
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let cols: Vec<Vec<f64>> = (0..2)
+        .map(|c| {
+            series(phi, n, 20 + c)
+                .into_iter()
+                .map(|x| {
+                    let e: f64 = StandardNormal.sample(&mut rng);
+                    x + sd_white * e
+                })
+                .collect()
+        })
+        .collect();
+    let (omega, _) = psd(&csv(&cols));
+    let top = omega.last().unwrap() * DT; // rad per sample
+    assert!(top > theta, "band top {top} below the line at {theta}");
+    assert!((0.8 * theta_c..=1.6 * theta_c).contains(&top), "band top {top:.3} rad/sample, θ_c = {theta_c}");
 }
