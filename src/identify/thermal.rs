@@ -136,9 +136,9 @@ pub const FLAT_FLOOR_DECADES: f64 = 0.2;
 /// band ends where the background under the lines stops falling. Below it
 /// the background is the lines' own tails (a resonance's PSD falls as ω⁻⁴
 /// above it), above it the PSD lies on a flat floor that no beam mode makes
-/// (in the committed MD records about 1e-38 m²·s/rad from 3.5 THz up: the
-/// slices' motion that is not the tube's bending) and the fit's Whittle
-/// likelihood would weigh its thousands of bins like those of the lines.
+/// (in an MD record, the slices' motion that is not the tube's bending:
+/// docs/md.md §3) and the fit's Whittle likelihood would weigh its
+/// thousands of bins like those of the lines.
 /// The floor at bin i is the 20th percentile of the PSD over ±25 % of its
 /// frequency (at least ±8 bins: a line fills less than that, so the floor is
 /// the background between lines); it is flat at i when it lies within
