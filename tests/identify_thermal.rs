@@ -3,11 +3,18 @@
 //!
 //! Generator: a second-order autoregressive process x_k = φ1 x_{k−1} +
 //! φ2 x_{k−2} + e_k (a sampled damped oscillator driven by white noise),
-//! seeded ChaCha8 Gaussian noise, written here. References independent of the
+//! seeded ChaCha8 Gaussian noise (plus independent white noise for the band
+//! test), written here. References independent of the
 //! code under test: the AR(2) variance and autocorrelation in closed form
 //! (Box & Jenkins, *Time Series Analysis*, §3.2.4), its spectral peak
 //! cos ωΔt = φ1(φ2 − 1)/(4φ2), and Bartlett's formula for the standard error
 //! of a sample variance.
+//!
+//! The MD test (`identify_on_the_cc7_md_record_finds_six_modes_numbered_1_to_6`)
+//! reads the committed LAMMPS record `data/md/cc7.langevin.csv.gz` (made by
+//! LAMMPS, `data/md/README.md`); its reference is the PSD peak list of
+//! `docs/md.md` §4, read off a Welch estimate by `data/md/psd.py` (numpy), not
+//! by `identify`.
 
 use nanobeam::identify::data::Measurement;
 use rand::SeedableRng;
@@ -126,4 +133,82 @@ fn only_thermal_columns_make_a_thermal_record() {
     assert!(matches!(Measurement::from_csv(&free).unwrap(), Measurement::Time { .. }));
     let mixed = csv(&[col.clone(), col]).replace("thermal_c1_m", "displacement_m");
     assert!(Measurement::from_csv(&mixed).is_err());
+}
+
+/// The committed clamped–clamped MD record of the 7.39 nm tube, untouched:
+/// `nanobeam identify` with the nominal beam reports six modes numbered 1–6
+/// at the PSD's peaks of `docs/md.md` §4 (305, 751, 1318, 1953, 2612,
+/// 3308 GHz). Tolerance: the reference is the argmax bin of a Welch
+/// estimate (6.1 GHz bins), which sits anywhere within the line's top: the
+/// bath gives every line the half-power half-width 1/(4πτ) = 15.9 GHz
+/// (τ = 5 ps, `data/md/README.md`), plus half a bin of the reference's
+/// quantisation, 3.05 GHz: 19 GHz. The frequencies' own sd (≤ 8 GHz here) is
+/// inside that.
+#[test]
+fn identify_on_the_cc7_md_record_finds_six_modes_numbered_1_to_6() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("cc7.csv");
+    let unzipped = std::process::Command::new("gzip")
+        .args(["-dc", &format!("{root}/data/md/cc7.langevin.csv.gz")])
+        .output()
+        .expect("gzip runs");
+    assert!(unzipped.status.success());
+    std::fs::write(&csv, unzipped.stdout).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_nanobeam"))
+        .args(["identify", "--beam", &format!("{root}/data/md/tube-cc7.yaml")])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let yaml: serde_yaml::Value = serde_yaml::from_slice(&out.stdout).unwrap();
+    let modes = yaml["modes"].as_sequence().unwrap();
+    let peaks_ghz = [305.0, 751.0, 1318.0, 1953.0, 2612.0, 3308.0];
+    assert_eq!(modes.len(), peaks_ghz.len(), "{modes:?}");
+    let tolerance_ghz = 15.9 + 3.05;
+    for (k, (m, peak)) in modes.iter().zip(peaks_ghz).enumerate() {
+        assert_eq!(m["mode"].as_u64(), Some(k as u64 + 1), "{modes:?}");
+        let f_ghz = m["omega_rad_s"].as_f64().unwrap() / (2.0 * std::f64::consts::PI) / 1e9;
+        assert!((f_ghz - peak).abs() < tolerance_ghz, "mode {}: {f_ghz:.1} GHz vs the PSD peak {peak} GHz", k + 1);
+    }
+}
+
+/// The band stops where the line's tail meets a white floor. Generator: an
+/// AR(2) line (poles 0.995·e^{±0.05i} per sample) plus independent white
+/// noise whose level equals the AR(2) spectrum σ²/|1 − φ1e^{−iθ} − φ2e^{−2iθ}|²
+/// (closed form) at θ_c = 0.8 rad per sample. Expected top: a tail falling
+/// as θ⁻⁴ on a white floor S_w has floor S_w(1 + (θ_c/θ)⁴), which lies within
+/// 0.2 decade (thermal::FLAT_FLOOR_DECADES) of its lowest value over the next
+/// octave from θ ≈ 1.15 θ_c on; the floor is read over ±25 % of the
+/// frequency, which moves that point by up to 25 % either way: [0.9, 1.45]·θ_c,
+/// widened to [0.8, 1.6]·θ_c for the AR(2) tail's departure from θ⁻⁴ and the
+/// estimate's scatter (≥ 8 averages, a 20th percentile over ≥ 100 bins).
+/// The line itself (at 0.05) stays in the band.
+#[test]
+fn the_band_ends_where_the_line_tail_meets_a_white_floor() {
+    let (r, theta) = (0.995, 0.05);
+    let phi = ar2(r, theta);
+    let theta_c: f64 = 0.8;
+    let a = num_complex::Complex64::new(0.0, -theta_c).exp();
+    let denom = (num_complex::Complex64::new(1.0, 0.0) - phi.0 * a - phi.1 * a * a).norm_sqr();
+    // AR(2) driven by 1e-12·N(0,1): its spectrum at θ_c is 1e-24/denom; white noise of that variance
+    let sd_white = 1e-12 / denom.sqrt();
+    let n = 1 << 16;
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let cols: Vec<Vec<f64>> = (0..2)
+        .map(|c| {
+            series(phi, n, 20 + c)
+                .into_iter()
+                .map(|x| {
+                    let e: f64 = StandardNormal.sample(&mut rng);
+                    x + sd_white * e
+                })
+                .collect()
+        })
+        .collect();
+    let (omega, _) = psd(&csv(&cols));
+    let top = omega.last().unwrap() * DT; // rad per sample
+    assert!(top > theta, "band top {top} below the line at {theta}");
+    assert!((0.8 * theta_c..=1.6 * theta_c).contains(&top), "band top {top:.3} rad/sample, θ_c = {theta_c}");
 }

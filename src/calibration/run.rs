@@ -109,12 +109,52 @@ impl CalibrationResult {
 pub fn calibrate(data: &MeasuredData, opts: &CalibrateOptions) -> Result<CalibrationResult, SamplingError> {
     let post = BeamPosterior::new(data, data.parameters.clone());
     let c0_sd: Vec<f64> = data.parameters.params.iter().map(|p| p.proposal_sd).collect();
-    calibrate_posterior(&post, &c0_sd, &data.sampler, opts).map_err(|e| match e {
+    let mut result = calibrate_posterior(&post, &c0_sd, &data.sampler, opts).map_err(|e| match e {
         SamplingError::NoValidState { draws, .. } => {
             SamplingError::NoValidState { draws, detail: why_invalid(&post, data.sampler.seed) }
         }
         other => other,
-    })
+    })?;
+    result.warnings.extend(map_on_bound(&data.parameters.params, &result.map_theta));
+    Ok(result)
+}
+
+/// How close to a bound of a uniform, log-uniform or asinh-uniform prior (a
+/// fraction of the prior's width in the coordinate where it is uniform) the
+/// MAP counts as on it: 0.1 %, as `diagnose` judges its causes (Nelder–Mead
+/// pressed against a bound ends within a few 1e-6 of the width of it; an
+/// interior optimum that close needs a posterior sd of the same order).
+pub const ON_BOUND_FRACTION: f64 = 1e-3;
+
+/// A warning per parameter whose MAP lies on a bound of its prior: the data
+/// ask for a value the prior excludes, so the posterior there is the prior's
+/// edge, not the data's answer.
+fn map_on_bound(params: &[crate::calibration::Parameter], map: &[f64]) -> Vec<String> {
+    use crate::bayes::prior::Prior;
+    params
+        .iter()
+        .zip(map)
+        .filter_map(|(p, &x)| {
+            let u: fn(f64, f64) -> f64 = match p.prior {
+                Prior::Uniform { .. } => |x, _| x,
+                Prior::LogUniform { .. } => |x, _| x.ln(),
+                Prior::AsinhUniform { .. } => |x, s| (x / s).asinh(),
+                _ => return None,
+            };
+            let scale = if let Prior::AsinhUniform { scale, .. } = p.prior { scale } else { 1.0 };
+            let (lo, hi) = p.prior.support();
+            let tol = ON_BOUND_FRACTION * (u(hi, scale) - u(lo, scale));
+            [lo, hi].into_iter().find(|&b| (u(x, scale) - u(b, scale)).abs() <= tol).map(|b| {
+                format!(
+                    "{}: MAP {} on its prior bound {} (the data ask for a value the prior excludes; widen the prior \
+                     or question the model)",
+                    p.name,
+                    crate::error::fmt_num(x),
+                    crate::error::fmt_num(b)
+                )
+            })
+        })
+        .collect()
 }
 
 /// What the model says at the prior mean (or one prior draw): the reason a
@@ -335,4 +375,31 @@ pub fn overdispersed_starts(
             jitter(post, &centre, c0_sd, &mut rng)
         })
         .collect()
+}
+
+#[cfg(test)]
+mod bound_tests {
+    use super::*;
+    use crate::bayes::prior::Prior;
+    use crate::calibration::parameters::Target;
+
+    fn param(prior: Prior) -> crate::calibration::Parameter {
+        crate::calibration::Parameter { name: "omega_rad_s".into(), target: Target::Omega(0), prior, proposal_sd: 1.0 }
+    }
+
+    /// A MAP 1e-5 of the width from a bound (where Nelder–Mead stops against
+    /// it) warns, naming the bound; one 1 % inside does not; the log-uniform
+    /// width is measured in ln x (Ω's prior 1e3..1e13: 1e13·(1 − 1e-5) is on
+    /// the bound, 1e13/1.3 is 1.1 % of the ln-width inside).
+    #[test]
+    fn map_on_a_prior_bound_warns_and_an_interior_one_does_not() {
+        let uniform = param(Prior::Uniform { lower: 0.0, upper: 2.0 });
+        let w = map_on_bound(std::slice::from_ref(&uniform), &[2.0 - 2e-5]);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(w[0].starts_with("omega_rad_s: MAP") && w[0].contains("prior bound 2"), "{w:?}");
+        assert!(map_on_bound(&[uniform], &[1.98]).is_empty());
+        let log = param(Prior::LogUniform { lower: 1e3, upper: 1e13 });
+        assert_eq!(map_on_bound(std::slice::from_ref(&log), &[1e13 * (1.0 - 1e-5)]).len(), 1);
+        assert!(map_on_bound(&[log], &[1e13 / 1.3]).is_empty());
+    }
 }

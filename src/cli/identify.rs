@@ -213,6 +213,14 @@ pub fn run(args: &IdentifyArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
         .map_err(|e| InputError::new("DATA.csv", args.data.display(), format!("a readable CSV file ({e})")))?;
     let Identified { identification: id, observations, file } =
         identify_record(beam, &text, args.modes, args.max_order, args.first_mode, &Control::default())?;
+    // thermal-motion records (issue 43): the fit's ν̂ against the Welch segments
+    if let [w0, w1, ..] = id.x[..] {
+        if let Some(w) = crate::identify::thermal::welch_segments(&text, w1 - w0)
+            .and_then(|k| crate::identify::thermal::nu_warning(id.noise_sd, k))
+        {
+            eprintln!("warning: {w}");
+        }
+    }
     let comment = format!(
         "nanobeam identify {}: {} record, {} modes; sds from the fit (residual noise sd {:.4e}, {} residuals, {} parameters)",
         args.data.display(),

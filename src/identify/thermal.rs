@@ -17,7 +17,9 @@
 //! half power; the shortest power-of-two segment that keeps it so is used
 //! (the most averages, the least variance). A record whose narrowest line
 //! spans fewer bins even then is refused, naming the record length that
-//! would resolve it.
+//! would resolve it. The PSD handed on stops where the floor under the lines
+//! stops falling (`flexural_band`): the beam's lines sit in the lowest few
+//! per cent of a molecular-dynamics record's Welch band.
 
 use std::f64::consts::PI;
 
@@ -116,7 +118,67 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
             "> 0 (a displacement column is constant over a segment)",
         ));
     }
+    let keep = flexural_band(&value);
+    omega.truncate(keep);
+    value.truncate(keep);
     Ok((omega, value))
+}
+
+/// Factor above the frequency of the record's strongest line at which the band's top is first
+/// looked for (see `flexural_band`).
+pub const BAND_SEARCH_START: f64 = 8.0;
+
+/// How close (decades) the PSD's floor must come to its lowest value over
+/// the next octave for the background to count as flat (see `flexural_band`).
+pub const FLAT_FLOOR_DECADES: f64 = 0.2;
+
+/// The number of bins (from the first) that hold the beam's lines: the
+/// band ends where the background under the lines stops falling. Below it
+/// the background is the lines' own tails (a resonance's PSD falls as ω⁻⁴
+/// above it), above it the PSD lies on a flat floor that no beam mode makes
+/// (in an MD record, the slices' motion that is not the tube's bending:
+/// docs/md.md §3) and the fit's Whittle likelihood would weigh its
+/// thousands of bins like those of the lines.
+/// The floor at bin i is the 20th percentile of the PSD over ±25 % of its
+/// frequency (at least ±8 bins: a line fills less than that, so the floor is
+/// the background between lines); it is flat at i when it lies within
+/// [`FLAT_FLOOR_DECADES`] of its lowest value over bins i … 2i. The search
+/// starts [`BAND_SEARCH_START`] times above the frequency of the strongest
+/// line (a clamped or free beam's first three modes span a factor 5.4 or
+/// 17.5, so the lowest lines are never cut; below a cantilever's overdamped
+/// fundamental the floor is flat too). A PSD whose floor never flattens is
+/// kept whole.
+fn flexural_band(psd: &[f64]) -> usize {
+    let n = psd.len();
+    let smooth = |i: usize| {
+        let s = &psd[i.saturating_sub(1)..(i + 2).min(n)];
+        s.iter().sum::<f64>() / s.len() as f64
+    };
+    let Some(strongest) = (2..n).max_by(|&a, &b| smooth(a).total_cmp(&smooth(b))) else { return n };
+    let mut scratch = Vec::new();
+    let floor: Vec<f64> = (0..n)
+        .map(|i| {
+            let lo = (i * 4 / 5).min(i.saturating_sub(8));
+            let hi = (i * 5 / 4).max(i + 8).min(n - 1);
+            scratch.clear();
+            scratch.extend_from_slice(&psd[lo..=hi]);
+            let k = (scratch.len() - 1) / 5;
+            scratch.select_nth_unstable_by(k, f64::total_cmp).1.log10()
+        })
+        .collect();
+    // psd[i] is bin i + 1 (bin 0 is not returned): frequencies scale as i + 1
+    let start = ((strongest + 1) as f64 * BAND_SEARCH_START) as usize;
+    for i in start..n {
+        let top = (2 * (i + 1)).min(n);
+        if 2 * (i + 1) > n {
+            break;
+        }
+        let lowest = floor[i..top].iter().copied().fold(f64::INFINITY, f64::min);
+        if floor[i] - lowest <= FLAT_FLOOR_DECADES {
+            return i + 1;
+        }
+    }
+    n
 }
 
 /// Segments of `seg` samples with 50 % overlap in `n` samples.
@@ -257,4 +319,46 @@ pub(crate) fn fft(re: &mut [f64], im: &mut [f64]) {
         }
         len <<= 1;
     }
+}
+
+/// Welch segments of one column and the number of columns of a
+/// thermal-motion record's PSD: the record `text` (its header, its first two
+/// times, its row count) and the PSD's bin spacing `d_omega_rad_s` give the
+/// segment length. `None` when `text` is not a thermal-motion record.
+pub fn welch_segments(text: &str, d_omega_rad_s: f64) -> Option<(usize, usize)> {
+    let mut lines = text.lines().filter(|l| !l.trim().is_empty());
+    let header: Vec<String> =
+        lines.next()?.split(',').map(|s| s.trim().trim_start_matches('\u{feff}').to_string()).collect();
+    if !is_thermal(&header) {
+        return None;
+    }
+    let time = |l: Option<&str>| l.and_then(|l| l.split(',').next()).and_then(|v| v.trim().parse::<f64>().ok());
+    let (t0, t1) = (time(lines.next())?, time(lines.next())?);
+    let rows = 2 + lines.count();
+    let seg = (2.0 * PI / (d_omega_rad_s * (t1 - t0))).round() as usize;
+    Some((welch_count(rows, seg), header.len() - 1))
+}
+
+/// Below this fraction of one column's Welch segments, the fit's ν̂
+/// (1/noise_sd² of a PSD fit) says the fit does not describe the PSD. The
+/// independent averages ν lie between one column's segment count K (columns
+/// that see the same modes, e.g. slices of one tube, are fully correlated at a
+/// line) and the count over all columns; with a Hann window and 50 % overlap
+/// ν ≈ 0.95 K per independent column (Welch 1967: adjacent segments correlate
+/// by 0.167² in power), and ν̂ from hundreds of bins is itself good to
+/// ≲ 10 %: half of K is a misfit, not scatter.
+pub const NU_WARN_FRACTION: f64 = 0.5;
+
+/// The `warning:` line for a PSD fit whose ν̂ = 1/noise_sd² lies far below
+/// the `per_column` Welch segments of each of the record's `columns` (None
+/// when it does not).
+pub fn nu_warning(noise_sd: f64, (per_column, columns): (usize, usize)) -> Option<String> {
+    let nu = 1.0 / (noise_sd * noise_sd);
+    (nu < NU_WARN_FRACTION * per_column as f64).then(|| {
+        format!(
+            "the fit's residual scatter is that of {nu:.2} Welch averages (relative sd {noise_sd:.3}) where each of the \
+             record's {columns} columns gives {per_column} segments: the fit misses structure of the PSD (lines or \
+             background); the modes' sd, scaled by that scatter, are wider than the record's segments would give"
+        )
+    })
 }
