@@ -19,9 +19,16 @@
 //!   end's spring apart (a clamp is κ → ∞ at one end).
 //! - `string-ss`, `string-cc` (tension 20 N_cr on a simply supported and a
 //!   clamped–clamped tube): `axial-force`.
+//! - a pair, `spring-and-adsorbate` (the one-end spring and the adsorbate
+//!   together): both named, or honestly undecided (the decided causes a
+//!   subset of the truth, the truth's model the selection or an alternative).
 //! - foreign: `curvature` (a shallow initial curvature, h/d ~ U[0.15, 0.3]),
 //!   `crack` (a hinge, κ_c ~ log-U[2, 8], at 0.2–0.8 L), `temperature-gradient`
-//!   (EI falling linearly by 30–50 % towards one end): `unexplained`.
+//!   (EI falling linearly by 30–50 % towards one end), `taper` (the diameter
+//!   falling linearly by 10–20 % towards one end, EI ∝ d⁴, ρA ∝ d²; a change
+//!   the size of the nominal diameter's own ±10 % uncertainty, issue 40):
+//!   `unexplained` where the oracle [`catalogue_fits`] shows the set out of
+//!   catalogue, else (a mimic) any verdict that decides no cause.
 //!
 //! A confident wrong name: a decided cause that is not right for the kind
 //! (for a foreign kind, any decided cause) in a diagnosis that says explained.
@@ -42,7 +49,8 @@ use nanobeam::beam::{BeamSpec, Support};
 use nanobeam::calibration::measured::MeasuredFile;
 use nanobeam::calibration::{DramSettings, MeasuredData, ModeObservation, ParameterSet};
 use nanobeam::diagnose::classes::model_parameters;
-use nanobeam::diagnose::{diagnose, model_posterior, DiagnoseSettings, Diagnosis, Model, NominalScales};
+use nanobeam::diagnose::{diagnose, model_posterior, ppc, DiagnoseSettings, Diagnosis, Model, NominalScales};
+use rayon::prelude::*;
 
 /// Relative measurement sds of the hidden suite (§4.2): 0.3 % on ω, 3 % on ζ.
 const OMEGA_REL_SD: f64 = 0.003;
@@ -61,10 +69,12 @@ enum Kind {
     Curvature,
     Crack,
     TemperatureGradient,
+    Taper,
+    SpringAndAdsorbate,
 }
 
 impl Kind {
-    const ALL: [Kind; 10] = [
+    const ALL: [Kind; 12] = [
         Kind::Clean,
         Kind::WrongDiameter,
         Kind::Adsorbate,
@@ -75,6 +85,8 @@ impl Kind {
         Kind::Curvature,
         Kind::Crack,
         Kind::TemperatureGradient,
+        Kind::Taper,
+        Kind::SpringAndAdsorbate,
     ];
 
     fn name(self) -> &'static str {
@@ -89,6 +101,8 @@ impl Kind {
             Kind::Curvature => "curvature",
             Kind::Crack => "crack",
             Kind::TemperatureGradient => "temperature-gradient",
+            Kind::Taper => "taper",
+            Kind::SpringAndAdsorbate => "spring-and-adsorbate",
         }
     }
 
@@ -98,12 +112,13 @@ impl Kind {
             Kind::WrongDiameter | Kind::Adsorbate => &["section-mismatch"],
             Kind::OneEndSpring | Kind::ClampedPinnedAsSs => &["support-rotational-stiffness"],
             Kind::StringSs | Kind::StringCc => &["axial-force"],
+            Kind::SpringAndAdsorbate => &["support-rotational-stiffness", "section-mismatch"],
             _ => &[],
         }
     }
 
     fn foreign(self) -> bool {
-        matches!(self, Kind::Curvature | Kind::Crack | Kind::TemperatureGradient)
+        matches!(self, Kind::Curvature | Kind::Crack | Kind::TemperatureGradient | Kind::Taper)
     }
 }
 
@@ -175,6 +190,16 @@ fn generate(kind: Kind, seed: u64) -> Case {
         Kind::TemperatureGradient => {
             t.ei_linear_softening = rng.gen_range(0.3..0.5);
             format!("EI falls by {:.0} % towards x = L", 100.0 * t.ei_linear_softening)
+        }
+        Kind::SpringAndAdsorbate => {
+            let kappa = log_uniform(&mut rng, 1.0, 10.0);
+            t.ends[0] = End::Pinned { spring_n_m_rad: kappa * k_ref };
+            t.added_mass_fraction = rng.gen_range(0.15..0.30);
+            format!("kL/EI = {kappa:.2} at x = 0, mass/length +{:.1} %", 100.0 * t.added_mass_fraction)
+        }
+        Kind::Taper => {
+            t.taper = rng.gen_range(0.1..0.2);
+            format!("d falls by {:.1} % towards x = L", 100.0 * t.taper)
         }
     };
     let what = format!(
@@ -258,6 +283,140 @@ fn base_fit_max_z(case: &Case) -> f64 {
     obs.observed().iter().zip(obs.sd()).zip(&fit).map(|((y, sd), f)| ((y - f) / sd).abs()).fold(0.0, f64::max)
 }
 
+/// The best fit of one catalogue model to a set's noise-free data.
+#[derive(Debug, Clone)]
+struct CatalogueFit {
+    model: String,
+    /// The largest |y − ŷ|/σ over the fitted ω and ζ at the fit.
+    max_z: f64,
+}
+
+/// The |z| of the diagnosis's misfit test: the Šidák per-test level of the
+/// family-wise α (1 %) over the 10 fitted observables, 3.29.
+fn misfit_z() -> f64 {
+    let s = DiagnoseSettings::quick();
+    ppc::z_threshold(ppc::sidak_level(s.family_alpha, 2 * N_MODES))
+}
+
+/// The oracle of issue 40's item 5: is the set out of catalogue? Every
+/// candidate model of the diagnosis (the base, each single cause, each
+/// pair) fitted to the noise-free data by its MAP, largest standardised
+/// residual at the fit. Starts: 64 prior draws, and per sub-model (the base
+/// for a single, each single for a pair) 64 prior draws whose shared
+/// parameters (by name) are the sub-model's best fit (the nesting the
+/// screening uses, `diagnose::screen`); the best 3 polished by Nelder–Mead,
+/// 600 iterations, simplex as [`base_fit_max_z`]'s. A local optimiser can
+/// miss a better fit, so a max z here is an upper bound of the catalogue's
+/// best: "out of catalogue" may be too kind to the catalogue, "mimic" never is.
+/// Sorted best first.
+fn catalogue_fits(case: &Case) -> Vec<CatalogueFit> {
+    let d = &case.data;
+    let scales = NominalScales::of(&d.beam, N_MODES).expect("nominal beam computes");
+    let base = ParameterSet::paper_n1();
+    let models = Model::candidates(2, d.beam.support, &base);
+    let mut best: Vec<(Model, Vec<String>, Vec<f64>, f64)> = Vec::new(); // model, names, u at the fit, max z
+    for level in 0..=2 {
+        let here: Vec<&Model> = models.iter().filter(|m| m.causes().len() == level).collect();
+        let fits: Vec<(Model, Vec<String>, Vec<f64>, f64)> = here
+            .par_iter()
+            .map(|&m| {
+                let post = model_posterior(m, &base, &d.beam, &case.noise_free, &[], &scales);
+                let params = model_parameters(m, &base, &d.beam, &[], &scales);
+                let names: Vec<String> = params.set.params.iter().map(|p| p.name.clone()).collect();
+                let sd: Vec<f64> = params
+                    .set
+                    .params
+                    .iter()
+                    .zip(&params.coordinates)
+                    .map(|(p, &c)| match c {
+                        Coordinate::Log => 0.05,
+                        c => 0.05 * (c.to_u(p.prior.support().1) - c.to_u(p.prior.support().0)),
+                    })
+                    .collect();
+                // keyed by (kind, model index among all candidates): [40, kind] is the base-fit oracle's stream
+                let index = models.iter().position(|x| x == m).expect("listed") as u64;
+                let mut rng = stream(case.seed, Purpose::SyntheticBaseFit, [1000 + case.kind as u64, index]);
+                let mut starts: Vec<Vec<f64>> = (0..64).map(|_| post.sample_prior(&mut rng)).collect();
+                if level == 0 {
+                    let (e0a, (delta, omega)) = (case.truth.e0a_nm, case.truth.relaxations[0]);
+                    starts.push(post.from_inner(&[e0a, delta, omega]));
+                }
+                let subs = best.iter().filter(|(s, ..)| {
+                    s.causes().len() + 1 == level && s.causes().iter().all(|c| m.causes().contains(c))
+                });
+                for (_, sub_names, sub_u, _) in subs {
+                    for _ in 0..64 {
+                        let mut u = post.sample_prior(&mut rng);
+                        for (i, n) in names.iter().enumerate() {
+                            if let Some(j) = sub_names.iter().position(|s| s == n) {
+                                u[i] = sub_u[j];
+                            }
+                        }
+                        starts.push(u);
+                    }
+                }
+                let mut scored: Vec<(f64, Vec<f64>)> =
+                    starts.into_iter().map(|u| (post.log_posterior(&u), u)).collect();
+                scored.sort_by(|a, b| b.0.total_cmp(&a.0));
+                let fit = scored
+                    .iter()
+                    .take(3)
+                    .map(|(_, u)| map_estimate(&post, u, &sd, 600))
+                    .max_by(|a, b| a.log_posterior.total_cmp(&b.log_posterior))
+                    .expect("starts");
+                let obs = post.inner();
+                let max_z = obs.predict(&post.to_inner(&fit.theta)).map_or(f64::INFINITY, |f| {
+                    obs.observed()
+                        .iter()
+                        .zip(obs.sd())
+                        .zip(&f)
+                        .map(|((y, sd), f)| ((y - f) / sd).abs())
+                        .fold(0.0, f64::max)
+                });
+                (m.clone(), names, fit.theta, max_z)
+            })
+            .collect();
+        best.extend(fits);
+    }
+    let mut out: Vec<CatalogueFit> =
+        best.into_iter().map(|(m, _, _, z)| CatalogueFit { model: m.name(), max_z: z }).collect();
+    out.sort_by(|a, b| a.max_z.total_cmp(&b.max_z));
+    out
+}
+
+/// What a foreign set must come out as, from the oracle's best catalogue
+/// fit z* (noise-free). The misfit test flags an observable at |z| ≥ z_t
+/// (3.29); noise adds N(0, 1) to the noise-free residual (and the leverage
+/// correction only raises |z|), so at z* ≥ z_t + 2.33 the test fires on
+/// ≥ 99 % of noise draws whichever model is fitted: **out of catalogue**,
+/// `unexplained` is owed. At z* < z_t a catalogue model fits within the
+/// threshold: a **mimic** at this amplitude, that no verdict can tell from
+/// the catalogue cause; it is owed no decided cause. Between the two the
+/// test fires on 50–99 % of noise draws: **grey**, scored as a mimic.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Separable {
+    OutOfCatalogue,
+    Grey,
+    Mimic,
+}
+
+fn separable(best_z: f64) -> Separable {
+    let zt = misfit_z();
+    if best_z >= zt + 2.33 {
+        Separable::OutOfCatalogue
+    } else if best_z >= zt {
+        Separable::Grey
+    } else {
+        Separable::Mimic
+    }
+}
+
+/// The selected model's name (`base` for `none`), as alternatives are named.
+fn verdict_model(d: &Diagnosis) -> String {
+    let names: Vec<&str> = d.causes.iter().map(String::as_str).collect();
+    Model::from_name(&names.join("+")).map_or_else(|| "base".into(), |m| m.name())
+}
+
 /// The column of the confusion matrix.
 fn verdict(d: &Diagnosis) -> String {
     if d.cause == "multiple" {
@@ -274,21 +433,35 @@ struct Tally {
     confident_wrong: usize,
 }
 
-/// Is `d` right for `kind`: `none` on clean data, `unexplained` on a foreign
-/// kind, else explained with exactly the right causes named. A set whose
-/// base-fit max z is below 5 (`visible` false) hides in the base model at
-/// this noise: `none` is right for it too.
-fn is_right(kind: Kind, d: &Diagnosis, visible: bool) -> bool {
+/// Is `d` right for `kind`: `none` on clean data; on a foreign kind
+/// `unexplained` when the oracle shows the set out of catalogue, else no
+/// decided cause (`separable`); else explained with exactly the right
+/// causes named. A set whose base-fit max z is below 5 (`visible` false)
+/// hides in the base model at this noise: `none` is right for it too.
+fn is_right(kind: Kind, d: &Diagnosis, visible: bool, sep: Option<Separable>) -> bool {
     if !visible && d.cause == "none" {
         return true;
     }
     match kind {
         Kind::Clean => d.cause == "none",
-        k if k.foreign() => d.cause == "unexplained",
+        k if k.foreign() => match sep {
+            Some(Separable::OutOfCatalogue) | None => d.cause == "unexplained",
+            Some(_) => d.cause == "unexplained" || d.decided_causes.is_empty(),
+        },
         k => {
-            d.explained
+            let named = d.explained
                 && d.causes.len() == k.right().len()
-                && k.right().iter().all(|c| d.causes.iter().any(|n| n == c))
+                && k.right().iter().all(|c| d.causes.iter().any(|n| n == c));
+            // a pair: named, or honestly undecided (issue 40, item 6): the
+            // decided causes a subset of the truth and the truth's model the
+            // selection or an alternative
+            let truth = Model::from_name(&k.right().join("+")).expect("class names").name();
+            let listed = verdict_model(d) == truth || d.alternatives.iter().any(|a| a.extension == truth);
+            named
+                || (k.right().len() == 2
+                    && d.explained
+                    && listed
+                    && d.decided_causes.iter().all(|c| k.right().contains(&c.as_str())))
         }
     }
 }
@@ -307,10 +480,14 @@ fn tally(cases: &[(Kind, u64)]) -> Tally {
     for &(kind, seed) in cases {
         let case = generate(kind, seed);
         let z = base_fit_max_z(&case);
+        // the oracle, for foreign kinds only (the catalogue's own kinds are in it by construction)
+        let fits = if kind.foreign() { catalogue_fits(&case) } else { vec![] };
+        let sep = fits.first().map(|f| separable(f.max_z));
+        let oracle = fits.iter().take(3).map(|f| format!("{} {:.2}", f.model, f.max_z)).collect::<Vec<_>>();
         let t0 = Instant::now();
         let d = diagnose(&case.data, &settings).expect("valid generated data");
         let secs = t0.elapsed().as_secs_f64();
-        let (right, wrong) = (is_right(kind, &d, z >= 5.0), confident_wrong(kind, &d));
+        let (right, wrong) = (is_right(kind, &d, z >= 5.0, sep), confident_wrong(kind, &d));
         // the selected model's end springs, in κ = kL/EI (posterior mean ± sd)
         let k_ref = case.truth.ei() / (case.truth.length_nm * 1e-9);
         let springs: Vec<String> = d
@@ -326,8 +503,9 @@ fn tally(cases: &[(Kind, u64)]) -> Tally {
         t.right += usize::from(right);
         t.confident_wrong += usize::from(wrong);
         let line = format!(
-            "{:22} seed {seed:3} [{}] base-fit max z {z:6.1} → {} (explained {}, decided {:?}, alternatives {:?}, lnB \
-             {:.1}) right {right} confident-wrong {wrong}; springs {springs:?}; {} models, {} forward solves, {secs:.0} s",
+            "{:22} seed {seed:3} [{}] base-fit max z {z:6.1}; oracle {sep:?} (best catalogue fits, max z: {oracle:?}) → \
+             {} (explained {}, decided {:?}, alternatives {:?}, lnB {:.1}) right {right} confident-wrong {wrong}; springs \
+             {springs:?}; {} models, {} forward solves, {secs:.0} s",
             kind.name(),
             case.what,
             verdict(&d),
@@ -361,7 +539,7 @@ fn all_cases() -> Vec<(Kind, u64)> {
 /// name, every set right (issue 40's targets: singles ≥ 95 %, foreign 100 %
 /// `unexplained`, clean 100 % `none`, confident wrong 0).
 #[test]
-#[ignore = "issue 40's targets, not all met at the last full run (curvature seed 500, a foreign kind, was named spring + section-mismatch, undecided); the string regime and one-end supports are named right now and run in CI (seed 500 of each, beside the wrong diameter); 10 diagnoses, 8-15 min on 2 cores, beyond CI's budget; run with `cargo test --test diagnose_catalogue -- \
+#[ignore = "issue 40's study, not all met at the last run (seeds 500, 501): taper 500 and temperature-gradient 501, mimics of section-mismatch by the oracle, were named section-mismatch, decided: 2 confident wrong names by this scoring; 11 kinds, one diagnosis each per seed (5-15 min on the shared 2 cores), beyond CI's budget; run with `cargo test --test diagnose_catalogue -- \
             --ignored --nocapture`; the record is tests/diagnose_catalogue.md"]
 fn every_kind_is_named_right_and_nothing_is_named_wrong_with_confidence() {
     let only: Option<Vec<String>> =
@@ -392,6 +570,40 @@ fn every_kind_is_visible_against_the_base_model() {
         }
     }
     assert!(hidden.is_empty(), "clean sets must fit (< 5 sd), every other set must not: {hidden:?}");
+}
+
+/// Issue 40's item 5, measured first: for every foreign kind and seed
+/// (`NANOBEAM_CATALOGUE_SEEDS`, default 500), the best fit of every
+/// catalogue model to the noise-free data ([`catalogue_fits`]) and what the
+/// set is owed ([`separable`]). It asserts nothing about the catalogue (a
+/// mimic is a fact of the amplitude, not a failure); it asserts that every
+/// candidate (29 on a simply supported beam) was fitted to a finite
+/// residual, so no model is missing from the "no model fits" claim.
+#[test]
+#[ignore = "28 MAP fits per set, 1-3 min on 2 cores per set; run with the catalogue, the record is tests/diagnose_catalogue.md"]
+fn every_foreign_set_is_out_of_catalogue_or_a_declared_mimic() {
+    println!("misfit test |z| threshold {:.3}; out of catalogue at best max z >= {:.3}", misfit_z(), misfit_z() + 2.33);
+    for (kind, seed) in all_cases().into_iter().filter(|(k, _)| k.foreign()) {
+        let case = generate(kind, seed);
+        let t0 = Instant::now();
+        let fits = catalogue_fits(&case);
+        let base = fits.iter().find(|f| f.model == "base").expect("the base is a candidate").max_z;
+        let z = base_fit_max_z(&case);
+        println!(
+            "{:22} seed {seed} [{}]: base-fit max z {z:.2} (oracle's base {base:.2}); {:?}; best: {}; {:.0} s",
+            kind.name(),
+            case.what,
+            separable(fits[0].max_z),
+            fits.iter().take(6).map(|f| format!("{} {:.2}", f.model, f.max_z)).collect::<Vec<_>>().join(", "),
+            t0.elapsed().as_secs_f64()
+        );
+        assert_eq!(fits.len(), 29, "{} seed {seed}: every candidate of a simply supported beam", kind.name());
+        assert!(
+            fits.iter().all(|f| f.max_z.is_finite()),
+            "{} seed {seed}: a model not evaluable: {fits:?}",
+            kind.name()
+        );
+    }
 }
 
 /// A tube 7 % thinner than declared (wrong-diameter seed 500, d = 0.929 nm)

@@ -73,6 +73,10 @@ pub struct Truth {
     /// EI(x) = EI·(1 − softening·x/L) in [`SOFTENING_SEGMENTS`] steps: a tube
     /// warmer towards x = L (E falls with temperature).
     pub ei_linear_softening: f64,
+    /// A tapered tube: the diameter falls linearly, d(x) = d·(1 − taper·x/L),
+    /// so EI ∝ d⁴ and ρA ∝ d² (solid section, the adsorbate's mass fraction
+    /// kept), in [`SOFTENING_SEGMENTS`] steps of the midpoint values.
+    pub taper: f64,
     /// Initial curvature: (amplitude nm, weight of the antisymmetric sin 2πx̃ shape beside sin πx̃).
     pub curvature: Option<(f64, f64)>,
 }
@@ -93,6 +97,7 @@ impl Truth {
             viscous_damping_n_s_m2: 0.0,
             hinges: vec![],
             ei_linear_softening: 0.0,
+            taper: 0.0,
             curvature: None,
         }
     }
@@ -176,7 +181,7 @@ impl Problem {
         let l = t.length_nm * 1e-9;
         let ei0 = t.ei();
         let mut cuts: Vec<f64> = vec![0.0, 1.0];
-        let nseg = if t.ei_linear_softening != 0.0 { SOFTENING_SEGMENTS } else { 1 };
+        let nseg = if t.ei_linear_softening != 0.0 || t.taper != 0.0 { SOFTENING_SEGMENTS } else { 1 };
         cuts.extend((1..nseg).map(|i| i as f64 / nseg as f64));
         cuts.extend(t.hinges.iter().map(|&(x, _)| x / t.length_nm));
         cuts.sort_by(f64::total_cmp);
@@ -184,7 +189,11 @@ impl Problem {
         let m = 1.0 + t.added_mass_fraction;
         let segments: Vec<Segment> = cuts
             .windows(2)
-            .map(|w| Segment { x0: w[0], x1: w[1], e: 1.0 - t.ei_linear_softening * 0.5 * (w[0] + w[1]), m })
+            .map(|w| {
+                let x = 0.5 * (w[0] + w[1]);
+                let d = 1.0 - t.taper * x;
+                Segment { x0: w[0], x1: w[1], e: (1.0 - t.ei_linear_softening * x) * d.powi(4), m: m * d * d }
+            })
             .collect();
         let hinge_at = segments
             .iter()
