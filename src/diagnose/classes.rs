@@ -135,6 +135,34 @@ impl ModelClass {
         Self::CAUSES.into_iter().find(|c| c.name() == name)
     }
 
+    /// Why measured ω and ζ alone never decide this cause, even when no
+    /// model of the catalogue rivals it: an effect outside the catalogue
+    /// that shares its signature to first order, and the measurement that
+    /// separates the two. `None` for causes with no such known mimic.
+    ///
+    /// `section-mismatch` scales EI/ρA by one factor, which moves every
+    /// undamped λ_n by that factor and leaves every mode shape nominal. A
+    /// section or modulus that varies along the tube (a taper, a temperature
+    /// gradient, a partial coating) moves λ_n by the mode-weighted mean of
+    /// its variation, ∫(δEI·φ_n″² − λ_n δρA·φ_n²)dx / ∫EI φ_n″² dx: for a
+    /// variation smooth on the scale of the measured modes' wavelengths that
+    /// weight is nearly the same for every n, so a uniform factor fits
+    /// (the oracle fits of `tests/diagnose_catalogue.rs`: a 10–20 % taper and
+    /// an EI gradient fitted by section-mismatch alone within 0.01–0.21 sd of
+    /// noise-free data). The variation skews the mode shapes, which the
+    /// uniform factor cannot: a scan of a measured mode's shape separates them.
+    pub fn first_order_mimic(self) -> Option<&'static str> {
+        match self {
+            ModelClass::SectionMismatch => Some(
+                "a section or modulus that varies along the tube (a taper, a temperature gradient, a partial \
+                 coating) with the same mean shifts every measured ω alike to first order, so ω and ζ cannot tell it \
+                 from a uniform mismatch; the reading is that of the mean section. A scan of a measured mode's \
+                 shape (mode_scans) would separate them: a uniform mismatch leaves every shape nominal",
+            ),
+            _ => None,
+        }
+    }
+
     /// Whether the cause changes a beam with `support` at all. The rotational
     /// spring acts on the rotations a support leaves free (`beam::model`):
     /// both ends of a simply supported beam, the pinned end of a

@@ -180,6 +180,16 @@ impl Alternative {
     }
 }
 
+/// A named cause that is not decided, and why.
+#[derive(Debug, Clone, Serialize, PartialEq)]
+pub struct Undecided {
+    pub cause: String,
+    /// The alternative that fits the data about as well without the cause,
+    /// or the out-of-catalogue effect that mimics it
+    /// ([`ModelClass::first_order_mimic`]), with the measurement that would decide.
+    pub reason: String,
+}
+
 /// Decision thresholds actually used.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct Thresholds {
@@ -221,6 +231,8 @@ pub struct Diagnosis {
     /// without them ([`decided_causes`]). The rest of `causes` is the
     /// evidence's best guess, not a decision. Empty when unexplained.
     pub decided_causes: Vec<String>,
+    /// Every cause of `causes` not in `decided_causes`, with why ([`decide`]).
+    pub undecided: Vec<Undecided>,
     /// The causes of the best model found, even when it does not explain the data.
     pub best_partial_explanation: Vec<String>,
     pub gain: Gain,
@@ -291,6 +303,41 @@ pub fn decided_causes(causes: &[String], alternatives: &[Alternative]) -> Vec<St
         })
         .cloned()
         .collect()
+}
+
+/// The decision on each named cause: the causes every fitting alternative
+/// shares ([`decided_causes`]), less those whose signature an effect outside
+/// the catalogue shares to first order ([`ModelClass::first_order_mimic`])
+/// when the data hold no mode scan that could tell them apart; and, for every
+/// other named cause, why it is not decided: the closest fitting alternative
+/// that lacks it (`alternatives` sorted by gap), or the mimic.
+pub fn decide(causes: &[String], alternatives: &[Alternative], has_scans: bool) -> (Vec<String>, Vec<Undecided>) {
+    let mut decided = Vec::new();
+    let mut undecided = Vec::new();
+    for name in causes {
+        let class = ModelClass::from_name(name).expect("causes are class names");
+        let rival = alternatives.iter().filter(|a| !a.misfits).find(|a| {
+            !Model::from_name(&a.extension).expect("alternatives name visited models").causes().contains(&class)
+        });
+        let reason = match (rival, class.first_order_mimic()) {
+            (Some(a), _) if a.is_noise() => Some(format!(
+                "noise larger than the stated sds explains the data about as well (ln B gap {:.2}): repeat the \
+                 measured modes to estimate their scatter",
+                a.log_bayes_factor_gap
+            )),
+            (Some(a), _) => Some(format!(
+                "`{}` explains the data about as well without it (ln B gap {:.2})",
+                a.extension, a.log_bayes_factor_gap
+            )),
+            (None, Some(mimic)) if !has_scans => Some(mimic.to_string()),
+            (None, _) => None,
+        };
+        match reason {
+            Some(reason) => undecided.push(Undecided { cause: name.clone(), reason }),
+            None => decided.push(name.clone()),
+        }
+    }
+    (decided, undecided)
 }
 
 pub(super) fn candidate(r: &ModelRun, z_base: f64, probability: f64, data: &MeasuredData) -> Candidate {
@@ -376,6 +423,37 @@ mod tests {
         let noise = alt("baseline-beta");
         assert!(noise.is_noise() && !rival_pair[0].is_noise());
         assert!(decided_causes(&causes, &[noise]).is_empty());
+    }
+
+    /// `decide` keeps `decided_causes`' rule, says why of every other cause,
+    /// and never decides `section-mismatch` from ω and ζ alone (a taper or
+    /// a modulus gradient mimics it to first order), only with a shape scan.
+    #[test]
+    fn undecided_causes_carry_their_reason_and_a_mimicked_cause_needs_a_scan() {
+        let alt =
+            |name: &str, gap: f64| Alternative { extension: name.into(), log_bayes_factor_gap: gap, misfits: false };
+        let causes: Vec<String> = vec!["extra-relaxation".into(), "axial-force".into()];
+        let alternatives = [alt("extra-relaxation+support-rotational-stiffness", 0.4), alt("axial-force", 1.2)];
+        let (decided, undecided) = decide(&causes, &alternatives, false);
+        assert_eq!(decided, decided_causes(&causes, &alternatives));
+        assert_eq!(undecided.len(), 2);
+        // the closest fitting alternative that lacks the cause is named
+        assert!(undecided[0].reason.contains("`axial-force`") && undecided[0].reason.contains("1.20"));
+        assert!(undecided[1].reason.contains("`extra-relaxation+support-rotational-stiffness`"));
+        let (decided, undecided) = decide(&causes, &[alt("baseline-beta", 2.0)], false);
+        assert!(decided.is_empty() && undecided.iter().all(|u| u.reason.contains("noise larger")));
+
+        let section: Vec<String> = vec!["section-mismatch".into()];
+        let nested = [alt("section-mismatch+viscous-damping", -0.5)];
+        assert_eq!(decided_causes(&section, &nested), section, "no catalogue rival");
+        let (decided, undecided) = decide(&section, &nested, false);
+        assert!(decided.is_empty(), "decided from ω and ζ alone");
+        assert_eq!(undecided[0].reason, ModelClass::SectionMismatch.first_order_mimic().unwrap());
+        let (decided, undecided) = decide(&section, &nested, true);
+        assert_eq!((decided, undecided.len()), (section.clone(), 0), "a shape scan decides");
+        assert!(ModelClass::CAUSES
+            .iter()
+            .all(|c| c.first_order_mimic().is_some() == (*c == ModelClass::SectionMismatch)));
     }
 
     /// On a stronger-effect bound within 0.1 % of the prior's width (in ln x

@@ -72,8 +72,8 @@ use crate::error::InputError;
 
 pub use classes::{model_posterior, ClassPosterior, Model, ModelClass, NominalScales, DISTINCT_RELAXATIONS};
 pub use diagnosis::{
-    decided_causes, on_prior_bound, Alternative, BoundHit, Candidate, Diagnosis, DiagnosisRun, Gain, HeldOut, Summary,
-    Thresholds, ON_BOUND_FRACTION,
+    decide, decided_causes, on_prior_bound, Alternative, BoundHit, Candidate, Diagnosis, DiagnosisRun, Gain, HeldOut,
+    Summary, Thresholds, Undecided, ON_BOUND_FRACTION,
 };
 pub use evidence::{ModelRun, LAPLACE_DISAGREEMENT_NATS};
 pub use predictive::fitted_checks;

@@ -195,10 +195,10 @@ pub fn summary(d: &Diagnosis) -> String {
     }
     if d.causes.len() > d.decided_causes.len() {
         let decided = if d.decided_causes.is_empty() { "none".to_string() } else { d.decided_causes.join(", ") };
-        t += &format!(
-            "decided causes: {decided} (of {}; an alternative within the margin that fits lacks each of the others)\n",
-            d.causes.join(", ")
-        );
+        t += &format!("decided causes: {decided} (of {})\n", d.causes.join(", "));
+        for u in &d.undecided {
+            t += &format!("undecided: {}: {}\n", u.cause, u.reason);
+        }
     }
     for a in &d.alternatives {
         let fit = match (a.misfits, a.is_noise()) {

@@ -7,7 +7,7 @@ use std::sync::atomic::Ordering;
 use crate::calibration::{observables, MeasuredData, Observable};
 
 use super::classes::Model;
-use super::diagnosis::{candidate, decided_causes, Alternative, Candidate, Diagnosis, Gain, HeldOut, Thresholds};
+use super::diagnosis::{candidate, decide, Alternative, Candidate, Diagnosis, Gain, HeldOut, Thresholds};
 use super::evidence::ModelRun;
 use super::next;
 use super::ppc::{self, Check, Draws};
@@ -163,7 +163,11 @@ impl Decision {
             Some(_) => None,
         };
 
-        let decided_causes = if explained { decided_causes(&causes, &alternatives) } else { vec![] };
+        let (decided_causes, undecided) = if explained {
+            decide(&causes, &alternatives, !problem.data.mode_scans.is_empty())
+        } else {
+            (vec![], vec![])
+        };
         let gain = Gain {
             extension: self.selected.name(),
             log_bayes_factor: run(&self.selected).log_evidence - z_base,
@@ -189,6 +193,7 @@ impl Decision {
             cause,
             explained,
             decided_causes,
+            undecided,
             best_partial_explanation: causes,
             gain,
             alternatives,
