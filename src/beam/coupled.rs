@@ -81,7 +81,17 @@ pub(super) fn general_path(
                 // nonlinear Rayleigh-quotient iteration from the family's vector
                 // φ picks the family's own root instead.
                 if s0.im == 0.0 {
-                    let s = match nonlinear_rqi(model, s0.re, phi)? {
+                    let mut pole = nonlinear_rqi(model, s0.re, phi, &[])?;
+                    if let RealPole::Rqi(s, x) = &pole {
+                        if found_real.iter().any(|(f, y)| same_real_pole(model, (*s, x), (*f, y))) {
+                            // a start nearer another family's pole than its own (strong
+                            // coupling, clustered relaxation poles): once more, with the
+                            // found vectors projected out of the first cycles
+                            let avoid: Vec<&[f64]> = found_real.iter().map(|(_, y)| y.as_slice()).collect();
+                            pole = nonlinear_rqi(model, s0.re, phi, &avoid)?;
+                        }
+                    }
+                    let s = match pole {
                         RealPole::Rqi(s, x) => {
                             // the same neighbourhood and meeting tests as below, with
                             // the vectors telling apart poles closer than 1e-8·|s|
@@ -303,6 +313,9 @@ fn relaxation_bracket(model: &ScaledModel, s: f64) -> Option<(f64, f64)> {
     (near < 2).then_some((lo, hi))
 }
 
+/// Cycles of [`nonlinear_rqi`] with the `avoid` vectors projected out.
+const DEFLATED_CYCLES: usize = 3;
+
 /// Nonlinear Rayleigh-quotient iteration for a real pole from the start s0 of
 /// family vector φ: s ← root of xᵀT(s)x = 0 (scalar Newton, element-energy
 /// forms, kept inside the start's interval between poles of G), then
@@ -310,7 +323,12 @@ fn relaxation_bracket(model: &ScaledModel, s: f64) -> Option<(f64, f64)> {
 /// always updates x: s0 is the root of φ's own functional (the one-term
 /// approximation), so its Newton steps move by round-off only and say
 /// nothing about whether φ is the eigenvector.
-fn nonlinear_rqi(model: &ScaledModel, s0: f64, phi: &[f64]) -> Result<RealPole, BeamError> {
+///
+/// `avoid`: vectors of poles found already, K̃-projected out of x in the first
+/// [`DEFLATED_CYCLES`] cycles (distinct poles' vectors are nearly
+/// K̃-orthogonal, see [`same_real_pole`]), then released so that x converges
+/// to the exact eigenvector of the pole it is then nearest.
+fn nonlinear_rqi(model: &ScaledModel, s0: f64, phi: &[f64], avoid: &[&[f64]]) -> Result<RealPole, BeamError> {
     let Some((lo, hi)) = relaxation_bracket(model, s0) else { return Ok(RealPole::EqualRates(s0)) };
     if hi - lo <= 1e-14 * s0.abs() {
         return Ok(RealPole::EqualRates(s0));
@@ -341,7 +359,9 @@ fn nonlinear_rqi(model: &ScaledModel, s0: f64, phi: &[f64]) -> Result<RealPole, 
             moved += (next - s).abs();
             s = next;
         }
-        if cycle > 0 && moved <= 1e-14 * s.abs() {
+        // a root from a projected vector is not yet the pole
+        let free = cycle > 0 && (avoid.is_empty() || cycle > DEFLATED_CYCLES);
+        if free && moved <= 1e-14 * s.abs() {
             return Ok(RealPole::Rqi(s, x));
         }
         let (g, dg) = model.relaxation(Complex64::new(s, 0.0));
@@ -360,6 +380,17 @@ fn nonlinear_rqi(model: &ScaledModel, s0: f64, phi: &[f64]) -> Result<RealPole, 
             return Err(BeamError::numerical("nonlinear RQI broke down"));
         }
         x = y.iter().map(|v| v / norm).collect();
+        if cycle < DEFLATED_CYCLES && !avoid.is_empty() {
+            for v in avoid {
+                let c = model.k.bilinear(v, &x) / model.k.bilinear(v, v);
+                x.iter_mut().zip(v.iter()).for_each(|(xi, vi)| *xi -= c * vi);
+            }
+            let norm = x.iter().map(|v| v.abs()).fold(0.0, f64::max);
+            if !(norm.is_finite() && norm > 0.0) {
+                return Err(BeamError::numerical("nonlinear RQI broke down"));
+            }
+            x.iter_mut().for_each(|v| *v /= norm);
+        }
     }
     // as in `functional_root`: near buckling the functional's terms cancel and
     // its Newton steps stay at their round-off, above 1e-14·|s|
