@@ -24,8 +24,9 @@ pub(super) enum Poles {
     /// The oscillatory pairs only (what [`crate::beam::ModalSolver::observables`] needs).
     /// Real relaxation poles are not modes; a slow relaxation (Ω̃ ≪ ω̃₁) gives
     /// every family a real pole near −Ω̃/(1 + Δ), equal to leading order for
-    /// all families, and RQI from two of those starts can land on one pole:
-    /// the coupled path then fails and the dense state space (~25·dim³ flops,
+    /// all families (told apart by their vectors: [`same_real_pole`]), and
+    /// should RQI from two of those starts still land on one pole, the
+    /// coupled path fails and the dense state space (~25·dim³ flops,
     /// dim = 2n + N·n) takes over for poles no observable uses.
     Oscillatory,
 }
@@ -67,6 +68,8 @@ pub(super) fn general_path(
         let count = n_modes;
         let approx = family_approximations(model, pairs);
         let mut found: Vec<Complex64> = Vec::new();
+        // real poles found by RQI with their vectors (see `same_real_pole`)
+        let mut found_real: Vec<(f64, Vec<f64>)> = Vec::new();
         let mut families = Vec::with_capacity(count);
         for ((a, b, c), phi, forms) in &approx {
             let starts = family_roots(*a, *b, *c, &model.ivs)?;
@@ -74,11 +77,40 @@ pub(super) fn general_path(
             let wanted = |s: &Complex64| s.im > 0.0 || (s.im == 0.0 && poles == Poles::All);
             for s0 in starts.iter().copied().filter(wanted) {
                 // Real poles cluster (one per family within [−Ωᵢ, −Ωᵢ/(1+Δᵢ)]) next
-                // next to the n-fold poles of det T at −Ωᵢ, where methods on det T crawl;
+                // to the n-fold poles of det T at −Ωᵢ, where methods on det T crawl;
                 // nonlinear Rayleigh-quotient iteration from the family's vector
                 // φ picks the family's own root instead.
-                let s =
-                    if s0.im == 0.0 { nonlinear_rqi(model, s0, phi)? } else { complex_rqi(model, s0, phi, *forms)? };
+                if s0.im == 0.0 {
+                    let mut pole = nonlinear_rqi(model, s0.re, phi, &[])?;
+                    if let RealPole::Rqi(s, x) = &pole {
+                        if found_real.iter().any(|(f, y)| same_real_pole(model, (*s, x), (*f, y))) {
+                            // a start nearer another family's pole than its own (strong
+                            // coupling, clustered relaxation poles): once more, with the
+                            // found vectors projected out of the first cycles
+                            let avoid: Vec<&[f64]> = found_real.iter().map(|(_, y)| y.as_slice()).collect();
+                            pole = nonlinear_rqi(model, s0.re, phi, &avoid)?;
+                        }
+                    }
+                    let s = match pole {
+                        RealPole::Rqi(s, x) => {
+                            // the same neighbourhood and meeting tests as below, with
+                            // the vectors telling apart poles closer than 1e-8·|s|
+                            if (s - s0.re).abs() > 0.5 * s0.re.abs() {
+                                return Err(BeamError::numerical("RQI left its start's neighbourhood"));
+                            }
+                            if found_real.iter().any(|(f, y)| same_real_pole(model, (s, &x), (*f, y))) {
+                                return Err(BeamError::numerical("two starts converged to the same pole"));
+                            }
+                            found_real.push((s, x));
+                            s
+                        }
+                        RealPole::EqualRates(s) => s,
+                    };
+                    found.push(Complex64::new(s, 0.0));
+                    fam.push(Complex64::new(s, 0.0));
+                    continue;
+                }
+                let s = complex_rqi(model, s0, phi, *forms)?;
                 // a start from the one-term model is within a few % of its pole;
                 // a jump of more than half its size means another pole was hit,
                 // and so does landing on a pole found already.
@@ -88,19 +120,14 @@ pub(super) fn general_path(
                 if found.iter().any(|f| (s - f).norm() <= 1e-8 * s.norm()) {
                     return Err(BeamError::numerical("two starts converged to the same pole"));
                 }
-                if s0.im == 0.0 {
-                    found.push(s);
-                    fam.push(s);
-                } else {
-                    if s.im.abs() <= REAL_TOL * s.norm() {
-                        return Err(BeamError::numerical("complex start converged to a real pole"));
-                    }
-                    let s = Complex64::new(s.re, s.im.abs());
-                    found.push(s);
-                    found.push(s.conj());
-                    fam.push(s);
-                    fam.push(s.conj());
+                if s.im.abs() <= REAL_TOL * s.norm() {
+                    return Err(BeamError::numerical("complex start converged to a real pole"));
                 }
+                let s = Complex64::new(s.re, s.im.abs());
+                found.push(s);
+                found.push(s.conj());
+                fam.push(s);
+                fam.push(s.conj());
             }
             families.push(fam);
         }
@@ -235,12 +262,80 @@ fn at_roundoff(f: Complex64, scale: f64) -> bool {
     f.norm() <= 8.0 * f64::EPSILON * scale
 }
 
-/// Nonlinear Rayleigh-quotient iteration for a real pole: s ← root of
-/// xᵀT(s)x = 0 (scalar Newton, element-energy forms), x ← T(s)⁻¹T'(s)x.
-fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Complex64, BeamError> {
+/// A real pole of the coupled path.
+enum RealPole {
+    /// Found by [`nonlinear_rqi`], with its eigenvector (max-norm 1).
+    Rqi(f64, Vec<f64>),
+    /// A start that lies (within a few ulps) between relaxation rates equal to
+    /// within a few ulps: s = −Ω̃ᵢ is then an exact pole (q = 0 and the rates'
+    /// variables in a combination with ΣΔᵢq̄ᵢ = 0 decay alone at −Ω̃ᵢ, n-fold
+    /// per extra equal rate, as the decoupled path lists it once per family),
+    /// or the bracket between the rates is narrower than the iteration's
+    /// own stop, so that any point of it is the family's pole to that stop.
+    EqualRates(f64),
+}
+
+/// Two real RQI poles (s, x), (f, y) closer than 1e-8·|s| are one pole only if
+/// their vectors are parallel in the K̃ inner product. Distinct poles of the
+/// symmetric T can be far closer than 1e-8·|s|: between two nearly equal rates
+/// G(s) = 1 + ΣΔᵢ s/(s + Ω̃ᵢ) is so steep that every family's root of
+/// G(s) = −ν (ν an eigenvalue of (s²M̃ + s c̃ M̃_beam + K̃_spring + K̃_N, K̃),
+/// distinct per family) falls within ≈ Δν/G'(s) of the others (1e-9·|s| at
+/// rates 1e-4 apart). For distinct poles T(s)x = T(f)y = 0 gives
+/// yᵀ(T(s) − T(f))x = 0, i.e.
+///   yᵀK̃x = −(s − f)/(G(s) − G(f))·yᵀ((s + f)M̃ + c̃M̃_beam)x,
+/// so |cos_K(x, y)| ≲ |s|·(2|s|m + c̃ m_b)/(|ΔG|·k) ≪ 1 where G is steep, and 1
+/// for one pole: the test is |cos_K| > 1/2.
+fn same_real_pole(model: &ScaledModel, (s, x): (f64, &[f64]), (f, y): (f64, &[f64])) -> bool {
+    if (s - f).abs() > 1e-8 * s.abs() {
+        return false;
+    }
+    let (kxy, kxx, kyy) = (model.k.bilinear(x, y), model.k.bilinear(x, x), model.k.bilinear(y, y));
+    kxy.abs() > 0.5 * (kxx * kyy).sqrt()
+}
+
+/// The open interval between consecutive poles −Ω̃ᵢ of G(s) that holds `s`
+/// (−∞ below the fastest rate, 0 above the slowest), or `None` when `s` lies
+/// within 8 eps·|s| of two (or more) poles (rates equal to a few ulps).
+fn relaxation_bracket(model: &ScaledModel, s: f64) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (f64::NEG_INFINITY, 0.0f64);
+    let mut near = 0;
+    for &(_, w) in &model.ivs {
+        let p = -w;
+        if (s - p).abs() <= 8.0 * f64::EPSILON * s.abs() {
+            near += 1;
+        } else if p < s {
+            lo = lo.max(p);
+        } else {
+            hi = hi.min(p);
+        }
+    }
+    (near < 2).then_some((lo, hi))
+}
+
+/// Cycles of [`nonlinear_rqi`] with the `avoid` vectors projected out.
+const DEFLATED_CYCLES: usize = 3;
+
+/// Nonlinear Rayleigh-quotient iteration for a real pole from the start s0 of
+/// family vector φ: s ← root of xᵀT(s)x = 0 (scalar Newton, element-energy
+/// forms, kept inside the start's interval between poles of G), then
+/// x ← T(s)⁻¹T'(s)x, until a cycle moves s by ≤ 1e-14·|s|. The first cycle
+/// always updates x: s0 is the root of φ's own functional (the one-term
+/// approximation), so its Newton steps move by round-off only and say
+/// nothing about whether φ is the eigenvector.
+///
+/// `avoid`: vectors of poles found already, K̃-projected out of x in the first
+/// [`DEFLATED_CYCLES`] cycles (distinct poles' vectors are nearly
+/// K̃-orthogonal, see [`same_real_pole`]), then released so that x converges
+/// to the exact eigenvector of the pole it is then nearest.
+fn nonlinear_rqi(model: &ScaledModel, s0: f64, phi: &[f64], avoid: &[&[f64]]) -> Result<RealPole, BeamError> {
+    let Some((lo, hi)) = relaxation_bracket(model, s0) else { return Ok(RealPole::EqualRates(s0)) };
+    if hi - lo <= 1e-14 * s0.abs() {
+        return Ok(RealPole::EqualRates(s0));
+    }
     let mut x: Vec<f64> = phi.to_vec();
-    let mut s = s0.re;
-    for _ in 0..50 {
+    let mut s = s0;
+    for cycle in 0..50 {
         let (k, m, mb, ks) = model.forms(&x);
         let mut moved = 0.0;
         for _ in 0..3 {
@@ -251,11 +346,23 @@ fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comp
             if !step.is_finite() {
                 return Err(BeamError::numerical("non-finite nonlinear RQI step"));
             }
-            s -= step;
-            moved += step.abs();
+            // a step across a pole of G would leave the family's interval:
+            // halve the way to that pole instead
+            let next = s - step;
+            let next = if next <= lo {
+                0.5 * (s + lo)
+            } else if next >= hi {
+                0.5 * (s + hi)
+            } else {
+                next
+            };
+            moved += (next - s).abs();
+            s = next;
         }
-        if moved <= 1e-14 * s.abs() {
-            return Ok(Complex64::new(s, 0.0));
+        // a root from a projected vector is not yet the pole
+        let free = cycle > 0 && (avoid.is_empty() || cycle > DEFLATED_CYCLES);
+        if free && moved <= 1e-14 * s.abs() {
+            return Ok(RealPole::Rqi(s, x));
         }
         let (g, dg) = model.relaxation(Complex64::new(s, 0.0));
         let lu = BandLu::factor_kd(model.n(), model.k.kd, |i, j| {
@@ -263,7 +370,8 @@ fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comp
             let ka = model.k_axial.as_ref().map_or(0.0, |ka| ka.get(i, j));
             s * s * model.m.get(i, j) + s * model.c * model.m_beam.get(i, j) + ks + ka + g.re * model.k.get(i, j)
         });
-        let Some(lu) = lu else { return Ok(Complex64::new(s, 0.0)) };
+        // T(s) exactly singular: s is a pole and x the start of its vector
+        let Some(lu) = lu else { return Ok(RealPole::Rqi(s, x)) };
         let (mx, mbx, kx) = (model.m.mul_vec(&x), model.m_beam.mul_vec(&x), model.k.mul_vec(&x));
         let mut y: Vec<f64> = (0..model.n()).map(|i| 2.0 * s * mx[i] + model.c * mbx[i] + dg.re * kx[i]).collect();
         lu.solve(&mut y);
@@ -272,6 +380,17 @@ fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comp
             return Err(BeamError::numerical("nonlinear RQI broke down"));
         }
         x = y.iter().map(|v| v / norm).collect();
+        if cycle < DEFLATED_CYCLES && !avoid.is_empty() {
+            for v in avoid {
+                let c = model.k.bilinear(v, &x) / model.k.bilinear(v, v);
+                x.iter_mut().zip(v.iter()).for_each(|(xi, vi)| *xi -= c * vi);
+            }
+            let norm = x.iter().map(|v| v.abs()).fold(0.0, f64::max);
+            if !(norm.is_finite() && norm > 0.0) {
+                return Err(BeamError::numerical("nonlinear RQI broke down"));
+            }
+            x.iter_mut().for_each(|v| *v /= norm);
+        }
     }
     // as in `functional_root`: near buckling the functional's terms cancel and
     // its Newton steps stay at their round-off, above 1e-14·|s|
@@ -279,7 +398,7 @@ fn nonlinear_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64]) -> Result<Comp
     let (g, _) = model.relaxation(Complex64::new(s, 0.0));
     let terms = [s * s * m, s * model.c * mb, ks, g.re * k];
     if at_roundoff(Complex64::new(terms.iter().sum(), 0.0), terms.iter().map(|t| t.abs()).sum()) {
-        return Ok(Complex64::new(s, 0.0));
+        return Ok(RealPole::Rqi(s, x));
     }
     Err(BeamError::numerical("nonlinear RQI did not converge"))
 }
