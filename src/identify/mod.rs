@@ -28,7 +28,9 @@
 //! clearly under the fitted noise model (frequency records: its resonance
 //! stands at least [`MIN_PEAK_SNR`] noise sd high, see [`peak_snr`], with
 //! [`MIN_POINTS_PER_RESONANCE`] samples in its fitted half-power band;
-//! free decays: its residue at least [`MIN_AMPLITUDE_SNR`] sd from zero), or
+//! free decays: its residue at least [`MIN_AMPLITUDE_SNR`] sd from zero and
+//! its initial amplitude at least [`MIN_RELATIVE_AMPLITUDE`] of the record's
+//! largest sample), or
 //! with `modes = Some(K)` the K stable modes of the diagram that stand
 //! clearest (the others, and the refinement's out-of-band pseudo-modes, stay
 //! in the fit as background). No clear mode is an input error naming the
@@ -85,6 +87,18 @@ pub const MIN_AMPLITUDE_SNR: f64 = 5.0;
 /// [`peaks`] (false alarm ≤ N·Q(5) per record of N samples), and a
 /// resonance the issue calls visible stands 20 sd high.
 pub const MIN_PEAK_SNR: f64 = 5.0;
+/// Smallest initial amplitude 2|A_r| of a reported free-decay mode, as a
+/// fraction of the record's largest |sample|: the dynamic range a record
+/// holds a mode in. A noise-free (or nearly so) record's residue sd is that
+/// of its non-modal content (an anti-alias filter's start-up, a truncated
+/// response), not of a noise, and the poles that fit it pass any residue
+/// SNR: the paper's beam behind `tests/identify_loop.rs`'s FIR filter,
+/// noise-free, reported 5 such poles beside its 3 modes, at 7.6·10⁻⁸ –
+/// 2.9·10⁻⁵ of the peak (the modes at 0.47–2.7). 10⁻⁴ (80 dB) is a choice:
+/// about 10 quantisation sd of a 16-bit converter (2⁻¹⁵/√12 = 8.8·10⁻⁶ of full
+/// scale), 20 × under the weakest visible mode of the coverage study
+/// (20 sd of a floor of 10⁻⁴ of the peak, tests/identify_coverage.md).
+pub const MIN_RELATIVE_AMPLITUDE: f64 = 1e-4;
 /// Largest damping ratio of a reported mode (without `modes = K`): a pole
 /// with ζ ≥ 1/√2 gives no resonance (its receptance magnitude falls
 /// monotonically with frequency) and decays without a visible oscillation;
@@ -1056,8 +1070,17 @@ fn assemble(
             || sc.x.iter().filter(|&&x| x >= wd - sig && x <= wd + sig).count() >= MIN_POINTS_PER_RESONANCE
     };
     let threshold = if sc.kind == FitKind::Time { MIN_AMPLITUDE_SNR } else { MIN_PEAK_SNR };
+    // free decays: y is scaled to a largest |sample| of 1
+    let above_range = |r: usize| {
+        let o = PER_MODE * r;
+        sc.kind != FitKind::Time || 2.0 * fit.theta[o + 2].hypot(fit.theta[o + 3]) >= MIN_RELATIVE_AMPLITUDE
+    };
     let clear = |r: usize| {
-        in_band(all[r].omega_rad_s) && all[r].peak_snr >= threshold && resolved(r) && all[r].zeta < MAX_MODE_ZETA
+        in_band(all[r].omega_rad_s)
+            && all[r].peak_snr >= threshold
+            && resolved(r)
+            && all[r].zeta < MAX_MODE_ZETA
+            && above_range(r)
     };
     let mut by_peak: Vec<usize> = (0..all.len())
         .filter(|&r| if report.is_some() { r < n_identified && in_band(all[r].omega_rad_s) } else { clear(r) })

@@ -310,7 +310,15 @@ pub fn record_with(
                 (0..n)
                     .map(|k| {
                         let t = k as f64 * dt;
-                        (a * (p.re * t).exp() * (p.im * t).sin() / noise.sd(clean[k], peak)).powi(2)
+                        let (v, sd) = (a * (p.re * t).exp() * (p.im * t).sin(), noise.sd(clean[k], peak));
+                        // a noise-free sample holds any nonzero signal exactly
+                        if sd > 0.0 {
+                            (v / sd).powi(2)
+                        } else if v == 0.0 {
+                            0.0
+                        } else {
+                            f64::INFINITY
+                        }
                     })
                     .sum::<f64>()
                     .sqrt()
