@@ -358,6 +358,19 @@ fn ring_down_diagnostics() {
         theta[PER_MODE * modes.len()] = beam.gamma * dt / std::f64::consts::PI;
         let _ = PER_REAL;
         let oracle = model.solve_linear(&theta).and_then(|t| fit_projected(&model, &t));
+        // the oracle's sandwich covariance (printed as "sandwich z")
+        let sandwich = oracle.as_ref().and_then(|f| {
+            let (r, j) = model.eval(&f.theta, true);
+            let bread = (j.transpose() * &j).try_inverse()?;
+            let mut scaled = j.clone();
+            for (i, mut row) in scaled.row_iter_mut().enumerate() {
+                row *= r[i];
+            }
+            let meat = scaled.transpose() * &scaled;
+            let mut g = f.clone();
+            g.cov = &bread * meat * &bread;
+            Some(g)
+        });
         let id = if std::env::var("ORACLE_ONLY").is_ok() {
             Err(IdentifyError::Numerical("skipped".into()))
         } else {
@@ -386,6 +399,11 @@ fn ring_down_diagnostics() {
                 let s = std::f64::consts::PI / dt;
                 ((w * s - m.omega) / (wsd * s), (z - m.zeta) / zsd)
             });
+            if let Some(f) = &sandwich {
+                let [w, wsd, z, zsd] = mode_estimate(f, r);
+                let s = std::f64::consts::PI / dt;
+                println!("  sandwich z {:.2} {:.2}", (w * s - m.omega) / (wsd * s), (z - m.zeta) / zsd);
+            }
             if let (Some((ow, oz_)), Ok(i)) = (osd, id.as_ref()) {
                 if let Some(x) = i.modes.iter().find(|x| (x.omega_rad_s - m.omega).abs() < 0.05 * m.omega) {
                     println!(
