@@ -218,12 +218,12 @@ fn ci_subset_complex_sweep_under_both_noise_kinds() {
 }
 
 /// A ring-down with proportional noise (a² + b²y²): every visible mode is
-/// found within 3.5 sd and the false mode this record reported before the
-/// spectrum's peaks joined the initial poles (942 107 rad/s, ζ = 0.0013) is
-/// gone, but the noise model named is `uniform` (the additive + proportional
-/// model is not kept for this record; not investigated).
+/// found within 3.5 sd, no false mode, and the noise model named is
+/// `additive_plus_proportional`. Its unweighted fit held two poles of the
+/// noise (0.92 and 0.95 of Nyquist) and one grew under the weights, which
+/// kept the unweighted fit and named `uniform`, until the reweighting
+/// dropped such poles (`identify::without_grown_poles`).
 #[test]
-#[ignore = "known failure: the noise model is reported as uniform on this proportional-noise ring-down"]
 fn ci_subset_ring_down_with_proportional_noise() {
     subset_record(Kind::Time, true);
 }
@@ -266,11 +266,175 @@ fn ci_ring_down_coverage_under_additive_noise() {
     ring_down_coverage(false);
 }
 
-/// Proportional noise: detection is measured, not asserted. The intervals
-/// are too narrow: measured 0.792 (48 intervals, 6 seeds), outside the bar
-/// 0.95 ± 0.134; see tests/identify_coverage.md for the 100-seed study.
+/// Proportional noise: detection is measured, not asserted. Seeds 0–5 now
+/// pass the bar (0.826 of 46 intervals against 0.95 ± 0.136), but the
+/// 100-seed study covers 0.899 (844 intervals), 4.8–6.6 Monte Carlo sd
+/// under 0.95: a pass here would come from the bar's width, so the test
+/// stays ignored (tests/identify_coverage.md).
 #[test]
-#[ignore = "known failure: ring-down intervals under proportional noise cover about 0.8-0.9 (tests/identify_coverage.md)"]
+#[ignore = "known under-coverage: ring-down intervals under proportional noise cover 0.899 over 100 seeds (tests/identify_coverage.md)"]
 fn ci_ring_down_coverage_under_proportional_noise() {
     ring_down_coverage(true);
+}
+
+/// Issue 44 defect 7's refusal on well-sampled lines: seeds 41 and 99 of
+/// the complex / additive study (same generator) were refused with "2
+/// samples in the half-power band (a peak 11.2 noise sd above its
+/// baseline)" at a true mode whose band holds about 5 samples; the
+/// refusal now counts the samples within the noise of the half-power level
+/// (`peaks::Peak::samples_near_half`). Each record is identified with no
+/// false mode and every visible mode found within 3.5 sd (the bound of
+/// `subset_record`).
+#[test]
+fn well_sampled_lines_about_11_sd_high_are_not_refused() {
+    let kind = Kind::Complex;
+    let tag = 4200 + 10 * kind as u64;
+    for seed in [41, 99] {
+        let support = SUPPORTS[(seed % 3) as usize];
+        let (x_in, x_out) = positions(tag, seed);
+        let beam = Beam::new(support, 5, 2.0 * std::f64::consts::PI * 1.0e4, x_in, x_out, 0.3);
+        let rec = record(beam, kind, noise_of(false), 3, tag, seed);
+        let id =
+            identify(&rec.data, &IdentifySettings::default()).unwrap_or_else(|e| panic!("seed {seed}: refused: {e}"));
+        let near = |w: f64, m: f64| (w - m).abs() < 0.05 * m;
+        for m in &id.modes {
+            assert!(rec.beam.modes.iter().any(|b| near(m.omega_rad_s, b.omega)), "seed {seed}: false mode {m:?}");
+        }
+        for v in &rec.visible {
+            let m = id.modes.iter().find(|m| near(m.omega_rad_s, v.omega));
+            let m = m.unwrap_or_else(|| panic!("seed {seed}: mode at {} not found", v.omega));
+            let zw = (m.omega_rad_s - v.omega) / m.omega_sd_rad_s;
+            let zz = (m.zeta - v.zeta) / m.zeta_sd;
+            println!("seed {seed}: z omega {zw:.2}, z zeta {zz:.2}");
+            assert!(zw.abs() <= 3.5 && zz.abs() <= 3.5, "seed {seed}: {m:?} vs {v:?}");
+        }
+    }
+}
+
+/// Diagnostic of ring-down records (prints, asserts nothing): for each
+/// record, each true mode below the anti-alias cut-off with its spectral
+/// SNR, the oracle fit's z (weighted least squares with the generator's own
+/// noise sd, started at the true poles) and `identify`'s z.
+#[test]
+#[ignore = "diagnostic printout"]
+fn ring_down_diagnostics() {
+    use nanobeam::identify::refine::{fit_projected, mode_estimate, FitKind, Model, PER_MODE, PER_REAL};
+    use nanobeam::identify::{Measurement, Stop};
+    use num_complex::Complex64;
+    let proportional = std::env::var("IDENTIFY_PROPORTIONAL").is_ok();
+    let noise_free = std::env::var("IDENTIFY_NOISE_FREE").is_ok();
+    let noise = if noise_free { Noise::Additive { fraction: 0.0 } } else { noise_of(proportional) };
+    let kind = Kind::Time;
+    let tag = 4200 + 10 * kind as u64 + u64::from(proportional);
+    for seed in 0..seeds() {
+        let support = SUPPORTS[(seed % 3) as usize];
+        let (x_in, x_out) = positions(tag, seed);
+        let beam = Beam::new(support, 5, 2.0 * std::f64::consts::PI * 1.0e4, x_in, x_out, 0.3);
+        let rec = record(beam.clone(), kind, noise, 3, tag, seed);
+        let Measurement::Time { time_s, displacement_m } = &rec.data else { unreachable!() };
+        let dt = time_s[1] - time_s[0];
+        let cutoff = 0.8 * std::f64::consts::PI / dt;
+        let modes: Vec<_> = beam.modes.iter().filter(|m| m.omega < cutoff).copied().collect();
+        let peak = displacement_m.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let clean: Vec<f64> = time_s.iter().map(|&t| beam.impulse(t, cutoff)).collect();
+        let cpeak = clean.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let sd: Vec<f64> = clean.iter().map(|&v| noise.sd(v, cpeak).max(1e-300)).collect();
+        let model = Model {
+            kind: FitKind::Time,
+            x: (0..time_s.len()).map(|k| std::f64::consts::PI * k as f64).collect(),
+            y: displacement_m.iter().map(|v| Complex64::new(v / peak, 0.0)).collect(),
+            n_modes: modes.len(),
+            n_real: 1,
+            poly: vec![0],
+            weights: Some(sd.iter().map(|s| sd[0] / s).collect()),
+            stop: Stop::default(),
+        };
+        let mut theta = vec![0.0; model.n_params()];
+        for (r, m) in modes.iter().enumerate() {
+            let p = m.pole() * dt / std::f64::consts::PI;
+            theta[PER_MODE * r] = -p.re;
+            theta[PER_MODE * r + 1] = p.im;
+        }
+        theta[PER_MODE * modes.len()] = beam.gamma * dt / std::f64::consts::PI;
+        let _ = PER_REAL;
+        let oracle = model.solve_linear(&theta).and_then(|t| fit_projected(&model, &t));
+        // the oracle's sandwich covariance (printed as "sandwich z")
+        let sandwich = oracle.as_ref().and_then(|f| {
+            let (r, j) = model.eval(&f.theta, true);
+            let bread = (j.transpose() * &j).try_inverse()?;
+            let mut scaled = j.clone();
+            for (i, mut row) in scaled.row_iter_mut().enumerate() {
+                row *= r[i];
+            }
+            let meat = scaled.transpose() * &scaled;
+            let mut g = f.clone();
+            g.cov = &bread * meat * &bread;
+            Some(g)
+        });
+        let id = if std::env::var("ORACLE_ONLY").is_ok() {
+            Err(IdentifyError::Numerical("skipped".into()))
+        } else {
+            identify(&rec.data, &IdentifySettings::default())
+        };
+        println!(
+            "seed {seed} {support:?} x_in {x_in:.3} x_out {x_out:.3}: {} modes reported",
+            id.as_ref().map_or(0, |i| i.modes.len())
+        );
+        for (r, m) in modes.iter().enumerate() {
+            // matched-filter SNR: sqrt(Σ (mode signal / sd)²)
+            let amp = m.gain / m.pole().im;
+            let snr: f64 = time_s
+                .iter()
+                .zip(&sd)
+                .map(|(&t, s)| (amp * (m.pole().re * t).exp() * (m.pole().im * t).sin() / s).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            let vis = rec.visible.iter().any(|v| v.omega == m.omega);
+            let osd = oracle.as_ref().map(|f| {
+                let [_, wsd, _, zsd] = mode_estimate(f, r);
+                (wsd * std::f64::consts::PI / dt, zsd)
+            });
+            let oz = oracle.as_ref().map(|f| {
+                let [w, wsd, z, zsd] = mode_estimate(f, r);
+                let s = std::f64::consts::PI / dt;
+                ((w * s - m.omega) / (wsd * s), (z - m.zeta) / zsd)
+            });
+            if let Some(f) = &sandwich {
+                let [w, wsd, z, zsd] = mode_estimate(f, r);
+                let s = std::f64::consts::PI / dt;
+                println!("  sandwich z {:.2} {:.2}", (w * s - m.omega) / (wsd * s), (z - m.zeta) / zsd);
+            }
+            if let (Some((ow, oz_)), Ok(i)) = (osd, id.as_ref()) {
+                if let Some(x) = i.modes.iter().find(|x| (x.omega_rad_s - m.omega).abs() < 0.05 * m.omega) {
+                    println!(
+                        "  sd ratio identify/oracle: omega {:.3} zeta {:.3}",
+                        x.omega_sd_rad_s / ow,
+                        x.zeta_sd / oz_
+                    );
+                }
+            }
+            let iz = id.as_ref().ok().and_then(|i| {
+                i.modes
+                    .iter()
+                    .find(|x| (x.omega_rad_s - m.omega).abs() < 0.05 * m.omega)
+                    .map(|x| ((x.omega_rad_s - m.omega) / x.omega_sd_rad_s, (x.zeta - m.zeta) / x.zeta_sd))
+            });
+            println!(
+                "  mode {} omega {:.4e} vis {vis} amp/floor {:.1} mf-snr {snr:.1} oracle z {:?} identify z {:?}",
+                r + 1,
+                m.omega,
+                amp.abs() / sd[0].min(sd.iter().copied().fold(f64::INFINITY, f64::min)),
+                oz.map(|(a, b)| (format!("{a:.2}"), format!("{b:.2}"))),
+                iz.map(|(a, b)| (format!("{a:.2}"), format!("{b:.2}")))
+            );
+        }
+        if let Ok(i) = &id {
+            println!("  noise {:?}", i.noise_model);
+            for x in &i.modes {
+                if !beam.modes.iter().any(|b| (x.omega_rad_s - b.omega).abs() < 0.05 * b.omega) {
+                    println!("  FALSE {x:?}");
+                }
+            }
+        }
+    }
 }

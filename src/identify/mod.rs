@@ -28,7 +28,9 @@
 //! clearly under the fitted noise model (frequency records: its resonance
 //! stands at least [`MIN_PEAK_SNR`] noise sd high, see [`peak_snr`], with
 //! [`MIN_POINTS_PER_RESONANCE`] samples in its fitted half-power band;
-//! free decays: its residue at least [`MIN_AMPLITUDE_SNR`] sd from zero), or
+//! free decays: its residue at least [`MIN_AMPLITUDE_SNR`] sd from zero and
+//! its initial amplitude at least [`MIN_RELATIVE_AMPLITUDE`] of the record's
+//! largest sample), or
 //! with `modes = Some(K)` the K stable modes of the diagram that stand
 //! clearest (the others, and the refinement's out-of-band pseudo-modes, stay
 //! in the fit as background). No clear mode is an input error naming the
@@ -85,6 +87,18 @@ pub const MIN_AMPLITUDE_SNR: f64 = 5.0;
 /// [`peaks`] (false alarm ≤ N·Q(5) per record of N samples), and a
 /// resonance the issue calls visible stands 20 sd high.
 pub const MIN_PEAK_SNR: f64 = 5.0;
+/// Smallest initial amplitude 2|A_r| of a reported free-decay mode, as a
+/// fraction of the record's largest |sample|: the dynamic range a record
+/// holds a mode in. A noise-free (or nearly so) record's residue sd is that
+/// of its non-modal content (an anti-alias filter's start-up, a truncated
+/// response), not of a noise, and the poles that fit it pass any residue
+/// SNR: the paper's beam behind `tests/identify_loop.rs`'s FIR filter,
+/// noise-free, reported 5 such poles beside its 3 modes, at 7.6·10⁻⁸ –
+/// 2.9·10⁻⁵ of the peak (the modes at 0.47–2.7). 10⁻⁴ (80 dB) is a choice:
+/// about 10 quantisation sd of a 16-bit converter (2⁻¹⁵/√12 = 8.8·10⁻⁶ of full
+/// scale), 20 × under the weakest visible mode of the coverage study
+/// (20 sd of a floor of 10⁻⁴ of the peak, tests/identify_coverage.md).
+pub const MIN_RELATIVE_AMPLITUDE: f64 = 1e-4;
 /// Largest damping ratio of a reported mode (without `modes = K`): a pole
 /// with ζ ≥ 1/√2 gives no resonance (its receptance magnitude falls
 /// monotonically with frequency) and decays without a visible oscillation;
@@ -337,9 +351,9 @@ fn identify_until(m: &Measurement, settings: &IdentifySettings, stop: &Stop) -> 
         Err(e) => return Err(e),
     };
     check()?;
-    let (model, fit, noise_model) = reweight(&sc, model, fit, initial.len());
+    let (model, fit, noise_model, n_identified) = reweight(&sc, model, fit, initial.len());
     check()?;
-    assemble(m, &sc, (&model, &fit), diagram, initial.len(), settings.modes, noise_model)
+    assemble(m, &sc, (&model, &fit), diagram, n_identified, settings.modes, noise_model)
 }
 
 /// Poles at orders 2, 4, … of LSCF or the matrix pencil.
@@ -378,11 +392,15 @@ fn stabilisation_diagram(sc: &Scaled, max_order: usize) -> Result<Diagram, Ident
 
 /// Adds the resonances [`peaks::detect`] declares and the diagram missed to
 /// the initial poles (sorted by frequency). A declared peak with fewer than
-/// [`MIN_POINTS_PER_RESONANCE`] samples above its half-power level is a line
-/// narrower than the sampling: exit 2 when it stands at least
+/// [`MIN_POINTS_PER_RESONANCE`] samples above its half-power level may be a
+/// line narrower than the sampling. When it stands at least
 /// [`REFUSE_FACTOR`] × its declaration threshold high (a single-sample noise
-/// excursion that high has probability ≲ 10⁻⁸ per record), otherwise it is
-/// left out (see [`check_points_per_resonance`] for the diagram's poles).
+/// excursion that high has probability ≲ 10⁻⁸ per record), the record is
+/// refused (exit 2) if fewer than [`MIN_POINTS_PER_RESONANCE`] samples lie
+/// within the noise of the half-power level ([`peaks::Peak::samples_near_half`]);
+/// otherwise the peak joins the initial poles. A lower peak with too few
+/// samples is left out (see [`check_points_per_resonance`] for the
+/// diagram's poles).
 fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<(), InputError> {
     let series = match sc.kind {
         FitKind::Complex => peaks::Series::Complex,
@@ -395,21 +413,30 @@ fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<(), InputErr
     // dozens of lines and its refinement ran past 5 minutes)
     declared.sort_by(|a, b| b.statistic.total_cmp(&a.statistic));
     declared.truncate(MAX_DECLARED);
-    for peak in declared {
-        let (w, sigma) = (peak.pole.im, -peak.pole.re);
+    for mut peak in declared {
         if peak.samples_above_half < MIN_POINTS_PER_RESONANCE {
             // a PSD's line is at least the window's main lobe wide (a Hann
             // window: 4 bins); a narrower peak there is a noise excursion
-            if sc.kind != FitKind::Psd && peak.statistic >= REFUSE_FACTOR * peak.threshold {
+            let clear = sc.kind != FitKind::Psd && peak.statistic >= REFUSE_FACTOR * peak.threshold;
+            if !clear {
+                continue;
+            }
+            if peak.samples_near_half < MIN_POINTS_PER_RESONANCE {
                 return Err(under_sampled(
                     sc,
                     peak.pole,
-                    peak.samples_above_half,
+                    peak.samples_near_half,
                     &format!("a peak {:.1} noise sd above its baseline", peak.statistic),
                 ));
             }
-            continue;
+            // the noise moved samples of a line it does not show to be
+            // under-sampled across the half-power level: its start spans the
+            // 3 samples around the peak (1.5 local spacings either side)
+            let i = peak.index.min(sc.x.len() - 2);
+            let spacing = sc.x[i + 1] - sc.x[i];
+            peak.pole.re = peak.pole.re.min(-1.5 * spacing);
         }
+        let (w, sigma) = (peak.pole.im, -peak.pole.re);
         let known = initial.iter().any(|p| (p.norm() - w).abs() <= (FREQ_MERGE * w).max(2.0 * sigma.max(-p.re)));
         if !known {
             initial.push(peak.pole);
@@ -700,9 +727,17 @@ const REWEIGHT_ROUNDS: usize = 3;
 /// additive + proportional variance by the BIC on the residuals of `fit`,
 /// refits by weighted least squares when the latter wins, and replaces the
 /// covariance by the sandwich when a Breusch–Pagan test leaves the chosen
-/// model in doubt. A weighted refit that fails or loses a mode keeps the
-/// unweighted fit (its covariance then the sandwich, the model being wrong).
-fn reweight(sc: &Scaled, model: Model, fit: FitResult, n_identified: usize) -> (Model, FitResult, NoiseModel) {
+/// model in doubt. A free decay's weighted refit that turns poles of the
+/// noise into growing ones continues without them ([`without_grown_poles`];
+/// the number of identified poles left is returned last). Otherwise a
+/// weighted refit that fails or loses a mode keeps the unweighted fit (its
+/// covariance then the sandwich, the model being wrong).
+fn reweight(
+    sc: &Scaled,
+    model: Model,
+    fit: FitResult,
+    mut n_identified: usize,
+) -> (Model, FitResult, NoiseModel, usize) {
     use statrs::distribution::{ChiSquared, ContinuousCDF};
     if sc.kind == FitKind::Psd {
         let nm = NoiseModel {
@@ -713,7 +748,7 @@ fn reweight(sc: &Scaled, model: Model, fit: FitResult, n_identified: usize) -> (
             covariance: "model",
             breusch_pagan: 0.0,
         };
-        return (model, fit, nm);
+        return (model, fit, nm, n_identified);
     }
     let per_point = if sc.kind == FitKind::Complex { 2 } else { 1 };
     let n = sc.x.len();
@@ -757,6 +792,11 @@ fn reweight(sc: &Scaled, model: Model, fit: FitResult, n_identified: usize) -> (
             };
             match refit {
                 Some(f) if stable_modes(&f, n_identified) => (model, fit) = (weighted, f),
+                Some(f) if sc.kind == FitKind::Time => {
+                    // a pole of the noise that grew under the weights: dropped
+                    let Some((kept, f, n)) = without_grown_poles(&weighted, &fit, &f, n_identified) else { break };
+                    (model, fit, n_identified) = (kept, f, n);
+                }
                 _ => break,
             }
         }
@@ -788,7 +828,42 @@ fn reweight(sc: &Scaled, model: Model, fit: FitResult, n_identified: usize) -> (
         covariance,
         breusch_pagan: bp,
     };
-    (model, fit, nm)
+    (model, fit, nm, n_identified)
+}
+
+/// A free decay's weighted refit (`weighted`, result `grown`) that turned
+/// identified poles of the unweighted fit `fit` into growing ones: the
+/// unweighted fit held poles of the noise (lightly damped, residues near
+/// zero, typically above the anti-alias cut-off; tests/identify_coverage.md:
+/// 2 such poles at 0.92–0.95 Nyquist in a 5-mode record), which the weights
+/// — large where the signal is small — push across the imaginary axis.
+/// The weighted model is refitted without them, from the unweighted fit's
+/// other poles. `None` when nothing is left or the refit fails or grows
+/// another pole.
+fn without_grown_poles(
+    weighted: &Model,
+    fit: &FitResult,
+    grown: &FitResult,
+    n_identified: usize,
+) -> Option<(Model, FitResult, usize)> {
+    let grew: Vec<bool> = (0..weighted.n_modes)
+        .map(|r| r < n_identified && (grown.theta[PER_MODE * r] <= 0.0 || grown.theta[PER_MODE * r + 1] <= 0.0))
+        .collect();
+    let dropped = grew.iter().filter(|&&g| g).count();
+    if dropped == 0 || dropped >= n_identified {
+        return None;
+    }
+    let mut theta: Vec<f64> = Vec::with_capacity(fit.theta.len() - PER_MODE * dropped);
+    for (r, g) in grew.iter().enumerate() {
+        if !g {
+            theta.extend_from_slice(&fit.theta[PER_MODE * r..PER_MODE * (r + 1)]);
+        }
+    }
+    theta.extend_from_slice(&fit.theta[PER_MODE * weighted.n_modes..]);
+    let kept = Model { n_modes: weighted.n_modes - dropped, ..weighted.clone() };
+    let f = refine::fit_projected(&kept, &theta)?;
+    let n = n_identified - dropped;
+    stable_modes(&f, n).then_some((kept, f, n))
 }
 
 /// Level of the likelihood-ratio test that adds real poles to a joint-LM
@@ -995,8 +1070,17 @@ fn assemble(
             || sc.x.iter().filter(|&&x| x >= wd - sig && x <= wd + sig).count() >= MIN_POINTS_PER_RESONANCE
     };
     let threshold = if sc.kind == FitKind::Time { MIN_AMPLITUDE_SNR } else { MIN_PEAK_SNR };
+    // free decays: y is scaled to a largest |sample| of 1
+    let above_range = |r: usize| {
+        let o = PER_MODE * r;
+        sc.kind != FitKind::Time || 2.0 * fit.theta[o + 2].hypot(fit.theta[o + 3]) >= MIN_RELATIVE_AMPLITUDE
+    };
     let clear = |r: usize| {
-        in_band(all[r].omega_rad_s) && all[r].peak_snr >= threshold && resolved(r) && all[r].zeta < MAX_MODE_ZETA
+        in_band(all[r].omega_rad_s)
+            && all[r].peak_snr >= threshold
+            && resolved(r)
+            && all[r].zeta < MAX_MODE_ZETA
+            && above_range(r)
     };
     let mut by_peak: Vec<usize> = (0..all.len())
         .filter(|&r| if report.is_some() { r < n_identified && in_band(all[r].omega_rad_s) } else { clear(r) })

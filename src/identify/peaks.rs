@@ -68,6 +68,13 @@ pub const BASE_WINDOW: usize = 40;
 pub const NOISE_WINDOW: usize = 160;
 /// Baseline scales: ±BASE_WINDOW·4ᵏ, k < SCALES.
 pub const SCALES: u32 = 4;
+/// Local-noise sd by which a sample may fall below the half-power level and
+/// still count in [`Peak::samples_near_half`]: a sample truly inside the
+/// band falls this far below by noise with probability 1.3·10⁻³ (one-sided
+/// Gaussian), while outside a line narrower than the sampling the samples sit
+/// at the baseline, (0.707·t − 3) sd under the cut for a peak t sd high
+/// (≥ 3.8 sd at the refusal level 2 × 4.8 sd of `identify::merge_peaks`).
+pub const HALF_POWER_TOLERANCE: f64 = 3.0;
 
 /// What the series holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -91,6 +98,13 @@ pub struct Peak {
     pub statistic: f64,
     /// Contiguous samples around the peak above its half-power level.
     pub samples_above_half: usize,
+    /// Contiguous samples around the peak not below its half-power level by
+    /// more than [`HALF_POWER_TOLERANCE`] local-noise sd: those the noise
+    /// cannot show to be outside the band. A line with fewer than 3 of these
+    /// is narrower than the sampling whatever the noise did; a count of
+    /// `samples_above_half` alone undercounts a well-sampled line about 10 sd
+    /// high, whose samples near the half-power level the noise moves across it.
+    pub samples_near_half: usize,
     /// The declaration threshold it passed.
     pub threshold: f64,
 }
@@ -184,7 +198,8 @@ pub fn detect(x: &[f64], y: &[Complex64], series: Series) -> Vec<Peak> {
             if !(stat >= MIN_THRESHOLD.min(t)) {
                 continue;
             }
-            let Some(band) = half_power_band(x, &level, i, base, series) else { continue };
+            let tolerance = HALF_POWER_TOLERANCE * s * if series == Series::Psd { base.max(0.0) } else { 1.0 };
+            let Some(band) = half_power_band(x, &level, i, base, series, tolerance) else { continue };
             let fits = band.count <= w / 2 && (k == 0 || band.count > w / 8);
             if fits {
                 chosen = Some((stat, band));
@@ -200,6 +215,7 @@ pub fn detect(x: &[f64], y: &[Complex64], series: Series) -> Vec<Peak> {
             pole: Complex64::new(-band.sigma, x[i]),
             statistic: stat,
             samples_above_half: band.count,
+            samples_near_half: band.near,
             threshold: t,
         });
     }
@@ -230,12 +246,15 @@ struct Band {
     sigma: f64,
     /// Contiguous samples above the half-power level.
     count: usize,
+    /// Contiguous samples above the half-power level less `tolerance`.
+    near: usize,
 }
 
 /// The band where the excess over `base` stays above half power (|H|: 1/√2;
 /// PSD: 1/2); `None` when a sample higher than the peak lies inside it (a
-/// bump on the flank of a larger resonance).
-fn half_power_band(x: &[f64], level: &[f64], i: usize, base: f64, series: Series) -> Option<Band> {
+/// bump on the flank of a larger resonance). `near` counts the samples
+/// above the half-power level less `tolerance`.
+fn half_power_band(x: &[f64], level: &[f64], i: usize, base: f64, series: Series, tolerance: f64) -> Option<Band> {
     let n = x.len();
     let yi = level[i];
     let cut = base + (yi - base) * if series == Series::Psd { 0.5 } else { std::f64::consts::FRAC_1_SQRT_2 };
@@ -259,7 +278,17 @@ fn half_power_band(x: &[f64], level: &[f64], i: usize, base: f64, series: Series
         }
     };
     let ((left, below), (right, above)) = (crossing(-1)?, crossing(1)?);
-    Some(Band { sigma: (0.5 * (right - left)).max(f64::MIN_POSITIVE), count: 1 + below + above })
+    let near_side = |step: isize| {
+        let mut j = i as isize + step;
+        let mut inside = 0;
+        while j >= 0 && (j as usize) < n && level[j as usize] > cut - tolerance {
+            inside += 1;
+            j += step;
+        }
+        inside
+    };
+    let near = 1 + near_side(-1) + near_side(1);
+    Some(Band { sigma: (0.5 * (right - left)).max(f64::MIN_POSITIVE), count: 1 + below + above, near })
 }
 
 #[cfg(test)]
