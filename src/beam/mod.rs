@@ -12,6 +12,7 @@
 //! `frf` (direct banded solves); `time_response` (impulse response by the
 //! exact matrix exponential of the state space).
 
+mod axial_spectrum;
 pub(crate) mod band;
 mod buckling;
 mod coupled;
@@ -32,6 +33,7 @@ mod state_space;
 mod state_space_modal;
 mod time_response;
 
+pub use axial_spectrum::{AxialBlocks, INVARIANCE_TOL as AXIAL_INVARIANCE_TOL};
 pub use buckling::buckling_load_n;
 pub use error::BeamError;
 pub use frf::{frf, frf_each, frf_points, max_frequency_rad_s, MAX_OMEGA_TILDE};
