@@ -253,8 +253,15 @@ fn near_buckling_matches_the_state_space() {
         let mut out = [0.0; 6];
         let ok = solver.observables(&b, &[1, 2, 3], 3, &mut out).unwrap();
         assert!(solver.last_used_axial_blocks(), "f {f}");
+        // an overdamped mode 1 (ζ₁ ≈ 3 at f = 0.9999, C = 1e-4: ω̃₁ ∝ √(1 − f))
+        // is reported as such by the coupled reference as well
+        let mut reference = [0.0; 6];
+        let ref_ok = ModalSolver::direct_only().observables(&b, &[1, 2, 3], 3, &mut reference).unwrap();
+        assert_eq!(ok, ref_ok, "f {f}");
+        if !ok {
+            continue;
+        }
         let dense = modal_state_space(&b, 3).unwrap();
-        assert_eq!(ok, dense.modes.len() == 3, "f {f}");
         for m in 1..=3 {
             let Some(r) = dense.mode(m) else { continue };
             assert!(((out[m - 1] - r.omega_rad_s) / r.omega_rad_s).abs() < 1e-6, "f {f} mode {m}");
