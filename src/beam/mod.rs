@@ -6,7 +6,8 @@
 //! (A15, reference; `state_space_modal` turns them into modes) or `modal`
 //! (exact decoupled families via `eigen` + `family`, with certified eigenvalue
 //! interpolants from `spectrum` (Euler–Bernoulli) and `shear_spectrum`
-//! (Timoshenko), a point mass by the secular equation of `mass_spectrum`, or, in `coupled`,
+//! (Timoshenko), a point mass by the secular equation of `mass_spectrum`, the axial force on a simply
+//! supported mesh by the wavenumber blocks of `axial_spectrum`, or, in `coupled`,
 //! Rayleigh-quotient iteration on T(s) when the extensions couple the modes;
 //! the result types in `modal_result`) →
 //! `frf` (direct banded solves); `time_response` (impulse response by the

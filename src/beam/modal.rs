@@ -75,9 +75,13 @@ use crate::beam::BeamError;
 /// Euler–Bernoulli point mass with C = 0: its eigenvalues are the roots of a
 /// secular equation over the whole interpolated spectrum of the beam's own
 /// pencil (`mass_spectrum.rs`), taken when their per-evaluation error bound
-/// is within `MASS_CERTIFIED_TOL`. The coupled extensions
-/// (spring, point mass with C > 0, axial force, Timoshenko with C > 0) keep
-/// the RQI path: their poles need nonlinear RQI on T(s) whatever the pencil
+/// is within `MASS_CERTIFIED_TOL`. So does the axial force on a simply
+/// supported Euler–Bernoulli mesh without spring or point mass, any C and
+/// internal variables: the pencil splits exactly into one 2 × 2 block per
+/// wavenumber (`axial_spectrum.rs`; [`Self::modal`] only without internal
+/// variables, whose real poles stay with the reference). The other coupled
+/// extensions (spring, point mass with C > 0, axial force on other supports
+/// or with shear, Timoshenko with C > 0) keep the RQI path: their poles need nonlinear RQI on T(s) whatever the pencil
 /// start costs (see `general_path`), and the pencil depends on 2–3 parameters.
 #[derive(Debug, Default, Clone)]
 pub struct ModalSolver {
