@@ -13,7 +13,9 @@
 //! interpolated paths (`ModalSolver::direct_only`); the same draws in the same
 //! order for both, so their ratio is the fast path's gain (for attached-mass
 //! and its C = 0 pairs, the secular path of `beam/mass_spectrum.rs` against
-//! the direct decoupled eigen-solve it replaced). The tables are in
+//! the direct decoupled eigen-solve it replaced; for axial-force and its pairs
+//! on this simply supported mesh, the wavenumber-block path of
+//! `beam/axial_spectrum.rs` against the coupled RQI). The tables are in
 //! `benches/README.md`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
@@ -28,6 +30,8 @@ struct Causes {
     mass: bool,
     axial: bool,
     shear: bool,
+    /// section-mismatch: the diameter (hence EI, ρA) drawn about its nominal value.
+    section: bool,
 }
 
 const L_NM: f64 = 8.0;
@@ -86,6 +90,9 @@ fn draw(c: Causes, u: &mut impl FnMut() -> f64) -> BeamSpec {
         // a quarter of the local simply supported buckling load, in tension
         b.axial_force_n = near(0.25 * std::f64::consts::PI.powi(2) * ei / (l * l));
     }
+    if c.section {
+        b.diameter_nm = near(D_NM);
+    }
     if c.shear {
         b.shear_deformation = Some(ShearDeformation { poisson_ratio: 0.2, shear_coefficient: near(0.8) });
     }
@@ -110,6 +117,9 @@ fn models() -> Vec<(&'static str, Causes)> {
         ("viscous+mass", Causes { viscous: true, mass: true, ..none }),
         ("extra-relaxation+mass", Causes { relaxation: true, mass: true, ..none }),
         ("spring+axial", Causes { spring: true, axial: true, ..none }),
+        ("axial+extra-relaxation", Causes { axial: true, relaxation: true, ..none }),
+        ("axial+viscous", Causes { axial: true, viscous: true, ..none }),
+        ("axial+section-mismatch", Causes { axial: true, section: true, ..none }),
     ]
 }
 

@@ -81,7 +81,7 @@ impl Default for Roots {
 }
 
 impl Roots {
-    fn push(&mut self, s: Complex64) {
+    pub(crate) fn push(&mut self, s: Complex64) {
         self.buf[self.len] = s;
         self.len += 1;
     }

@@ -6,12 +6,14 @@
 //! (A15, reference; `state_space_modal` turns them into modes) or `modal`
 //! (exact decoupled families via `eigen` + `family`, with certified eigenvalue
 //! interpolants from `spectrum` (Euler–Bernoulli) and `shear_spectrum`
-//! (Timoshenko), a point mass by the secular equation of `mass_spectrum`, or, in `coupled`,
+//! (Timoshenko), a point mass by the secular equation of `mass_spectrum`, the axial force on a simply
+//! supported mesh by the wavenumber blocks of `axial_spectrum`, or, in `coupled`,
 //! Rayleigh-quotient iteration on T(s) when the extensions couple the modes;
 //! the result types in `modal_result`) →
 //! `frf` (direct banded solves); `time_response` (impulse response by the
 //! exact matrix exponential of the state space).
 
+mod axial_spectrum;
 pub(crate) mod band;
 mod buckling;
 mod coupled;
@@ -32,6 +34,7 @@ mod state_space;
 mod state_space_modal;
 mod time_response;
 
+pub use axial_spectrum::{AxialBlocks, INVARIANCE_TOL as AXIAL_INVARIANCE_TOL};
 pub use buckling::buckling_load_n;
 pub use error::BeamError;
 pub use frf::{frf, frf_each, frf_points, max_frequency_rad_s, MAX_OMEGA_TILDE};

@@ -31,6 +31,7 @@
 
 use std::collections::HashMap;
 
+use crate::beam::axial_spectrum::{AxialBlocks, Bending};
 use crate::beam::band::{ShiftedLdl, SymBand};
 use crate::beam::coupled::{general_path, Poles};
 use crate::beam::dual::Dual;
@@ -74,9 +75,13 @@ use crate::beam::BeamError;
 /// Euler–Bernoulli point mass with C = 0: its eigenvalues are the roots of a
 /// secular equation over the whole interpolated spectrum of the beam's own
 /// pencil (`mass_spectrum.rs`), taken when their per-evaluation error bound
-/// is within `MASS_CERTIFIED_TOL`. The coupled extensions
-/// (spring, point mass with C > 0, axial force, Timoshenko with C > 0) keep
-/// the RQI path: their poles need nonlinear RQI on T(s) whatever the pencil
+/// is within `MASS_CERTIFIED_TOL`. So does the axial force on a simply
+/// supported Euler–Bernoulli mesh without spring or point mass, any C and
+/// internal variables: the pencil splits exactly into one 2 × 2 block per
+/// wavenumber (`axial_spectrum.rs`; [`Self::modal`] only without internal
+/// variables, whose real poles stay with the reference). The other coupled
+/// extensions (spring, point mass with C > 0, axial force on other supports
+/// or with shear, Timoshenko with C > 0) keep the RQI path: their poles need nonlinear RQI on T(s) whatever the pencil
 /// start costs (see `general_path`), and the pencil depends on 2–3 parameters.
 #[derive(Debug, Default, Clone)]
 pub struct ModalSolver {
@@ -86,9 +91,16 @@ pub struct ModalSolver {
     spectrum: SpectrumTable,
     shear_spectrum: ShearSpectrumTable,
     mass_spectrum: MassSpectrumTable,
+    /// The wavenumber blocks of a simply supported Euler–Bernoulli mesh
+    /// (`axial_spectrum.rs`), built on first use per mesh; `Some(None)` when
+    /// the mesh has none.
+    axial_blocks: Option<Option<AxialBlocks>>,
+    axial_scratch: Vec<Bending>,
     /// Never use the interpolant (reference solver for tests and benches).
     direct_only: bool,
     last_interpolated: bool,
+    /// True when the last result came from the axial-force block path.
+    last_axial_blocks: bool,
     lambdas: Vec<f64>,
     /// Error bounds of `lambdas` on the point-mass path (`mass_spectrum.rs`).
     bounds: Vec<f64>,
@@ -298,6 +310,12 @@ impl ModalSolver {
         self.last_interpolated
     }
 
+    /// True when the last result came from the exact axial-force block path
+    /// of a simply supported Euler–Bernoulli mesh (`axial_spectrum.rs`).
+    pub fn last_used_axial_blocks(&self) -> bool {
+        self.last_axial_blocks
+    }
+
     /// The path used by the last successful or attempted call.
     pub fn last_path(&self) -> Option<SolverPath> {
         self.last_path
@@ -314,6 +332,7 @@ impl ModalSolver {
             self.spectrum = SpectrumTable::default();
             self.shear_spectrum = ShearSpectrumTable::default();
             self.mass_spectrum = MassSpectrumTable::default();
+            self.axial_blocks = None;
         }
         self.last_interpolated = false;
         Ok(())
@@ -329,9 +348,9 @@ impl ModalSolver {
     fn solve(&mut self, beam: &BeamSpec, n_modes: usize, poles: Poles) -> Result<ModalResult, BeamError> {
         self.prepare(beam)?;
         if !self.direct_only {
-            if let Some(result) = self.interpolated(beam, n_modes) {
+            if let Some(result) = self.interpolated(beam, n_modes, poles) {
                 self.last_path = Some(SolverPath::Decoupled);
-                self.last_interpolated = true;
+                self.last_interpolated = !self.last_axial_blocks;
                 return Ok(result);
             }
         }
@@ -360,17 +379,43 @@ impl ModalSolver {
     /// interpolated range, an uncertified piece, a root solve that fails): the
     /// caller then takes the direct path. Which one is taken is a function of
     /// the input alone. The beam was validated by the caller.
-    fn interpolated(&mut self, beam: &BeamSpec, n_modes: usize) -> Option<ModalResult> {
-        let omega_ref = self.interpolated_roots(beam, n_modes)?;
+    fn interpolated(&mut self, beam: &BeamSpec, n_modes: usize, poles: Poles) -> Option<ModalResult> {
+        let omega_ref = self.interpolated_roots(beam, n_modes, poles)?;
         Some(assemble(&self.roots, n_modes, omega_ref))
     }
 
     /// The families 1..=n_modes of the interpolated path into `self.roots`
     /// (scaled units), returning ω_ref; `None` when the path does not apply
-    /// (see [`Self::interpolated`]).
-    fn interpolated_roots(&mut self, beam: &BeamSpec, n_modes: usize) -> Option<f64> {
+    /// (see [`Self::interpolated`]). The axial force on a simply supported
+    /// Euler–Bernoulli mesh without spring or point mass takes the exact
+    /// wavenumber-block path (`axial_spectrum.rs`; with [`Poles::Oscillatory`]
+    /// only the oscillatory pairs, as the coupled reference does).
+    fn interpolated_roots(&mut self, beam: &BeamSpec, n_modes: usize, poles: Poles) -> Option<f64> {
         let mesh = self.mesh.as_ref()?;
         let sc = Scaling::new(beam);
+        self.last_axial_blocks = false;
+        if sc.axial != 0.0
+            && mesh.shear.is_none()
+            && beam.point_mass.is_none()
+            && mesh.springs(&sc.spring).next().is_none()
+            && n_modes > 0
+        {
+            let Self { axial_blocks, axial_scratch, roots, .. } = self;
+            let blocks = axial_blocks.get_or_insert_with(|| AxialBlocks::new(mesh)).as_ref()?;
+            let mut ivs = [(0.0, 0.0); crate::beam::spec::MAX_INTERNAL_VARIABLES];
+            let mut nv = 0;
+            for iv in beam.internal_variables.iter().filter(|iv| iv.delta > 0.0) {
+                ivs[nv] = (iv.delta, iv.omega_rad_s / sc.omega_ref);
+                nv += 1;
+            }
+            let t = sc.e_tilde * sc.e_tilde;
+            let all = poles == Poles::All;
+            if !blocks.family_roots(t, sc.axial, sc.c, &ivs[..nv], n_modes, all, axial_scratch, roots) {
+                return None;
+            }
+            self.last_axial_blocks = true;
+            return Some(sc.omega_ref);
+        }
         // the same tests as ScaledModel::decouples
         let spring = mesh.springs(&sc.spring).next().is_some();
         // Timoshenko decouples only without damping (rotary inertia: `shear_spectrum.rs`),
@@ -433,9 +478,9 @@ impl ModalSolver {
         self.prepare(beam)?;
         let m = modes.len();
         if !self.direct_only {
-            if let Some(omega_ref) = self.interpolated_roots(beam, n_modes) {
+            if let Some(omega_ref) = self.interpolated_roots(beam, n_modes, Poles::Oscillatory) {
                 self.last_path = Some(SolverPath::Decoupled);
-                self.last_interpolated = true;
+                self.last_interpolated = !self.last_axial_blocks;
                 for (k, &mode) in modes.iter().enumerate() {
                     let Some(fam) = mode.checked_sub(1).and_then(|j| self.roots.get(j)).filter(|_| mode <= n_modes)
                     else {
