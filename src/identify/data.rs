@@ -211,7 +211,13 @@ impl Measurement {
                 Self::Complex { omega_rad_s: x, h_m_per_n: h }
             }
             1 => {
-                check_each(names[1], &y, |v| v >= 0.0, ">= 0")?;
+                let bound = max_abs_response(y.len());
+                check_each(
+                    names[1],
+                    &y,
+                    |v| (0.0..=bound).contains(&v),
+                    &format!("in [0, {bound:e}] (sqrt(f64::MAX / rows))"),
+                )?;
                 check_not_all_zero(names[1], y.iter().all(|&v| v == 0.0), y.len())?;
                 Self::Magnitude { omega_rad_s: x, h_abs_m_per_n: y }
             }
@@ -221,6 +227,15 @@ impl Measurement {
             }
             _ => {
                 check_uniform(&x)?;
+                let bound = max_abs_response(y.len());
+                for (name, column) in names[1..].iter().zip(std::iter::once(&y).chain(cols.as_slice())) {
+                    check_each(
+                        name,
+                        column,
+                        |v| v.abs() <= bound,
+                        &format!("|value| <= {bound:e} (sqrt(f64::MAX / rows))"),
+                    )?;
+                }
                 check_not_all_zero(names[1], y.iter().all(|&v| v == 0.0), y.len())?;
                 if thermal {
                     let segments: Vec<Vec<f64>> = std::iter::once(y).chain(cols).collect();
@@ -306,14 +321,24 @@ fn check_uniform(t: &[f64]) -> Result<(), InputError> {
     Ok(())
 }
 
-/// Every complex value's modulus |h| = hypot(re, im) is finite: both parts
-/// below f64::MAX do not make it so (1.5e308 + 1.5e308i).
+/// The largest |response| of a record of `rows` rows that the fit can
+/// square and sum: the residual sums, the noise model's b²|H|² and the
+/// record's scale all add |y|² over the rows, which stays finite when every
+/// |y| ≤ √(f64::MAX / rows) (1e308 + 1e308i has a finite modulus, 1.4e308,
+/// but not a finite square).
+fn max_abs_response(rows: usize) -> f64 {
+    (f64::MAX / rows.max(1) as f64).sqrt()
+}
+
+/// Every complex value's modulus |h| = hypot(re, im) is within
+/// [`max_abs_response`]: both parts below f64::MAX do not make it so.
 fn check_modulus(h: &[Complex64]) -> Result<(), InputError> {
-    match h.iter().position(|z| !z.norm().is_finite()) {
+    let bound = max_abs_response(h.len());
+    match h.iter().position(|z| !(z.norm() <= bound)) {
         Some(i) => Err(InputError::new(
             format!("h_re_m_per_n,h_im_m_per_n (row {})", i + 1),
-            format!("{:e}{:+e}i (|h| overflows)", h[i].re, h[i].im),
-            format!("|h| = hypot(re, im) <= {:e} m/N", f64::MAX),
+            format!("{:e}{:+e}i (|h| = {:e})", h[i].re, h[i].im, h[i].norm()),
+            format!("|h| = hypot(re, im) <= {bound:e} m/N (sqrt(f64::MAX / rows): the fit sums |h|^2 over the rows)"),
         )),
         None => Ok(()),
     }
@@ -459,5 +484,17 @@ mod tests {
         });
         let e = Measurement::from_csv(&c).unwrap_err();
         assert_eq!(e.field, "h_re_m_per_n,h_im_m_per_n (row 7)", "{e}");
+        // a finite modulus whose square overflows (issue 44 replay: it was
+        // blamed on an under-sampled resonance with an infinite noise sd)
+        let c = rows("omega_rad_s,h_re_m_per_n,h_im_m_per_n", 10, |i| {
+            if i == 3 {
+                format!("{},1e308,1e308", i + 1)
+            } else {
+                format!("{},1e-9,-2e-9", i + 1)
+            }
+        });
+        assert_eq!(Measurement::from_csv(&c).unwrap_err().field, "h_re_m_per_n,h_im_m_per_n (row 4)");
+        let m = rows("omega_rad_s,h_abs_m_per_n", 10, |i| format!("{},{}", i + 1, if i == 2 { 1e160 } else { 1e-9 }));
+        assert_eq!(Measurement::from_csv(&m).unwrap_err().field, "h_abs_m_per_n (row 3)");
     }
 }
