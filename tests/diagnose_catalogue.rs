@@ -48,7 +48,7 @@ use nanobeam::bayes::Posterior;
 use nanobeam::beam::{BeamSpec, Support};
 use nanobeam::calibration::measured::MeasuredFile;
 use nanobeam::calibration::{DramSettings, MeasuredData, ModeObservation, ParameterSet};
-use nanobeam::diagnose::classes::model_parameters;
+use nanobeam::diagnose::classes::{model_parameters, ClassParameters};
 use nanobeam::diagnose::{diagnose, model_posterior, ppc, DiagnoseSettings, Diagnosis, Model, NominalScales};
 use rayon::prelude::*;
 
@@ -261,17 +261,7 @@ fn base_fit_max_z(case: &Case) -> f64 {
     starts.extend((0..128).map(|_| post.sample_prior(&mut rng)));
     let mut scored: Vec<(f64, Vec<f64>)> = starts.into_iter().map(|u| (post.log_posterior(&u), u)).collect();
     scored.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let params = model_parameters(&Model::BASE, &ParameterSet::paper_n1(), &d.beam, &[], &scales);
-    let sd: Vec<f64> = params
-        .set
-        .params
-        .iter()
-        .zip(&params.coordinates)
-        .map(|(p, &c)| match c {
-            Coordinate::Log => 0.05,
-            c => 0.05 * (c.to_u(p.prior.support().1) - c.to_u(p.prior.support().0)),
-        })
-        .collect();
+    let sd = simplex_sd(&model_parameters(&Model::BASE, &ParameterSet::paper_n1(), &d.beam, &[], &scales));
     let best = scored
         .iter()
         .take(3)
@@ -281,6 +271,21 @@ fn base_fit_max_z(case: &Case) -> f64 {
     let Some(fit) = post.inner().predict(&post.to_inner(&best.theta)) else { return f64::INFINITY };
     let obs = post.inner();
     obs.observed().iter().zip(obs.sd()).zip(&fit).map(|((y, sd), f)| ((y - f) / sd).abs()).fold(0.0, f64::max)
+}
+
+/// The Nelder–Mead simplex of the oracle fits, per sampling coordinate: 0.05
+/// in ln x, else 5 % of the prior's width in its coordinate.
+fn simplex_sd(params: &ClassParameters) -> Vec<f64> {
+    params
+        .set
+        .params
+        .iter()
+        .zip(&params.coordinates)
+        .map(|(p, &c)| match c {
+            Coordinate::Log => 0.05,
+            c => 0.05 * (c.to_u(p.prior.support().1) - c.to_u(p.prior.support().0)),
+        })
+        .collect()
 }
 
 /// The best fit of one catalogue model to a set's noise-free data.
@@ -323,16 +328,7 @@ fn catalogue_fits(case: &Case) -> Vec<CatalogueFit> {
                 let post = model_posterior(m, &base, &d.beam, &case.noise_free, &[], &scales);
                 let params = model_parameters(m, &base, &d.beam, &[], &scales);
                 let names: Vec<String> = params.set.params.iter().map(|p| p.name.clone()).collect();
-                let sd: Vec<f64> = params
-                    .set
-                    .params
-                    .iter()
-                    .zip(&params.coordinates)
-                    .map(|(p, &c)| match c {
-                        Coordinate::Log => 0.05,
-                        c => 0.05 * (c.to_u(p.prior.support().1) - c.to_u(p.prior.support().0)),
-                    })
-                    .collect();
+                let sd = simplex_sd(&params);
                 // keyed by (kind, model index among all candidates): [40, kind] is the base-fit oracle's stream
                 let index = models.iter().position(|x| x == m).expect("listed") as u64;
                 let mut rng = stream(case.seed, Purpose::SyntheticBaseFit, [1000 + case.kind as u64, index]);
