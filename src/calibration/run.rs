@@ -121,9 +121,10 @@ pub fn calibrate(data: &MeasuredData, opts: &CalibrateOptions) -> Result<Calibra
 
 /// How close to a bound of a uniform, log-uniform or asinh-uniform prior (a
 /// fraction of the prior's width in the coordinate where it is uniform) the
-/// MAP counts as on it: 0.1 %, as `diagnose` judges its causes (Nelder–Mead
-/// pressed against a bound ends within a few 1e-6 of the width of it; an
-/// interior optimum that close needs a posterior sd of the same order).
+/// MAP counts as on it: 0.1 %, for `calibrate` and `diagnose` alike
+/// (Nelder–Mead pressed against a bound ends within a few 1e-6 of the width
+/// of it; an interior optimum that close needs a posterior sd of the same
+/// order sitting right at the edge).
 pub const ON_BOUND_FRACTION: f64 = 1e-3;
 
 /// A warning per parameter whose MAP lies on a bound of its prior: the data

@@ -82,13 +82,11 @@ pub struct BoundHit {
     pub bound: f64,
 }
 
-/// How close to a bound of a uniform or log-uniform prior (as a fraction of
-/// the prior's width in sampling coordinates) a MAP counts as on it: 0.1 %.
-/// Nelder–Mead pressed against a bound ends within its simplex tolerance of
-/// it (a few 1e-6 of the width: `tests/diagnose_hidden.md`, "Case
-/// histories"), while an interior optimum this close to a bound needs a
-/// posterior sd of the same 0.1 % order sitting right at the edge.
-pub const ON_BOUND_FRACTION: f64 = 1e-3;
+/// How close to a bound a MAP counts as on it: the fraction `calibrate`
+/// uses too (its doc derives it). Nelder–Mead pressed against a bound ends
+/// within its simplex tolerance of it (a few 1e-6 of the width:
+/// `tests/diagnose_hidden.md`, "Case histories").
+pub use crate::calibration::run::ON_BOUND_FRACTION;
 
 /// The cause parameters of `r`'s model whose MAP is on the bound of its
 /// prior range where the effect is strongest
