@@ -7,8 +7,8 @@
 
 mod identify_reference;
 
-use identify_reference::{positions, record, record_with, Beam, Kind, Noise, Support};
-use nanobeam::identify::{identify, IdentifyError, IdentifySettings};
+use identify_reference::{positions, record, record_with, Beam, Kind, Noise, Record, Support};
+use nanobeam::identify::{identify, IdentifiedMode, IdentifyError, IdentifySettings};
 
 /// Tallies of one (record kind, noise kind) cell.
 #[derive(Debug, Default, Clone)]
@@ -137,19 +137,8 @@ fn subset_record(kind: Kind, proportional: bool) {
     let beam = Beam::new(Support::SimplySupported, 5, 2.0 * std::f64::consts::PI * 1.0e4, x_in, x_out, 0.3);
     let rec = record(beam, kind, noise_of(proportional), 3, tag, 0);
     let id = identify(&rec.data, &IdentifySettings::default()).unwrap();
-    let near = |w: f64, m: f64| (w - m).abs() < 0.05 * m;
     assert!(!rec.visible.is_empty());
-    for m in &id.modes {
-        assert!(rec.beam.modes.iter().any(|b| near(m.omega_rad_s, b.omega)), "{kind:?}: false mode {m:?}");
-    }
-    for v in &rec.visible {
-        let m = id.modes.iter().find(|m| near(m.omega_rad_s, v.omega));
-        let m = m.unwrap_or_else(|| panic!("{kind:?} proportional={proportional}: mode at {} not found", v.omega));
-        let zw = (m.omega_rad_s - v.omega) / m.omega_sd_rad_s;
-        let zz = (m.zeta - v.zeta) / m.zeta_sd;
-        println!("{kind:?} proportional={proportional}: z omega {zw:.2}, z zeta {zz:.2}");
-        assert!(zw.abs() <= 3.5 && zz.abs() <= 3.5, "{kind:?} proportional={proportional}: {m:?} vs {v:?}");
-    }
+    assert_visible_found_within_3_5_sd(&rec, &id.modes, &format!("{kind:?} proportional={proportional}"));
     let expected = match (kind, proportional) {
         (Kind::Psd, _) => "welch_gamma",
         (_, true) => "additive_plus_proportional",
@@ -296,18 +285,7 @@ fn well_sampled_lines_about_11_sd_high_are_not_refused() {
         let rec = record(beam, kind, noise_of(false), 3, tag, seed);
         let id =
             identify(&rec.data, &IdentifySettings::default()).unwrap_or_else(|e| panic!("seed {seed}: refused: {e}"));
-        let near = |w: f64, m: f64| (w - m).abs() < 0.05 * m;
-        for m in &id.modes {
-            assert!(rec.beam.modes.iter().any(|b| near(m.omega_rad_s, b.omega)), "seed {seed}: false mode {m:?}");
-        }
-        for v in &rec.visible {
-            let m = id.modes.iter().find(|m| near(m.omega_rad_s, v.omega));
-            let m = m.unwrap_or_else(|| panic!("seed {seed}: mode at {} not found", v.omega));
-            let zw = (m.omega_rad_s - v.omega) / m.omega_sd_rad_s;
-            let zz = (m.zeta - v.zeta) / m.zeta_sd;
-            println!("seed {seed}: z omega {zw:.2}, z zeta {zz:.2}");
-            assert!(zw.abs() <= 3.5 && zz.abs() <= 3.5, "seed {seed}: {m:?} vs {v:?}");
-        }
+        assert_visible_found_within_3_5_sd(&rec, &id.modes, &format!("seed {seed}"));
     }
 }
 
@@ -436,5 +414,23 @@ fn ring_down_diagnostics() {
                 }
             }
         }
+    }
+}
+
+/// Every reported mode lies within 5 % of a true mode (no false mode), and
+/// every visible true mode is found with ω and ζ within 3.5 reported sd
+/// (`what` labels the failure).
+fn assert_visible_found_within_3_5_sd(rec: &Record, modes: &[IdentifiedMode], what: &str) {
+    let near = |w: f64, m: f64| (w - m).abs() < 0.05 * m;
+    for m in modes {
+        assert!(rec.beam.modes.iter().any(|b| near(m.omega_rad_s, b.omega)), "{what}: false mode {m:?}");
+    }
+    for v in &rec.visible {
+        let m = modes.iter().find(|m| near(m.omega_rad_s, v.omega));
+        let m = m.unwrap_or_else(|| panic!("{what}: mode at {} not found", v.omega));
+        let zw = (m.omega_rad_s - v.omega) / m.omega_sd_rad_s;
+        let zz = (m.zeta - v.zeta) / m.zeta_sd;
+        println!("{what}: z omega {zw:.2}, z zeta {zz:.2}");
+        assert!(zw.abs() <= 3.5 && zz.abs() <= 3.5, "{what}: {m:?} vs {v:?}");
     }
 }
