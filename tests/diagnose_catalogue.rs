@@ -535,8 +535,9 @@ fn all_cases() -> Vec<(Kind, u64)> {
 /// name, every set right (issue 40's targets: singles ≥ 95 %, foreign 100 %
 /// `unexplained`, clean 100 % `none`, confident wrong 0).
 #[test]
-#[ignore = "issue 40's study, not all met at the last run (seeds 500, 501): taper 500 and temperature-gradient 501, mimics of section-mismatch by the oracle, were named section-mismatch, decided: 2 confident wrong names by this scoring; 11 kinds, one diagnosis each per seed (5-15 min on the shared 2 cores), beyond CI's budget; run with `cargo test --test diagnose_catalogue -- \
-            --ignored --nocapture`; the record is tests/diagnose_catalogue.md"]
+#[ignore = "issue 40's study: every kind, one diagnosis each per seed (5-15 min per seed on 2 cores), beyond CI's \
+            budget; run with `NANOBEAM_CATALOGUE_SEEDS=500,501 cargo test --test diagnose_catalogue -- --ignored \
+            --nocapture`; what it measured is in tests/diagnose_catalogue.md"]
 fn every_kind_is_named_right_and_nothing_is_named_wrong_with_confidence() {
     let only: Option<Vec<String>> =
         std::env::var("NANOBEAM_CATALOGUE_KINDS").ok().map(|v| v.split(',').map(|s| s.trim().to_string()).collect());
