@@ -174,6 +174,45 @@ fn identify_on_the_cc7_md_record_finds_six_modes_numbered_1_to_6() {
     }
 }
 
+/// The committed clamped–clamped MD record of the 11.40 nm tube, untouched:
+/// `nanobeam identify` with the nominal beam reports at least five modes,
+/// numbered 1, 2, … without `--first-mode`, the first five at the PSD's
+/// peaks 134, 354, 653, 1001, 1392 GHz (numpy Welch of the same record,
+/// `data/md/psd.py`, slice 2; tests/identify_md.md, round 3). Tolerance as
+/// for cc7: the bath's half-power half-width 1/(4πτ) = 15.9 GHz plus half
+/// a 6.1-GHz bin of the reference, 19 GHz. About 50 s in the debug build
+/// (11 modes in the fit), hence ignored in CI.
+#[test]
+#[ignore = "about 50 s: run with --ignored"]
+fn identify_on_the_cc11_md_record_finds_its_low_modes_numbered_from_1() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("cc11.csv");
+    let unzipped = std::process::Command::new("gzip")
+        .args(["-dc", &format!("{root}/data/md/cc11.langevin.csv.gz")])
+        .output()
+        .expect("gzip runs");
+    assert!(unzipped.status.success());
+    std::fs::write(&csv, unzipped.stdout).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_nanobeam"))
+        .args(["identify", "--beam", &format!("{root}/data/md/tube-cc11.yaml")])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let yaml: serde_yaml::Value = serde_yaml::from_slice(&out.stdout).unwrap();
+    let modes = yaml["modes"].as_sequence().unwrap();
+    let peaks_ghz = [134.0, 354.0, 653.0, 1001.0, 1392.0];
+    assert!(modes.len() >= peaks_ghz.len(), "{modes:?}");
+    let tolerance_ghz = 15.9 + 3.05;
+    for (k, (m, peak)) in modes.iter().zip(peaks_ghz).enumerate() {
+        assert_eq!(m["mode"].as_u64(), Some(k as u64 + 1), "{modes:?}");
+        let f_ghz = m["omega_rad_s"].as_f64().unwrap() / (2.0 * std::f64::consts::PI) / 1e9;
+        assert!((f_ghz - peak).abs() < tolerance_ghz, "mode {}: {f_ghz:.1} GHz vs the PSD peak {peak} GHz", k + 1);
+    }
+}
+
 /// The band stops where the line's tail meets a white floor. Generator: an
 /// AR(2) line (poles 0.995·e^{±0.05i} per sample) plus independent white
 /// noise whose level equals the AR(2) spectrum σ²/|1 − φ1e^{−iθ} − φ2e^{−2iθ}|²

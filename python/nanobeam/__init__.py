@@ -365,6 +365,11 @@ def identify(
         :func:`calibrate` and :func:`diagnose`. With
         ``return_identification=True`` a tuple ``(measured, identification)``
         where ``identification`` is what ``--json`` prints.
+
+    The warnings the CLI prints on stderr (a thermal-motion record whose fit
+    scatters like far fewer Welch averages than the record's segments) are
+    issued as Python ``RuntimeWarning`` with the same text (without the
+    ``warning: `` prefix).
     """
     if isinstance(data, Mapping):
         data_path, data_text = None, _csv_text(data)
@@ -384,6 +389,8 @@ def identify(
             int(max_order),
         )
     )
+    for w in doc.get("warnings", []):
+        warnings.warn(w, RuntimeWarning, stacklevel=2)
     return (doc["measured"], doc["identification"]) if return_identification else doc["measured"]
 
 

@@ -380,7 +380,8 @@ fn diagnose_json(
 }
 
 /// `nanobeam identify DATA.csv --beam BEAM.yaml`: `{"measured": <the
-/// measured-data file>, "identification": <the `--json` output>}` as JSON text.
+/// measured-data file>, "identification": <the `--json` output>, "warnings":
+/// [<each line the CLI prints after `warning: `>]}` as JSON text.
 #[pyfunction]
 #[pyo3(signature = (data_path, data_text, beam_path, beam_text, modes, first_mode, max_order))]
 #[allow(clippy::too_many_arguments)]
@@ -409,9 +410,13 @@ fn identify_json(
         // the CLI's own identification, numbering and checks
         let cli::identify::Identified { identification: id, observations, file } =
             cli::identify::identify_record(beam, &text, modes, max_order, first_mode, &control)?;
+        // the CLI's `warning:` lines, without the prefix (issued as Python warnings)
+        let warnings: Vec<String> =
+            nanobeam::identify::thermal::fit_warning(&text, &id.x, id.noise_sd).into_iter().collect();
         let doc = serde_json::json!({
             "measured": file,
             "identification": { "modes": observations, "identification": id },
+            "warnings": warnings,
         });
         Ok(serde_json::to_string(&doc).expect("plain data"))
     })

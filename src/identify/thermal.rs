@@ -362,3 +362,14 @@ pub fn nu_warning(noise_sd: f64, (per_column, columns): (usize, usize)) -> Optio
         )
     })
 }
+
+/// The warning (without its `warning: ` prefix) for a fit of the record
+/// `text` whose PSD has the abscissa `omega_rad_s` (its bin spacing gives the
+/// Welch segment length) and the residual noise sd `noise_sd`: the
+/// [`nu_warning`] of a thermal-motion record, None for any other record or a
+/// fit whose ν̂ the segments explain. The CLI prints it on stderr, the Python
+/// `identify` issues it as a `RuntimeWarning`: one text for both.
+pub fn fit_warning(text: &str, omega_rad_s: &[f64], noise_sd: f64) -> Option<String> {
+    let [w0, w1, ..] = omega_rad_s else { return None };
+    welch_segments(text, w1 - w0).and_then(|k| nu_warning(noise_sd, k))
+}
