@@ -496,10 +496,9 @@ const MAX_DECLARED: usize = 8;
 
 /// [`MAX_DECLARED`] for a PSD: a choice, not a derivation. Thermal records
 /// reach `identify` cut to their flexural band (`thermal::flexural_band`),
-/// where the 0.25-ns record of the 11.4 nm tube declares 17 peaks and its
-/// lowest line ranks 11th by statistic (tests/identify_md.md, round 3);
-/// 16 keeps it at 4 × 16 parameters of the 670 bins (measured: 48 s against
-/// 8 s with 8, debug build on the shared machine).
+/// where a short MD record's lowest flexural line can rank below the 8th
+/// declared peak by statistic (tests/identify_md.md, round 3, with the cost
+/// of the larger refinement); 16 keeps at most 4 × 16 pole parameters.
 const MAX_DECLARED_PSD: usize = 16;
 
 /// How far above its declaration threshold an under-sampled peak must stand
