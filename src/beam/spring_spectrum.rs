@@ -41,8 +41,8 @@
 //! with R the blocks whose undamped eigenvalues bound the mode (below), which
 //! is entire in those blocks: H = X + Σ_{r∈R} (β_r/δ_r) w_r w_rᵀ with X the
 //! rest, β_r = B_r,uu/d_r, δ_r = det B_r, and a 2 × 2 determinant is
-//! quadratic, so det(X + Σ α_r w_r w_rᵀ) = det X + Σ_r α_r w_rᵀ adj(X) w_r
-//! + Σ_{r<q} α_r α_q det[w_r w_q]², det[w_r w_q]² = (σ_q − σ_r)² ∈ {0, 4}
+//! quadratic, so det(X + Σ α_r w_r w_rᵀ) is det X plus Σ_r α_r w_rᵀ adj(X) w_r
+//! plus Σ_{r<q} α_r α_q det[w_r w_q]², with det[w_r w_q]² = (σ_q − σ_r)² ∈ {0, 4}
 //! (one end: X + Σ α_r).
 //!
 //! # Modes (the proof of the order) and poles
@@ -422,7 +422,7 @@ impl AxialBlocks {
         let ne = self.elements;
         scratch.blocks.clear();
         scratch.mu.clear();
-        let sign = |j: usize| if j % 2 == 0 { 1.0 } else { -1.0 };
+        let sign = |j: usize| if j.is_multiple_of(2) { 1.0 } else { -1.0 };
         let zero = Sym2 { uu: 0.0, uv: 0.0, vv: 0.0 };
         for (j, rot) in [(0usize, &self.rotation[0]), (ne, &self.rotation[1])] {
             let (k, m0, m1) = (rot[0], rot[1], rot[2]);
