@@ -15,8 +15,10 @@
 //! and its C = 0 pairs, the secular path of `beam/mass_spectrum.rs` against
 //! the direct decoupled eigen-solve it replaced; for axial-force and its pairs
 //! on this simply supported mesh, the wavenumber-block path of
-//! `beam/axial_spectrum.rs` against the coupled RQI). The tables are in
-//! `benches/README.md`.
+//! `beam/axial_spectrum.rs` against the coupled RQI; for
+//! support-rotational-stiffness and its pairs without shear or point mass,
+//! the secular path of `beam/spring_spectrum.rs` against the coupled RQI).
+//! The tables are in `benches/README.md`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use nanobeam::beam::{BeamSpec, InternalVariable, ModalSolver, PointMass, ShearDeformation, Support};
@@ -80,8 +82,10 @@ fn draw(c: Causes, u: &mut impl FnMut() -> f64) -> BeamSpec {
         b.viscous_damping_n_s_m2 = near(2.0 * rho_a * omega1 * 0.01);
     }
     if c.spring {
-        // κ = k L/EI ≈ 1 (the prior spans 1e-2..1e2)
-        b.support_rotational_stiffness_n_m_rad = near(ei / l);
+        // κ = k L/EI ≈ 1 at each end, drawn per end as the diagnosis samples
+        // them (the prior spans 1e-2..1e3 per end)
+        b.support_rotational_stiffness_left_n_m_rad = near(ei / l);
+        b.support_rotational_stiffness_right_n_m_rad = near(ei / l);
     }
     if c.mass {
         b.point_mass = Some(PointMass { mass_kg: near(0.1 * rho_a * l), x_nm: near(0.3 * L_NM) });
@@ -117,6 +121,9 @@ fn models() -> Vec<(&'static str, Causes)> {
         ("viscous+mass", Causes { viscous: true, mass: true, ..none }),
         ("extra-relaxation+mass", Causes { relaxation: true, mass: true, ..none }),
         ("spring+axial", Causes { spring: true, axial: true, ..none }),
+        ("extra-relaxation+spring", Causes { relaxation: true, spring: true, ..none }),
+        ("viscous+spring", Causes { viscous: true, spring: true, ..none }),
+        ("spring+mass", Causes { spring: true, mass: true, ..none }),
         ("axial+extra-relaxation", Causes { axial: true, relaxation: true, ..none }),
         ("axial+viscous", Causes { axial: true, viscous: true, ..none }),
         ("axial+section-mismatch", Causes { axial: true, section: true, ..none }),

@@ -86,20 +86,20 @@ const NEWTON_MAX_STEPS: usize = 40;
 
 /// A symmetric 2 × 2 block (uu, uv, vv).
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Sym2 {
-    uu: f64,
-    uv: f64,
-    vv: f64,
+pub(super) struct Sym2 {
+    pub(super) uu: f64,
+    pub(super) uv: f64,
+    pub(super) vv: f64,
 }
 
 impl Sym2 {
-    fn plus(self, c: f64, o: Sym2) -> Sym2 {
+    pub(super) fn plus(self, c: f64, o: Sym2) -> Sym2 {
         Sym2 { uu: self.uu + c * o.uu, uv: self.uv + c * o.uv, vv: self.vv + c * o.vv }
     }
-    fn scaled(self, c: f64) -> Sym2 {
+    pub(super) fn scaled(self, c: f64) -> Sym2 {
         Sym2 { uu: c * self.uu, uv: c * self.uv, vv: c * self.vv }
     }
-    fn form(self, x: [f64; 2]) -> f64 {
+    pub(super) fn form(self, x: [f64; 2]) -> f64 {
         self.uu * x[0] * x[0] + 2.0 * self.uv * x[0] * x[1] + self.vv * x[1] * x[1]
     }
 }
@@ -108,10 +108,11 @@ impl Sym2 {
 /// j = 1..n_e − 1, and the 1 × 1 rotation blocks j = 0, n_e.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AxialBlocks {
-    elements: usize,
-    blocks: Vec<[Sym2; 3]>,
+    pub(super) elements: usize,
+    /// (k, m₀, m₁) of block j = 1..n_e − 1 (index j − 1).
+    pub(super) blocks: Vec<[Sym2; 3]>,
     /// (k, m₀, m₁) of v_0 and v_{n_e}.
-    rotation: [[f64; 3]; 2],
+    pub(super) rotation: [[f64; 3]; 2],
 }
 
 /// The block of one element matrix at φ = jπ/n_e (module doc).

@@ -7,7 +7,8 @@
 //! (exact decoupled families via `eigen` + `family`, with certified eigenvalue
 //! interpolants from `spectrum` (Euler–Bernoulli) and `shear_spectrum`
 //! (Timoshenko), a point mass by the secular equation of `mass_spectrum`, the axial force on a simply
-//! supported mesh by the wavenumber blocks of `axial_spectrum`, or, in `coupled`,
+//! supported mesh by the wavenumber blocks of `axial_spectrum`, support springs
+//! on it by the rank ≤ 2 secular equation of `spring_spectrum`, or, in `coupled`,
 //! Rayleigh-quotient iteration on T(s) when the extensions couple the modes;
 //! the result types in `modal_result`) →
 //! `frf` (direct banded solves); `time_response` (impulse response by the
@@ -30,6 +31,7 @@ pub(crate) mod model;
 mod shear_spectrum;
 pub mod spec;
 mod spectrum;
+mod spring_spectrum;
 mod state_space;
 mod state_space_modal;
 mod time_response;

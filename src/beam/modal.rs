@@ -43,6 +43,7 @@ use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
 use crate::beam::shear_spectrum::ShearSpectrumTable;
 use crate::beam::spec::BeamSpec;
 use crate::beam::spectrum::SpectrumTable;
+use crate::beam::spring_spectrum::SpringScratch;
 use crate::beam::state_space_modal::state_space_modal;
 use crate::beam::BeamError;
 
@@ -79,8 +80,13 @@ use crate::beam::BeamError;
 /// supported Euler–Bernoulli mesh without spring or point mass, any C and
 /// internal variables: the pencil splits exactly into one 2 × 2 block per
 /// wavenumber (`axial_spectrum.rs`; [`Self::modal`] only without internal
-/// variables, whose real poles stay with the reference). The other coupled
-/// extensions (spring, point mass with C > 0, axial force on other supports
+/// variables, whose real poles stay with the reference). So do support
+/// rotational springs on that mesh (one end or both, with or without the
+/// axial force, any C and internal variables, no point mass): a rank ≤ 2
+/// update of the same blocks, the poles roots of a 1 × 1 or 2 × 2 secular
+/// determinant (`spring_spectrum.rs`; again [`Self::modal`] only without
+/// internal variables). The other coupled
+/// extensions (springs on other supports or with shear, point mass with C > 0, axial force on other supports
 /// or with shear, Timoshenko with C > 0) keep the RQI path: their poles need nonlinear RQI on T(s) whatever the pencil
 /// start costs (see `general_path`), and the pencil depends on 2–3 parameters.
 #[derive(Debug, Default, Clone)]
@@ -96,11 +102,14 @@ pub struct ModalSolver {
     /// the mesh has none.
     axial_blocks: Option<Option<AxialBlocks>>,
     axial_scratch: Vec<Bending>,
+    spring_scratch: SpringScratch,
     /// Never use the interpolant (reference solver for tests and benches).
     direct_only: bool,
     last_interpolated: bool,
     /// True when the last result came from the axial-force block path.
     last_axial_blocks: bool,
+    /// True when the last result came from the support-spring secular path.
+    last_spring_blocks: bool,
     lambdas: Vec<f64>,
     /// Error bounds of `lambdas` on the point-mass path (`mass_spectrum.rs`).
     bounds: Vec<f64>,
@@ -316,6 +325,12 @@ impl ModalSolver {
         self.last_axial_blocks
     }
 
+    /// True when the last result came from the exact support-spring path of
+    /// a simply supported Euler–Bernoulli mesh (`spring_spectrum.rs`).
+    pub fn last_used_spring_blocks(&self) -> bool {
+        self.last_spring_blocks
+    }
+
     /// The path used by the last successful or attempted call.
     pub fn last_path(&self) -> Option<SolverPath> {
         self.last_path
@@ -350,7 +365,7 @@ impl ModalSolver {
         if !self.direct_only {
             if let Some(result) = self.interpolated(beam, n_modes, poles) {
                 self.last_path = Some(SolverPath::Decoupled);
-                self.last_interpolated = !self.last_axial_blocks;
+                self.last_interpolated = !(self.last_axial_blocks || self.last_spring_blocks);
                 return Ok(result);
             }
         }
@@ -389,11 +404,35 @@ impl ModalSolver {
     /// (see [`Self::interpolated`]). The axial force on a simply supported
     /// Euler–Bernoulli mesh without spring or point mass takes the exact
     /// wavenumber-block path (`axial_spectrum.rs`; with [`Poles::Oscillatory`]
-    /// only the oscillatory pairs, as the coupled reference does).
+    /// only the oscillatory pairs, as the coupled reference does); support
+    /// springs on that mesh without a point mass (with or without the force)
+    /// the secular path on the same blocks (`spring_spectrum.rs`).
     fn interpolated_roots(&mut self, beam: &BeamSpec, n_modes: usize, poles: Poles) -> Option<f64> {
         let mesh = self.mesh.as_ref()?;
         let sc = Scaling::new(beam);
         self.last_axial_blocks = false;
+        self.last_spring_blocks = false;
+        if mesh.shear.is_none() && beam.point_mass.is_none() && mesh.springs(&sc.spring).next().is_some() && n_modes > 0
+        {
+            let Self { axial_blocks, spring_scratch, roots, .. } = self;
+            let blocks = axial_blocks.get_or_insert_with(|| AxialBlocks::new(mesh)).as_ref()?;
+            let mut ivs = [(0.0, 0.0); crate::beam::spec::MAX_INTERNAL_VARIABLES];
+            let mut nv = 0;
+            for iv in beam.internal_variables.iter().filter(|iv| iv.delta > 0.0) {
+                ivs[nv] = (iv.delta, iv.omega_rad_s / sc.omega_ref);
+                nv += 1;
+            }
+            let t = sc.e_tilde * sc.e_tilde;
+            let all = poles == Poles::All;
+            // the springs that act (a spring on a rotation the support fixes acts on nothing)
+            let spring: [f64; 2] =
+                std::array::from_fn(|e| if mesh.spring_dofs[e].is_some() { sc.spring[e] } else { 0.0 });
+            if !blocks.spring_family_roots(t, sc.axial, spring, sc.c, &ivs[..nv], n_modes, all, spring_scratch, roots) {
+                return None;
+            }
+            self.last_spring_blocks = true;
+            return Some(sc.omega_ref);
+        }
         if sc.axial != 0.0
             && mesh.shear.is_none()
             && beam.point_mass.is_none()
@@ -465,7 +504,11 @@ impl ModalSolver {
     /// solved ([`Poles::Oscillatory`]): the same RQI from the same starts, so
     /// the same bits, except where `modal` falls back to the state space
     /// because two real-pole starts met (then both are exact to the
-    /// solvers' tolerance, not bitwise equal). `Ok(false)` when a requested
+    /// solvers' tolerance, not bitwise equal), and except on the exact
+    /// axial-force and support-spring paths with internal variables, which
+    /// `observables` takes and `modal` leaves to the coupled reference (its
+    /// real poles): equal there to the tolerance their property tests derive
+    /// (`tests/beam_axial_fast_path.rs`, `tests/beam_spring_fast_path.rs`). `Ok(false)` when a requested
     /// mode is overdamped or was not computed.
     pub fn observables(
         &mut self,
@@ -480,7 +523,7 @@ impl ModalSolver {
         if !self.direct_only {
             if let Some(omega_ref) = self.interpolated_roots(beam, n_modes, Poles::Oscillatory) {
                 self.last_path = Some(SolverPath::Decoupled);
-                self.last_interpolated = !self.last_axial_blocks;
+                self.last_interpolated = !(self.last_axial_blocks || self.last_spring_blocks);
                 for (k, &mode) in modes.iter().enumerate() {
                     let Some(fam) = mode.checked_sub(1).and_then(|j| self.roots.get(j)).filter(|_| mode <= n_modes)
                     else {

@@ -1,0 +1,598 @@
+//! The exact fast path of the support rotational springs on a uniform simply
+//! supported Euler–Bernoulli mesh (issue 41): the springs are a rank ≤ 2
+//! update of the pencil whose wavenumber blocks `axial_spectrum.rs` gives in
+//! closed form, so every pole is a root of a 1 × 1 or 2 × 2 secular
+//! determinant evaluated in O(n_e).
+//!
+//! # Why it is exact (the derivation)
+//! The springs are elastic: they are not multiplied by the relaxation factor
+//! G(s) = 1 + Σᵢ Δᵢ s/(s + Ωᵢ) (`model.rs`, module doc: "elastic only"; the
+//! coupled reference adds them unrelaxed, `coupled.rs`). Without a point mass
+//! D̃ = c̃M̃, so the scaled dynamic stiffness is
+//!   T̃(s) = T₀(s) + E K_s Eᵀ,  T₀(s) = s(s + c̃)M̃ + G(s)K̃ + K̃_N,
+//! with K_s = diag(k̃_e) over the ends e whose spring acts (k̃_e > 0; 1 or 2 of
+//! them) and E the columns of the identity at their rotation DOFs
+//! (`UnitMesh::spring_dofs`). `axial_spectrum.rs` proves, and checks on the
+//! assembled mesh (`AxialBlocks::new`), that A V = W V B_A for every
+//! A ∈ {k, m₀, m₁}, with V the wavenumber basis (u_j, v_j), W the identity
+//! except ½ on the two end rotations, and B_A block diagonal (2 × 2 for
+//! 0 < j < n_e, 1 × 1 for j = 0, n_e). Premultiplying by Vᵀ gives
+//! VᵀAV = D B_A with D = VᵀWV = diag(d_j): the vectors of different j are
+//! W-orthogonal, u_j and v_j have disjoint supports, and
+//! d_j = Σ sin² = Σ′ cos² = n_e/2 for 0 < j < n_e, d_j = n_e for j = 0, n_e.
+//! So T₀(s)⁻¹ = V (D B(s))⁻¹ Vᵀ with B_j(s) = s(s + c̃)M_j + G(s)K_j + N_j
+//! (the blocks of `axial_spectrum.rs`: M_j = m₀_j + ẽ²m₁_j, K_j = k_j,
+//! N_j = ñ(m₁_j + ẽ²k_j)). The rows of V at the end rotations are
+//! u_j = 0 (w-only) and v_j = cos(0) = 1 at x = 0, cos(jπ) = σ_j = (−1)^j at
+//! x = L. Hence
+//!   F(s) = Eᵀ T₀(s)⁻¹ E = Σ_j α_j(s) w_j w_jᵀ,  α_j = [B_j(s)⁻¹]_vv / d_j,
+//! w_j = (1, σ_j) restricted to the active ends, [B_j⁻¹]_vv = B_j,uu/det B_j
+//! (1/B_j for the 1 × 1 blocks), and by the determinant lemma
+//!   det T̃(s) = det T₀(s) · det(I + K_s F(s))
+//!            ∝ Π_j det B_j(s) · det K_s · det H(s),  H(s) = K_s⁻¹ + F(s),
+//! for any damping c̃, internal variables, ẽ and axial force: exact, no
+//! approximation beyond the FE model itself. The poles are the roots of
+//! det H(s) (generically: a block pole whose residue vanishes at both ends,
+//! B_j,uu = det B_j = 0 at one s, is not seen; that needs a coincidence of
+//! two real conditions at one complex point).
+//!
+//! Near a block pole det H is large; Newton is run on the pole-free
+//!   g(s) = Π_{r∈R} det B_r(s) · det H(s)
+//! with R the blocks whose undamped eigenvalues bound the mode (below), which
+//! is entire in those blocks: H = X + Σ_{r∈R} (β_r/δ_r) w_r w_rᵀ with X the
+//! rest, β_r = B_r,uu/d_r, δ_r = det B_r, and a 2 × 2 determinant is
+//! quadratic, so det(X + Σ α_r w_r w_rᵀ) is det X plus Σ_r α_r w_rᵀ adj(X) w_r
+//! plus Σ_{r<q} α_r α_q det[w_r w_q]², with det[w_r w_q]² = (σ_q − σ_r)² ∈ {0, 4}
+//! (one end: X + Σ α_r).
+//!
+//! # Modes (the proof of the order) and poles
+//! Physical mode r is the r-th eigenpair of the undamped relaxed pencil
+//! (K̃ + K̃_N + E K_s Eᵀ, M̃) (`modal_result.rs`). Its eigenvalue is found on
+//! the real axis (s² = −λ, G = 1, c̃ = 0), certified by an exact inertia
+//! count: with the spring-free eigenvalues μ (both closed-form eigenvalues of
+//! every 2 × 2 block and the two 1 × 1 ones: the whole spectrum of the mesh
+//! pencil), Haynsworth's inertia additivity on [[K − λM, E], [Eᵀ, −K_s⁻¹]]
+//! gives
+//!   #{eigenvalues < λ} = #{μ < λ} − neg(H(λ))
+//! (K_s ≻ 0 on the active ends; neg of a 2 × 2 from its determinant and
+//! trace). A rank-|R| positive update interlaces: μ_r ≤ λ_r ≤ μ_{r+|A|}, so R
+//! is the set of blocks of μ_r … μ_{r+|A|}, the only poles of det H in the
+//! bracket. Newton on g(λ), safeguarded by bisection inside the bracket
+//! [a, b] that every count narrows, converges to λ_r, and λ_r is accepted
+//! only when the count is r − 1 just below it and ≥ r just above it (a
+//! relative gap of [`CERTIFY_GAP`]); otherwise the path declines.
+//! The eigenvector is x = T₀(−λ)⁻¹E z with H(λ)z = 0, in the block basis
+//! y_j = (w_jᵀz)/(d_j δ_j) · (−B_uv, B_uu) (a 1 × 1 block: (w_jᵀz)/(d_j B_j)),
+//! its forms xᵀAx = Σ_j d_j y_jᵀA_j y_j, and its end rotations
+//! x_e = Σ_j (w_j)_e (y_j)_v; it must satisfy its own Rayleigh quotient
+//! (a + b = λ to 1e-8, a guard against a lost vector). From it the one-term
+//! family s² + c̃s + a + bG(s) = 0 with a = xᵀ(K_s + K̃_N)x/xᵀM̃x,
+//! b = xᵀK̃x/xᵀM̃x — the starts the coupled reference uses
+//! (`coupled.rs`, `family_approximations`) — and Newton on g(s) from each
+//! complex start, with the reference's acceptance tests (a root within half
+//! its start's modulus, no two starts on one pole, a complex start not on
+//! the real axis). Only the oscillatory poles are solved: when every pole is
+//! asked for and a family has real (relaxation) starts, the path declines, as
+//! `axial_spectrum.rs` does.
+//!
+//! # Accuracy
+//! The block entries are those of `axial_spectrum.rs` (relative rounding
+//! ≲ 10·eps/sin²(φ/2) in the bending eigenvalue, ≈ 1.4e-12 at n_e = 40,
+//! j = 1). det B_j loses ~eps·|B_uu B_vv|/|det B_j| near its roots, which
+//! moves a root of g by ~eps·μ absolutely; Newton stops at a step
+//! ≤ [`NEWTON_TOL`]·|s| (quadratic convergence: the root is then at the
+//! rounding floor).
+
+use num_complex::Complex64;
+
+use crate::beam::axial_spectrum::{AxialBlocks, Sym2};
+use crate::beam::family::{family_roots_into, Roots, REAL_TOL};
+
+/// Newton on g(s) stops after a step ≤ NEWTON_TOL·|s| (as in
+/// `axial_spectrum.rs`: the error after it is ≈ NEWTON_TOL², round-off).
+const NEWTON_TOL: f64 = 1e-10;
+const NEWTON_MAX_STEPS: usize = 40;
+/// Safeguarded Newton on the real axis stops after a step ≤ EIGEN_TOL·λ.
+const EIGEN_TOL: f64 = 1e-13;
+const EIGEN_MAX_STEPS: usize = 100;
+/// The count must be r − 1 at λ(1 − CERTIFY_GAP) and ≥ r at λ(1 + CERTIFY_GAP):
+/// far above the eigenvalue's rounding (≲ 1e-12 relative, above), far below
+/// any gap between two eigenvalues of a mesh a diagnosis fits (≥ 1e-2).
+pub const CERTIFY_GAP: f64 = 1e-10;
+/// The eigenvector's Rayleigh quotient a + b must be λ to this (relative):
+/// its forms are sums of positive terms rounded to ~1e-13.
+const RAYLEIGH_TOL: f64 = 1e-8;
+
+/// A number the secular functions are evaluated in: f64 on the real axis,
+/// Complex64 at a pole.
+trait Num:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Div<Output = Self>
+    + From<f64>
+{
+}
+impl Num for f64 {}
+impl Num for Complex64 {}
+
+/// A value with its derivative.
+#[derive(Debug, Clone, Copy)]
+struct Jet<T> {
+    v: T,
+    d: T,
+}
+
+impl<T: Num> Jet<T> {
+    fn c(v: f64) -> Self {
+        Jet { v: T::from(v), d: T::from(0.0) }
+    }
+    fn mul(self, o: Self) -> Self {
+        Jet { v: self.v * o.v, d: self.d * o.v + self.v * o.d }
+    }
+    fn add(self, o: Self) -> Self {
+        Jet { v: self.v + o.v, d: self.d + o.d }
+    }
+    fn sub(self, o: Self) -> Self {
+        Jet { v: self.v - o.v, d: self.d - o.d }
+    }
+    fn scale(self, c: f64) -> Self {
+        Jet { v: self.v * T::from(c), d: self.d * T::from(c) }
+    }
+    fn div(self, o: Self) -> Self {
+        let v = self.v / o.v;
+        Jet { v, d: (self.d - v * o.d) / o.v }
+    }
+}
+
+/// One wavenumber block at (ẽ², ñ): M_j, K_j (relaxed), N_j (elastic), d_j
+/// and σ_j = (−1)^j; a 1 × 1 block (j = 0, n_e) keeps its entry in `vv`.
+#[derive(Debug, Clone, Copy)]
+struct Block {
+    m: Sym2,
+    k: Sym2,
+    n: Sym2,
+    d: f64,
+    sign: f64,
+    single: bool,
+}
+
+impl Block {
+    /// (B_uu or 1, det B) of B = pM + qK + N (module doc), with derivatives.
+    fn parts<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> (Jet<T>, Jet<T>) {
+        let e = |m: f64, k: f64, n: f64| p.scale(m).add(q.scale(k)).add(Jet::c(n));
+        let vv = e(self.m.vv, self.k.vv, self.n.vv);
+        if self.single {
+            return (Jet::c(1.0), vv);
+        }
+        let uu = e(self.m.uu, self.k.uu, self.n.uu);
+        let uv = e(self.m.uv, self.k.uv, self.n.uv);
+        (uu, uu.mul(vv).sub(uv.mul(uv)))
+    }
+
+    /// The block's real matrices S − λM with S = K + N.
+    fn shifted(&self, lambda: f64) -> Sym2 {
+        self.k.plus(1.0, self.n).plus(-lambda, self.m)
+    }
+}
+
+/// The secular data of one beam: blocks, springs and the spring-free spectrum.
+#[derive(Debug, Default, Clone)]
+pub struct SpringScratch {
+    blocks: Vec<Block>,
+    /// Spring-free eigenvalues with the block they belong to, ascending.
+    mu: Vec<(f64, usize)>,
+    /// The active ends' (k̃, end index 0 = x = 0, 1 = x = L).
+    ends: Vec<(f64, usize)>,
+}
+
+impl SpringScratch {
+    /// (w_j)_e: 1 at x = 0, σ_j at x = L.
+    fn w(&self, j: usize, e: usize) -> f64 {
+        if e == 0 {
+            1.0
+        } else {
+            self.blocks[j].sign
+        }
+    }
+
+    /// g = Π_{r∈R} δ_r · det H at (p, q) (module doc), with its derivative.
+    fn secular<T: Num>(&self, p: Jet<T>, q: Jet<T>, removed: &[usize]) -> Jet<T> {
+        // rest sums: both ends → (S_even, S_odd); one end → S
+        let mut sums = [Jet::<T>::c(0.0); 2];
+        let mut rem: [(Jet<T>, Jet<T>, f64); 3] = [(Jet::c(0.0), Jet::c(0.0), 0.0); 3];
+        let mut nrem = 0;
+        for (j, b) in self.blocks.iter().enumerate() {
+            let (adj, det) = b.parts(p, q);
+            let beta = adj.scale(1.0 / b.d);
+            if let Some(r) = removed.iter().position(|&r| r == j) {
+                rem[r] = (beta, det, b.sign);
+                nrem += 1;
+            } else {
+                let a = beta.div(det);
+                let slot = usize::from(b.sign < 0.0);
+                sums[slot] = sums[slot].add(a);
+            }
+        }
+        debug_assert_eq!(nrem, removed.len());
+        let rem = &rem[..nrem];
+        // Π over the removed blocks except those in `skip`
+        let prod = |skip: &[usize]| {
+            rem.iter().enumerate().filter(|(i, _)| !skip.contains(i)).fold(Jet::c(1.0), |acc, (_, r)| acc.mul(r.1))
+        };
+        if self.ends.len() == 1 {
+            let x = Jet::c(1.0 / self.ends[0].0).add(sums[0]).add(sums[1]);
+            let mut g = x.mul(prod(&[]));
+            for (i, r) in rem.iter().enumerate() {
+                g = g.add(r.0.mul(prod(&[i])));
+            }
+            return g;
+        }
+        let (se, so) = (sums[0], sums[1]);
+        let x11 = Jet::c(1.0 / self.ends[0].0).add(se).add(so);
+        let x22 = Jet::c(1.0 / self.ends[1].0).add(se).add(so);
+        let x12 = se.sub(so);
+        let mut g = x11.mul(x22).sub(x12.mul(x12)).mul(prod(&[]));
+        for (i, r) in rem.iter().enumerate() {
+            // wᵀ adj(X) w with w = (1, σ)
+            let quad = x22.add(x11).sub(x12.scale(2.0 * r.2));
+            g = g.add(r.0.mul(quad).mul(prod(&[i])));
+        }
+        for i in 0..rem.len() {
+            for k in i + 1..rem.len() {
+                let dw = rem[k].2 - rem[i].2;
+                if dw != 0.0 {
+                    g = g.add(rem[i].0.mul(rem[k].0).mul(prod(&[i, k])).scale(dw * dw));
+                }
+            }
+        }
+        g
+    }
+
+    /// H(λ) on the real axis (no pole removed): [h11, h12, h22] (one end: h11).
+    fn h_real(&self, lambda: f64) -> Option<[f64; 3]> {
+        let mut sums = [0.0; 2];
+        for b in &self.blocks {
+            let s = b.shifted(lambda);
+            let a = if b.single { 1.0 / s.vv } else { s.uu / (s.uu * s.vv - s.uv * s.uv) } / b.d;
+            sums[usize::from(b.sign < 0.0)] += a;
+        }
+        let (se, so) = (sums[0], sums[1]);
+        let h = if self.ends.len() == 1 {
+            [1.0 / self.ends[0].0 + se + so, 0.0, 0.0]
+        } else {
+            [1.0 / self.ends[0].0 + se + so, se - so, 1.0 / self.ends[1].0 + se + so]
+        };
+        h.iter().all(|v| v.is_finite()).then_some(h)
+    }
+
+    /// #{eigenvalues of the spring pencil < λ} = #{μ < λ} − neg(H(λ)) (module
+    /// doc); `None` where H is singular or not finite (λ at an eigenvalue or a μ).
+    fn count(&self, lambda: f64) -> Option<usize> {
+        let below = self.mu.partition_point(|&(m, _)| m < lambda);
+        let h = self.h_real(lambda)?;
+        let neg = if self.ends.len() == 1 {
+            if h[0] == 0.0 {
+                return None;
+            }
+            usize::from(h[0] < 0.0)
+        } else {
+            let det = h[0] * h[2] - h[1] * h[1];
+            if det == 0.0 {
+                return None;
+            }
+            if det < 0.0 {
+                1
+            } else if h[0] + h[2] < 0.0 {
+                2
+            } else {
+                0
+            }
+        };
+        below.checked_sub(neg)
+    }
+
+    /// The certified eigenvalue λ_r (r = r0 + 1) and the blocks R removed
+    /// for it; `None` where the path declines.
+    fn eigenvalue(&self, r0: usize) -> Option<(f64, [usize; 3], usize)> {
+        let na = self.ends.len();
+        let (mut a, mut b) = (self.mu.get(r0)?.0, self.mu.get(r0 + na)?.0);
+        let mut removed = [0usize; 3];
+        let mut nr = 0;
+        for &(_, j) in &self.mu[r0..=r0 + na] {
+            if !removed[..nr].contains(&j) {
+                removed[nr] = j;
+                nr += 1;
+            }
+        }
+        // first-order start: μ_r + Σ_e k̃_e φ_e² with φ the M-normalised
+        // spring-free eigenvector of μ_r (its end rotations are ±x_v)
+        let (mu, j) = self.mu[r0];
+        let blk = &self.blocks[j];
+        let xv2_over_m = if blk.single {
+            1.0 / (blk.d * blk.m.vv)
+        } else {
+            let s = blk.shifted(mu);
+            // eigenvector from the better-scaled row, as `axial_spectrum.rs`
+            let r1 = [-s.uv, s.uu];
+            let r2 = [s.vv, -s.uv];
+            let x = if r1[0].abs() + r1[1].abs() >= r2[0].abs() + r2[1].abs() { r1 } else { r2 };
+            let m = blk.m.uu * x[0] * x[0] + 2.0 * blk.m.uv * x[0] * x[1] + blk.m.vv * x[1] * x[1];
+            x[1] * x[1] / (blk.d * m)
+        };
+        let mut x = mu + self.ends.iter().map(|&(k, _)| k).sum::<f64>() * xv2_over_m;
+        if !(x > a && x < b) {
+            x = 0.5 * (a + b);
+        }
+        let removed_s = &removed[..nr];
+        for _ in 0..EIGEN_MAX_STEPS {
+            // H(x) exactly singular: x is an eigenvalue (certified below)
+            let exact = match self.count(x) {
+                Some(n) if n > r0 => {
+                    b = x;
+                    false
+                }
+                Some(_) => {
+                    a = x;
+                    false
+                }
+                None => true,
+            };
+            let g = self.secular::<f64>(Jet { v: -x, d: -1.0 }, Jet::c(1.0), removed_s);
+            let newton = if exact { x } else { x - g.v / g.d };
+            let inside = exact || (newton.is_finite() && newton > a && newton < b);
+            let converged = inside && (newton - x).abs() <= EIGEN_TOL * newton.abs();
+            if converged || b - a <= 4.0 * f64::EPSILON * b {
+                let lambda = if converged { newton } else { 0.5 * (a + b) };
+                // a root of g is λ_r only if the count says so (it may be
+                // another eigenvalue in the bracket): otherwise narrow and go on
+                let below = self.count(lambda * (1.0 - CERTIFY_GAP))?;
+                let above = self.count(lambda * (1.0 + CERTIFY_GAP))?;
+                if below == r0 && above > r0 {
+                    return (lambda > 0.0).then_some((lambda, removed, nr));
+                }
+                if below > r0 {
+                    b = b.min(lambda * (1.0 - CERTIFY_GAP));
+                } else {
+                    a = a.max(lambda * (1.0 + CERTIFY_GAP));
+                }
+                if !(a < b) {
+                    return None;
+                }
+                x = 0.5 * (a + b);
+                continue;
+            }
+            x = if inside { newton } else { 0.5 * (a + b) };
+        }
+        None
+    }
+
+    /// (a, b) of the one-term family of the eigenvector of λ (module doc).
+    fn one_term(&self, lambda: f64) -> Option<(f64, f64)> {
+        let h = self.h_real(lambda)?;
+        let z: [f64; 2] = if self.ends.len() == 1 {
+            [1.0, 0.0]
+        } else if h[0].abs() + h[1].abs() >= h[1].abs() + h[2].abs() {
+            [-h[1], h[0]]
+        } else {
+            [h[2], -h[1]]
+        };
+        let (mut m, mut k, mut n) = (0.0, 0.0, 0.0);
+        let mut rot = [0.0; 2];
+        for (j, b) in self.blocks.iter().enumerate() {
+            let zeta: f64 = self.ends.iter().enumerate().map(|(i, &(_, e))| self.w(j, e) * z[i]).sum();
+            let s = b.shifted(lambda);
+            let y = if b.single {
+                [0.0, zeta / (b.d * s.vv)]
+            } else {
+                let det = s.uu * s.vv - s.uv * s.uv;
+                let c = zeta / (b.d * det);
+                [-c * s.uv, c * s.uu]
+            };
+            m += b.d * b.m.form(y);
+            k += b.d * b.k.form(y);
+            n += b.d * b.n.form(y);
+            rot[0] += y[1];
+            rot[1] += b.sign * y[1];
+        }
+        let ks: f64 = self.ends.iter().map(|&(kk, e)| kk * rot[e] * rot[e]).sum();
+        let (a1, b1) = ((ks + n) / m, k / m);
+        let ok = a1.is_finite() && b1.is_finite() && m > 0.0 && (a1 + b1 - lambda).abs() <= RAYLEIGH_TOL * lambda;
+        ok.then_some((a1, b1))
+    }
+}
+
+impl AxialBlocks {
+    /// Fills `scratch` for (t = ẽ², ñ, k̃ at both ends); `false` unless at
+    /// least one spring acts and `n_modes + |A|` spring-free eigenvalues exist,
+    /// all finite (not necessarily positive: under compression the beam
+    /// without its springs may be past buckling while the beam is not; the
+    /// count and λ_r > 0 decide).
+    fn spring_setup(&self, t: f64, axial: f64, spring: [f64; 2], n_modes: usize, scratch: &mut SpringScratch) -> bool {
+        scratch.ends.clear();
+        for (e, &k) in spring.iter().enumerate() {
+            if k > 0.0 {
+                scratch.ends.push((k, e));
+            }
+        }
+        if scratch.ends.is_empty() {
+            return false;
+        }
+        let ne = self.elements;
+        scratch.blocks.clear();
+        scratch.mu.clear();
+        let sign = |j: usize| if j.is_multiple_of(2) { 1.0 } else { -1.0 };
+        let zero = Sym2 { uu: 0.0, uv: 0.0, vv: 0.0 };
+        for (j, rot) in [(0usize, &self.rotation[0]), (ne, &self.rotation[1])] {
+            let (k, m0, m1) = (rot[0], rot[1], rot[2]);
+            let m = Sym2 { vv: m0 + t * m1, ..zero };
+            let kk = Sym2 { vv: k, ..zero };
+            let n = Sym2 { vv: axial * (m1 + t * k), ..zero };
+            scratch.blocks.push(Block { m, k: kk, n, d: ne as f64, sign: sign(j), single: true });
+        }
+        for (i, [k, m0, m1]) in self.blocks.iter().enumerate() {
+            let j = i + 1;
+            let m = m0.plus(t, *m1);
+            let n = m1.plus(t, *k).scaled(axial);
+            scratch.blocks.push(Block { m, k: *k, n, d: 0.5 * ne as f64, sign: sign(j), single: false });
+        }
+        for (idx, b) in scratch.blocks.iter().enumerate() {
+            let s = b.k.plus(1.0, b.n);
+            if b.single {
+                scratch.mu.push((s.vv / b.m.vv, idx));
+                continue;
+            }
+            let m = b.m;
+            let a = m.uu * m.vv - m.uv * m.uv;
+            let bb = s.uu * m.vv + s.vv * m.uu - 2.0 * s.uv * m.uv;
+            let c = s.uu * s.vv - s.uv * s.uv;
+            let disc = bb * bb - 4.0 * a * c;
+            if !(a > 0.0 && disc >= 0.0) {
+                return false;
+            }
+            let up = (bb + disc.sqrt()) / (2.0 * a);
+            scratch.mu.push((c / (a * up), idx));
+            scratch.mu.push((up, idx));
+        }
+        scratch.mu.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let need = n_modes + scratch.ends.len();
+        need <= scratch.mu.len() && scratch.mu.iter().all(|&(m, _)| m.is_finite())
+    }
+
+    /// The poles of families 1..=n_modes (scaled units) of the beam with
+    /// support springs k̃ = `spring` (x = 0, x = L) into `roots`: every pole
+    /// when `all`, else the oscillatory pairs only. `false` when the path
+    /// declines (module doc): the caller then runs the reference.
+    #[allow(clippy::too_many_arguments)]
+    pub fn spring_family_roots(
+        &self,
+        t: f64,
+        axial: f64,
+        spring: [f64; 2],
+        c: f64,
+        ivs: &[(f64, f64)],
+        n_modes: usize,
+        all: bool,
+        scratch: &mut SpringScratch,
+        roots: &mut Vec<Roots>,
+    ) -> bool {
+        if n_modes == 0 || !self.spring_setup(t, axial, spring, n_modes, scratch) {
+            return false;
+        }
+        roots.resize(n_modes, Roots::default());
+        let mut found: [Complex64; 64] = [Complex64::new(0.0, 0.0); 64];
+        let mut nfound = 0;
+        let mut starts = Roots::default();
+        for (r0, out) in roots.iter_mut().enumerate().take(n_modes) {
+            let Some((lambda, removed, nr)) = scratch.eigenvalue(r0) else { return false };
+            let Some((a1, b1)) = scratch.one_term(lambda) else { return false };
+            if family_roots_into(a1, b1, c, ivs, &mut starts).is_err() {
+                return false;
+            }
+            // real poles are left to the reference (as in `axial_spectrum.rs`)
+            if all && starts.iter().any(|s| s.im == 0.0) {
+                return false;
+            }
+            let mut fam = Roots::default();
+            for &s0 in starts.iter() {
+                if s0.im <= 0.0 {
+                    continue;
+                }
+                let Some(s) = newton(scratch, c, ivs, &removed[..nr], s0) else { return false };
+                if (s - s0).norm() > 0.5 * s0.norm() {
+                    return false;
+                }
+                if found[..nfound].iter().any(|f| (s - f).norm() <= 1e-8 * s.norm()) || nfound + 2 > found.len() {
+                    return false;
+                }
+                if s.im.abs() <= REAL_TOL * s.norm() {
+                    return false;
+                }
+                let s = Complex64::new(s.re, s.im.abs());
+                found[nfound] = s;
+                found[nfound + 1] = s.conj();
+                nfound += 2;
+                fam.push(s);
+                fam.push(s.conj());
+            }
+            *out = fam;
+        }
+        true
+    }
+
+    /// The lowest `n_modes` eigenvalues of the undamped relaxed pencil
+    /// (K̃ + K̃_N + K̃_spring, M̃) from the secular equation (module doc);
+    /// `None` where the path declines.
+    pub fn spring_eigenvalues(&self, t: f64, axial: f64, spring: [f64; 2], n_modes: usize) -> Option<Vec<f64>> {
+        let mut scratch = SpringScratch::default();
+        if !self.spring_setup(t, axial, spring, n_modes, &mut scratch) {
+            return None;
+        }
+        (0..n_modes).map(|r0| scratch.eigenvalue(r0).map(|e| e.0)).collect()
+    }
+}
+
+/// Newton on g(s) (module doc) from `s0`; `None` without convergence.
+fn newton(scratch: &SpringScratch, c: f64, ivs: &[(f64, f64)], removed: &[usize], s0: Complex64) -> Option<Complex64> {
+    let one = Complex64::new(1.0, 0.0);
+    let mut s = s0;
+    for _ in 0..NEWTON_MAX_STEPS {
+        let p = Jet { v: s * (s + c), d: 2.0 * s + c };
+        let (mut g, mut dg) = (one, Complex64::new(0.0, 0.0));
+        for &(d, w) in ivs {
+            let den = s + w;
+            g += d * s / den;
+            dg += d * w / (den * den);
+        }
+        let e = scratch.secular::<Complex64>(p, Jet { v: g, d: dg }, removed);
+        let step = e.v / e.d;
+        if !(step.re.is_finite() && step.im.is_finite()) {
+            return None;
+        }
+        s -= step;
+        if step.norm() <= NEWTON_TOL * s.norm() {
+            return Some(s);
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    //! Data: the assembled mesh pencil of `model.rs` with the springs added
+    //! on its rotation DOFs (`UnitMesh::pencil`) and `eigen.rs`'s solve of it:
+    //! another code path than the secular equation.
+    use super::*;
+    use crate::beam::eigen::lowest_eigenpairs;
+    use crate::beam::model::{PencilParams, UnitMesh};
+    use crate::beam::spec::Support;
+
+    /// The certified secular eigenvalues are the lowest eigenvalues of the
+    /// assembled spring pencil: within 3e-12 relative (the direct solve's
+    /// Rayleigh-quotient rounding 1e-12 of `modal.rs`'s refinement test, and
+    /// the block eigenvalue rounding ≲ 1e-12 at 20 elements, `axial_spectrum.rs`),
+    /// one spring or two, soft (k̃ = 1e-2) to stiff (1e3), with and without
+    /// an axial force.
+    #[test]
+    fn secular_eigenvalues_are_the_assembled_pencils() {
+        let mesh = UnitMesh::new(20, Support::SimplySupported);
+        let blocks = AxialBlocks::new(&mesh).unwrap();
+        for (e, spring, axial) in [
+            (0.0, [1.0, 1.0], 0.0),
+            (0.1, [1e-2, 0.0], 0.0),
+            (0.2, [0.0, 30.0], 5.0),
+            (0.05, [1e3, 0.3], -3.0),
+            (0.15, [7.0, 1e3], 40.0),
+        ] {
+            let t: f64 = e * e;
+            let fast = blocks.spring_eigenvalues(t, axial, spring, 6).unwrap();
+            let p = PencilParams { e_tilde: e, point_mass: None, spring, axial, shear: 0.0 };
+            let (k, m) = mesh.pencil(&p);
+            let direct = lowest_eigenpairs(&k, &m, 6, &mut Vec::new(), &|x| mesh.pencil_stiffness(&p, x)).unwrap();
+            for (f, d) in fast.iter().zip(&direct) {
+                assert!((f - d.lambda).abs() <= 3e-12 * d.lambda, "ẽ {e} k {spring:?} ñ {axial}: {f} vs {}", d.lambda);
+            }
+        }
+    }
+}
