@@ -515,7 +515,8 @@ fn ring_down_breakdown() {
         let below: Vec<_> = rec.beam.modes.iter().filter(|m| m.omega < 0.8 * nyquist).copied().collect();
         let poles: Vec<f64> = id.modes.iter().chain(&id.background_modes).map(|m| m.omega_rad_s).collect();
         let held = below.iter().all(|b| poles.iter().any(|&w| (w - b.omega).abs() < 0.02 * b.omega));
-        let extra = poles.iter().filter(|&&w| !rec.beam.modes.iter().any(|b| (w - b.omega).abs() < 0.02 * b.omega)).count();
+        let extra =
+            poles.iter().filter(|&&w| !rec.beam.modes.iter().any(|b| (w - b.omega).abs() < 0.02 * b.omega)).count();
         let tag_rec = format!(
             "held={held} extra={extra} real={} noise={}/{}",
             id.real_poles_rad_s.len(),
@@ -545,7 +546,9 @@ fn ring_down_breakdown() {
             let Some(m) = id.modes.iter().find(|m| (m.omega_rad_s - v.omega).abs() < 0.05 * v.omega) else { continue };
             let zi = [(m.omega_rad_s - v.omega) / m.omega_sd_rad_s, (m.zeta - v.zeta) / m.zeta_sd];
             let r = below.iter().position(|b| b.omega == v.omega).expect("visible modes lie below the cut-off");
-            let zo = oracle.as_ref().map_or([f64::NAN; 2], |o| [(o[r][0] - v.omega) / o[r][1], (o[r][2] - v.zeta) / o[r][3]]);
+            let zo = oracle
+                .as_ref()
+                .map_or([f64::NAN; 2], |o| [(o[r][0] - v.omega) / o[r][1], (o[r][2] - v.zeta) / o[r][3]]);
             let sdr = oracle.as_ref().map_or(f64::NAN, |o| m.omega_sd_rad_s / o[r][1]);
             println!(
                 "  mode {} ({:.2} Nyquist, amp snr {:.0}): identify z {:+.2} {:+.2} oracle z {:+.2} {:+.2} sd ratio {sdr:.2}",

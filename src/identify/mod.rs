@@ -703,9 +703,8 @@ fn with_missed_decay_poles(model: &Model, fit: &FitResult, n_identified: usize) 
         let mut best: Option<(f64, Complex64)> = None;
         for &decays in &MISSED_POLE_DECAYS {
             let sigma = decays / t_end;
-            let mut re: Vec<f64> = (0..m)
-                .map(|i| if i < n { weights[i] * r[i] * (-sigma * model.x[i]).exp() } else { 0.0 })
-                .collect();
+            let mut re: Vec<f64> =
+                (0..m).map(|i| if i < n { weights[i] * r[i] * (-sigma * model.x[i]).exp() } else { 0.0 }).collect();
             let mut im = vec![0.0; m];
             thermal::fft(&mut re, &mut im);
             let norm: f64 = (0..n).map(|i| (weights[i] * (-sigma * model.x[i]).exp()).powi(2)).sum::<f64>() * 0.5;
@@ -739,7 +738,7 @@ fn with_missed_decay_poles(model: &Model, fit: &FitResult, n_identified: usize) 
         (model, fit, n_id) = (bigger, f, n_id + 1);
         added = true;
     }
-    added.then(|| (model, fit.theta, n_id))
+    added.then_some((model, fit.theta, n_id))
 }
 
 /// Rounds of [`without_growing_poles`].
