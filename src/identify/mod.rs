@@ -19,6 +19,11 @@
 //!    signal-proportional variance, chosen by the BIC on the residuals; the
 //!    latter refits by weighted least squares; covariance σ̂²(J̃ᵀJ̃)⁺, or the
 //!    sandwich where a Breusch–Pagan test leaves the noise model in doubt.
+//! 5. **Free decays: poles the fit left out** ([`with_missed_decay_poles`]):
+//!    the weighted residuals are searched for one more pole (a likelihood
+//!    score on a frequency × decay-rate grid, Bonferroni bar at 1 % per
+//!    record); one that passes joins the fit and the noise model is chosen
+//!    again.
 //!
 //! Initial poles also come from [`peaks`]: every resonance standing
 //! above its baseline by the threshold of [`peaks::threshold`] that the
@@ -664,11 +669,12 @@ const MISSED_POLE_DECAYS: [f64; 11] = [0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0
 
 /// A free decay's fit that left out a mode the record holds: the poles the
 /// matrix pencil and the spectrum's peaks start from can miss a true mode
-/// below the anti-alias cut-off (measured, 60 ring-downs of the coverage
-/// study under proportional noise: 14 records, each missing 1–2 true modes
-/// at 0.25–0.69 Nyquist; the intervals of the other modes of those records
-/// covered 0.776, against 0.932 where the fit held every true mode, because
-/// the fit bends them to absorb the missing signal; tests/identify_coverage.md).
+/// below the anti-alias cut-off, and the fit then bends the other modes to
+/// absorb its signal: their intervals under-cover because they are biased,
+/// not because the covariance is wrong (under proportional noise, where the
+/// weights put most of the information at the signal's zero crossings, most
+/// of the study's under-coverage came from such records;
+/// tests/identify_coverage.md).
 ///
 /// The search is the likelihood's own: for a pole p = −σ + iω not in the
 /// fit, the weighted least-squares gain of adding it (residues free) is, to
