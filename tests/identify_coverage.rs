@@ -434,3 +434,181 @@ fn assert_visible_found_within_3_5_sd(rec: &Record, modes: &[IdentifiedMode], wh
         assert!(zw.abs() <= 3.5 && zz.abs() <= 3.5, "{what}: {m:?} vs {v:?}");
     }
 }
+
+/// The oracle fit of a ring-down (weighted least squares at the true model
+/// structure: the true modes below the anti-alias cut-off, 1 relaxation
+/// pole and the offset, weights 1/σ(t) from the generator's own clean signal
+/// and noise law, started at the true poles): ω, sd ω, ζ, sd ζ (rad/s) per
+/// true mode below the cut-off, in the beam's order.
+fn ring_down_oracle(rec: &Record, noise: Noise) -> Option<Vec<[f64; 4]>> {
+    use nanobeam::identify::refine::{fit_projected, mode_estimate, FitKind, Model, PER_MODE};
+    use nanobeam::identify::{Measurement, Stop};
+    use num_complex::Complex64;
+    let Measurement::Time { time_s, displacement_m } = &rec.data else { return None };
+    let beam = &rec.beam;
+    let dt = time_s[1] - time_s[0];
+    let cutoff = 0.8 * std::f64::consts::PI / dt;
+    let modes: Vec<_> = beam.modes.iter().filter(|m| m.omega < cutoff).copied().collect();
+    let peak = displacement_m.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let clean: Vec<f64> = time_s.iter().map(|&t| beam.impulse(t, cutoff)).collect();
+    let cpeak = clean.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let sd: Vec<f64> = clean.iter().map(|&v| noise.sd(v, cpeak).max(1e-300)).collect();
+    let model = Model {
+        kind: FitKind::Time,
+        x: (0..time_s.len()).map(|k| std::f64::consts::PI * k as f64).collect(),
+        y: displacement_m.iter().map(|v| Complex64::new(v / peak, 0.0)).collect(),
+        n_modes: modes.len(),
+        n_real: 1,
+        poly: vec![0],
+        weights: Some(sd.iter().map(|s| sd[0] / s).collect()),
+        stop: Stop::default(),
+    };
+    let mut theta = vec![0.0; model.n_params()];
+    for (r, m) in modes.iter().enumerate() {
+        let p = m.pole() * dt / std::f64::consts::PI;
+        theta[PER_MODE * r] = -p.re;
+        theta[PER_MODE * r + 1] = p.im;
+    }
+    theta[PER_MODE * modes.len()] = beam.gamma * dt / std::f64::consts::PI;
+    let fit = model.solve_linear(&theta).and_then(|t| fit_projected(&model, &t))?;
+    let s = std::f64::consts::PI / dt;
+    Some(
+        (0..modes.len())
+            .map(|r| {
+                let [w, wsd, z, zsd] = mode_estimate(&fit, r);
+                [w * s, wsd * s, z, zsd]
+            })
+            .collect(),
+    )
+}
+
+/// Breakdown of the ring-down coverage (issue 42 item 1; prints only): for
+/// every visible mode `identify` found, its z and the oracle's
+/// ([`ring_down_oracle`]), and whether `identify`'s fit holds every true mode
+/// below the cut-off (a reported or background pole within 2 % of it), how
+/// many of its poles match no true mode, and how many real poles it chose.
+/// Summary lines split the coverage by these.
+#[test]
+#[ignore = "diagnostic printout"]
+fn ring_down_breakdown() {
+    let proportional = std::env::var("IDENTIFY_PROPORTIONAL").is_ok();
+    let noise = noise_of(proportional);
+    let kind = Kind::Time;
+    let tag = 4200 + 10 * kind as u64 + u64::from(proportional);
+    // (label, z identify ω, z identify ζ, z oracle ω, z oracle ζ)
+    let mut rows: Vec<(String, [f64; 4])> = Vec::new();
+    let first: u64 = std::env::var("IDENTIFY_FIRST").ok().and_then(|s| s.parse().ok()).unwrap_or(0);
+    for seed in first..first + seeds() {
+        let support = SUPPORTS[(seed % 3) as usize];
+        let (x_in, x_out) = positions(tag, seed);
+        let beam = Beam::new(support, 5, 2.0 * std::f64::consts::PI * 1.0e4, x_in, x_out, 0.3);
+        let rec = record(beam, kind, noise, 3, tag, seed);
+        let identify_settings = IdentifySettings::default();
+        let Ok(id) = identify(&rec.data, &identify_settings) else {
+            println!("seed {seed}: failed");
+            continue;
+        };
+        let oracle = ring_down_oracle(&rec, noise);
+        let nanobeam::identify::Measurement::Time { time_s, .. } = &rec.data else { unreachable!() };
+        let dt = time_s[1] - time_s[0];
+        let nyquist = std::f64::consts::PI / dt;
+        let below: Vec<_> = rec.beam.modes.iter().filter(|m| m.omega < 0.8 * nyquist).copied().collect();
+        let poles: Vec<f64> = id.modes.iter().chain(&id.background_modes).map(|m| m.omega_rad_s).collect();
+        let held = below.iter().all(|b| poles.iter().any(|&w| (w - b.omega).abs() < 0.02 * b.omega));
+        let extra =
+            poles.iter().filter(|&&w| !rec.beam.modes.iter().any(|b| (w - b.omega).abs() < 0.02 * b.omega)).count();
+        let tag_rec = format!(
+            "held={held} extra={extra} real={} noise={}/{}",
+            id.real_poles_rad_s.len(),
+            id.noise_model.kind,
+            id.noise_model.covariance
+        );
+        println!("seed {seed} {support:?} {tag_rec}");
+        if !held {
+            for b in &below {
+                if !poles.iter().any(|&w| (w - b.omega).abs() < 0.02 * b.omega) {
+                    println!("  not in the fit: omega {:.4e} ({:.2} Nyquist)", b.omega, b.omega / nyquist);
+                }
+            }
+        }
+        for m in id.modes.iter().chain(&id.background_modes) {
+            if !rec.beam.modes.iter().any(|b| (m.omega_rad_s - b.omega).abs() < 0.02 * b.omega) {
+                println!(
+                    "  extra pole: omega {:.4e} ({:.2} Nyquist) zeta {:.2e} amplitude snr {:.1}",
+                    m.omega_rad_s,
+                    m.omega_rad_s / nyquist,
+                    m.zeta,
+                    m.amplitude_snr
+                );
+            }
+        }
+        for v in &rec.visible {
+            let Some(m) = id.modes.iter().find(|m| (m.omega_rad_s - v.omega).abs() < 0.05 * v.omega) else { continue };
+            let zi = [(m.omega_rad_s - v.omega) / m.omega_sd_rad_s, (m.zeta - v.zeta) / m.zeta_sd];
+            let r = below.iter().position(|b| b.omega == v.omega).expect("visible modes lie below the cut-off");
+            let zo = oracle
+                .as_ref()
+                .map_or([f64::NAN; 2], |o| [(o[r][0] - v.omega) / o[r][1], (o[r][2] - v.zeta) / o[r][3]]);
+            let sdr = oracle.as_ref().map_or(f64::NAN, |o| m.omega_sd_rad_s / o[r][1]);
+            println!(
+                "  mode {} ({:.2} Nyquist, amp snr {:.0}): identify z {:+.2} {:+.2} oracle z {:+.2} {:+.2} sd ratio {sdr:.2}",
+                r + 1,
+                v.omega / nyquist,
+                m.amplitude_snr,
+                zi[0],
+                zi[1],
+                zo[0],
+                zo[1]
+            );
+            rows.push((tag_rec.clone(), [zi[0], zi[1], zo[0], zo[1]]));
+        }
+    }
+    let summary = |what: &str, pick: &dyn Fn(&str) -> bool| {
+        let sel: Vec<&[f64; 4]> = rows.iter().filter(|(t, _)| pick(t)).map(|(_, z)| z).collect();
+        let cover = |k: usize| {
+            let z: Vec<f64> = sel.iter().flat_map(|r| [r[k], r[k + 1]]).filter(|z| z.is_finite()).collect();
+            let n = z.len().max(1) as f64;
+            let c = z.iter().filter(|z| z.abs() <= 1.96).count() as f64 / n;
+            let sd = (z.iter().map(|z| z * z).sum::<f64>() / n).sqrt();
+            let kurt = z.iter().map(|z| z.powi(4)).sum::<f64>() / n / (sd.powi(4)).max(1e-300);
+            format!("cover {c:.3} rms z {sd:.2} kurtosis {kurt:.1} ({} intervals)", z.len())
+        };
+        println!("{what}: {} modes | identify {} | oracle {}", sel.len(), cover(0), cover(2));
+    };
+    summary("all", &|_| true);
+    summary("fit holds every true mode", &|t| t.starts_with("held=true"));
+    summary("fit misses a true mode", &|t| t.starts_with("held=false"));
+    summary("no extra pole", &|t| t.contains("extra=0 "));
+    summary("extra poles", &|t| !t.contains("extra=0 "));
+    summary("held, no extra pole", &|t| t.starts_with("held=true extra=0 "));
+    summary("model covariance", &|t| t.ends_with("/model"));
+    summary("sandwich covariance", &|t| t.ends_with("/sandwich"));
+}
+
+/// A ring-down whose initial poles (matrix pencil and spectrum peaks) miss
+/// a true mode: seed 29 of the proportional-noise study (cantilever, same
+/// generator). Its mode 4 (2.16e6 rad/s, 0.49 Nyquist) was not in the fit,
+/// and mode 3's ζ came out 6.35 reported sd off (the fit bent mode 3 to
+/// absorb mode 4's signal); the oracle fit at the true structure puts it at
+/// 1.86 sd. The search of the weighted residuals
+/// (`identify::with_missed_decay_poles`) adds the pole. Asserts that every
+/// true mode below the anti-alias cut-off is held by a fitted pole within
+/// 2 % of it and that every visible mode is found within 3.5 sd (the bound
+/// of `subset_record`), with no false mode.
+#[test]
+fn a_mode_the_initial_poles_miss_is_found_in_the_residuals() {
+    let (kind, proportional, seed) = (Kind::Time, true, 29);
+    let tag = 4200 + 10 * kind as u64 + u64::from(proportional);
+    let support = SUPPORTS[(seed % 3) as usize];
+    let (x_in, x_out) = positions(tag, seed);
+    let beam = Beam::new(support, 5, 2.0 * std::f64::consts::PI * 1.0e4, x_in, x_out, 0.3);
+    let rec = record(beam, kind, noise_of(proportional), 3, tag, seed);
+    let id = identify(&rec.data, &IdentifySettings::default()).expect("identified");
+    let nanobeam::identify::Measurement::Time { time_s, .. } = &rec.data else { unreachable!() };
+    let cutoff = 0.8 * std::f64::consts::PI / (time_s[1] - time_s[0]);
+    let poles: Vec<f64> = id.modes.iter().chain(&id.background_modes).map(|m| m.omega_rad_s).collect();
+    for b in rec.beam.modes.iter().filter(|b| b.omega < cutoff) {
+        assert!(poles.iter().any(|&w| (w - b.omega).abs() < 0.02 * b.omega), "true mode at {} not in the fit", b.omega);
+    }
+    assert_visible_found_within_3_5_sd(&rec, &id.modes, "seed 29");
+}

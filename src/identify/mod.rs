@@ -19,6 +19,11 @@
 //!    signal-proportional variance, chosen by the BIC on the residuals; the
 //!    latter refits by weighted least squares; covariance σ̂²(J̃ᵀJ̃)⁺, or the
 //!    sandwich where a Breusch–Pagan test leaves the noise model in doubt.
+//! 5. **Free decays: poles the fit left out** ([`with_missed_decay_poles`]):
+//!    the weighted residuals are searched for one more pole (a likelihood
+//!    score on a frequency × decay-rate grid, Bonferroni bar at 1 % per
+//!    record); one that passes joins the fit and the noise model is chosen
+//!    again.
 //!
 //! Initial poles also come from [`peaks`]: every resonance standing
 //! above its baseline by the threshold of [`peaks::threshold`] that the
@@ -351,8 +356,19 @@ fn identify_until(m: &Measurement, settings: &IdentifySettings, stop: &Stop) -> 
         Err(e) => return Err(e),
     };
     check()?;
-    let (model, fit, noise_model, n_identified) = reweight(&sc, model, fit, initial.len());
+    let (mut model, mut fit, mut noise_model, mut n_identified) = reweight(&sc, model, fit, initial.len());
     check()?;
+    if sc.kind == FitKind::Time && settings.modes.is_none() {
+        if let Some((augmented, theta, n)) = with_missed_decay_poles(&model, &fit, n_identified) {
+            // the noise model is chosen again on the fit that holds them: the
+            // unweighted refit from the augmented poles, then the reweighting
+            let plain = Model { weights: None, ..augmented };
+            if let Some(f) = refine::fit_projected(&plain, &theta).filter(|f| stable_modes(f, n)) {
+                (model, fit, noise_model, n_identified) = reweight(&sc, plain, f, n);
+            }
+        }
+        check()?;
+    }
     assemble(m, &sc, (&model, &fit), diagram, n_identified, settings.modes, noise_model)
 }
 
@@ -650,6 +666,99 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
             "the nonlinear least-squares refinement did not converge (try --modes K with fewer modes, a lower --max-order, or a record cropped to its clearest part)".into(),
         )
     })
+}
+
+/// Most poles [`with_missed_decay_poles`] adds to a free decay's fit.
+const MAX_MISSED_POLES: usize = 3;
+
+/// False-alarm probability per record of [`with_missed_decay_poles`]'s
+/// search (the whole search over frequency and decay rate).
+const MISSED_POLE_FALSE_ALARM: f64 = 0.01;
+
+/// Decay rates of the missed-pole search, as σ̃·t̃_end (the number of
+/// e-foldings over the record): octaves from a pole that barely decays to
+/// one that lives a few samples in 4 000 (e.g. ζ = 2 % at 0.7 Nyquist,
+/// σ̃·t̃_end ≈ 170 over 4 000 samples).
+const MISSED_POLE_DECAYS: [f64; 11] = [0.5, 1.0, 2.0, 4.0, 8.0, 16.0, 32.0, 64.0, 128.0, 256.0, 512.0];
+
+/// A free decay's fit that left out a mode the record holds: the poles the
+/// matrix pencil and the spectrum's peaks start from can miss a true mode
+/// below the anti-alias cut-off, and the fit then bends the other modes to
+/// absorb its signal: their intervals under-cover because they are biased,
+/// not because the covariance is wrong (under proportional noise, where the
+/// weights put most of the information at the signal's zero crossings, most
+/// of the study's under-coverage came from such records;
+/// tests/identify_coverage.md).
+///
+/// The search is the likelihood's own: for a pole p = −σ + iω not in the
+/// fit, the weighted least-squares gain of adding it (residues free) is, to
+/// first order, the score S(ω, σ) = |Σ_i w_i r̃_i e^{(−σ − iω)t_i}|² / (½ Σ_i w_i² e^{−2σt_i}) / σ̂²
+/// (r̃ the weighted residuals, w the weights, σ̂² their variance), a χ²₂
+/// variable where no pole is missing. It is evaluated on a 4× zero-padded
+/// DFT grid for each rate of [`MISSED_POLE_DECAYS`], away from the fit's
+/// own poles. The best candidate is kept when S exceeds u = 2 ln(N/α), with
+/// N = (n/2)·(number of rates) independent χ²₂ tests and α =
+/// [`MISSED_POLE_FALSE_ALARM`] (Bonferroni: P(max S > u) ≤ N e^{−u/2} = α; the
+/// padded grid and the neighbouring rates are correlated, so fewer
+/// tests are made in effect and the bound is conservative), and then only when
+/// the weighted refit with it lowers the RSS by at least u σ̂² and keeps
+/// every pole stable. Up to [`MAX_MISSED_POLES`] rounds. Returns the
+/// augmented model (its weights as in `model`), its fitted θ and the new
+/// number of identified poles, or `None` when nothing was added.
+fn with_missed_decay_poles(model: &Model, fit: &FitResult, n_identified: usize) -> Option<(Model, Vec<f64>, usize)> {
+    let n = model.x.len();
+    let m = 4 * n.next_power_of_two();
+    let weights: Vec<f64> = model.weights.clone().unwrap_or_else(|| vec![1.0; n]);
+    let tests = (n as f64 / 2.0) * MISSED_POLE_DECAYS.len() as f64;
+    let u = 2.0 * (tests / MISSED_POLE_FALSE_ALARM).ln();
+    let t_end = model.x[n - 1].max(f64::MIN_POSITIVE);
+    let (mut model, mut fit, mut n_id) = (model.clone(), fit.clone(), n_identified);
+    let mut added = false;
+    for _ in 0..MAX_MISSED_POLES {
+        let (r, _) = model.eval(&fit.theta, false);
+        let var = fit.noise_var.max(f64::MIN_POSITIVE);
+        // the fit's own poles: (ω̃_d, half-width) of each
+        let own: Vec<(f64, f64)> =
+            (0..model.n_modes).map(|k| (fit.theta[PER_MODE * k + 1], fit.theta[PER_MODE * k].abs())).collect();
+        let mut best: Option<(f64, Complex64)> = None;
+        for &decays in &MISSED_POLE_DECAYS {
+            let sigma = decays / t_end;
+            let mut re: Vec<f64> =
+                (0..m).map(|i| if i < n { weights[i] * r[i] * (-sigma * model.x[i]).exp() } else { 0.0 }).collect();
+            let mut im = vec![0.0; m];
+            thermal::fft(&mut re, &mut im);
+            let norm: f64 = (0..n).map(|i| (weights[i] * (-sigma * model.x[i]).exp()).powi(2)).sum::<f64>() * 0.5;
+            if !(norm > 0.0) {
+                continue;
+            }
+            // bin k: ω̃ = 2k/m (time step π, Nyquist 1); DC and Nyquist left out
+            for k in 3..m / 2 - 3 {
+                let w = 2.0 * k as f64 / m as f64;
+                if own.iter().any(|&(wd, half)| (w - wd).abs() <= (FREQ_MERGE * wd).max(2.0 * half.max(sigma))) {
+                    continue;
+                }
+                let score = (re[k] * re[k] + im[k] * im[k]) / norm / var;
+                if best.is_none_or(|(s, _)| score > s) {
+                    best = Some((score, Complex64::new(-sigma, w)));
+                }
+            }
+        }
+        let Some((_, pole)) = best.filter(|&(s, _)| s > u) else { break };
+        // the new pole goes after the identified ones (their order is kept)
+        let mut theta = Vec::with_capacity(fit.theta.len() + PER_MODE);
+        theta.extend_from_slice(&fit.theta[..PER_MODE * n_id]);
+        theta.extend_from_slice(&[-pole.re, pole.im, 0.0, 0.0]);
+        theta.extend_from_slice(&fit.theta[PER_MODE * n_id..]);
+        let bigger = Model { n_modes: model.n_modes + 1, ..model.clone() };
+        let Some(f) = refine::fit_projected(&bigger, &theta) else { break };
+        let gain = (fit.rss - f.rss) / f.noise_var.max(f64::MIN_POSITIVE);
+        if !(stable_modes(&f, n_id + 1) && gain >= u) {
+            break;
+        }
+        (model, fit, n_id) = (bigger, f, n_id + 1);
+        added = true;
+    }
+    added.then_some((model, fit.theta, n_id))
 }
 
 /// Rounds of [`without_growing_poles`].
