@@ -296,9 +296,8 @@ fn well_sampled_lines_about_11_sd_high_are_not_refused() {
 #[test]
 #[ignore = "diagnostic printout"]
 fn ring_down_diagnostics() {
-    use nanobeam::identify::refine::{fit_projected, mode_estimate, FitKind, Model, PER_MODE, PER_REAL};
-    use nanobeam::identify::{Measurement, Stop};
-    use num_complex::Complex64;
+    use nanobeam::identify::refine::mode_estimate;
+    use nanobeam::identify::Measurement;
     let proportional = std::env::var("IDENTIFY_PROPORTIONAL").is_ok();
     let noise_free = std::env::var("IDENTIFY_NOISE_FREE").is_ok();
     let noise = if noise_free { Noise::Additive { fraction: 0.0 } } else { noise_of(proportional) };
@@ -309,33 +308,9 @@ fn ring_down_diagnostics() {
         let (x_in, x_out) = positions(tag, seed);
         let beam = Beam::new(support, 5, 2.0 * std::f64::consts::PI * 1.0e4, x_in, x_out, 0.3);
         let rec = record(beam.clone(), kind, noise, 3, tag, seed);
-        let Measurement::Time { time_s, displacement_m } = &rec.data else { unreachable!() };
-        let dt = time_s[1] - time_s[0];
-        let cutoff = 0.8 * std::f64::consts::PI / dt;
-        let modes: Vec<_> = beam.modes.iter().filter(|m| m.omega < cutoff).copied().collect();
-        let peak = displacement_m.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let clean: Vec<f64> = time_s.iter().map(|&t| beam.impulse(t, cutoff)).collect();
-        let cpeak = clean.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let sd: Vec<f64> = clean.iter().map(|&v| noise.sd(v, cpeak).max(1e-300)).collect();
-        let model = Model {
-            kind: FitKind::Time,
-            x: (0..time_s.len()).map(|k| std::f64::consts::PI * k as f64).collect(),
-            y: displacement_m.iter().map(|v| Complex64::new(v / peak, 0.0)).collect(),
-            n_modes: modes.len(),
-            n_real: 1,
-            poly: vec![0],
-            weights: Some(sd.iter().map(|s| sd[0] / s).collect()),
-            stop: Stop::default(),
-        };
-        let mut theta = vec![0.0; model.n_params()];
-        for (r, m) in modes.iter().enumerate() {
-            let p = m.pole() * dt / std::f64::consts::PI;
-            theta[PER_MODE * r] = -p.re;
-            theta[PER_MODE * r + 1] = p.im;
-        }
-        theta[PER_MODE * modes.len()] = beam.gamma * dt / std::f64::consts::PI;
-        let _ = PER_REAL;
-        let oracle = model.solve_linear(&theta).and_then(|t| fit_projected(&model, &t));
+        let Measurement::Time { time_s, .. } = &rec.data else { unreachable!() };
+        let RingDownOracle { model, fit: oracle, modes, sd, dt } =
+            ring_down_oracle_fit(&rec, noise).expect("a ring-down record");
         // the oracle's sandwich covariance (printed as "sandwich z")
         let sandwich = oracle.as_ref().and_then(|f| {
             let (r, j) = model.eval(&f.theta, true);
@@ -435,13 +410,23 @@ fn assert_visible_found_within_3_5_sd(rec: &Record, modes: &[IdentifiedMode], wh
     }
 }
 
-/// The oracle fit of a ring-down (weighted least squares at the true model
-/// structure: the true modes below the anti-alias cut-off, 1 relaxation
-/// pole and the offset, weights 1/σ(t) from the generator's own clean signal
-/// and noise law, started at the true poles): ω, sd ω, ζ, sd ζ (rad/s) per
-/// true mode below the cut-off, in the beam's order.
-fn ring_down_oracle(rec: &Record, noise: Noise) -> Option<Vec<[f64; 4]>> {
-    use nanobeam::identify::refine::{fit_projected, mode_estimate, FitKind, Model, PER_MODE};
+/// The oracle of a ring-down record: weighted least squares at the true
+/// model structure (the true modes below the anti-alias cut-off, 1
+/// relaxation pole and the offset), weights 1/σ(t) from the generator's own
+/// clean signal and noise law, started at the true poles. `None` for a
+/// record that is not a ring-down; `fit` is `None` when the fit fails.
+struct RingDownOracle {
+    model: nanobeam::identify::refine::Model,
+    fit: Option<nanobeam::identify::refine::FitResult>,
+    /// the true modes below the cut-off, in the beam's order
+    modes: Vec<identify_reference::TrueMode>,
+    /// the generator's noise sd at every sample
+    sd: Vec<f64>,
+    dt: f64,
+}
+
+fn ring_down_oracle_fit(rec: &Record, noise: Noise) -> Option<RingDownOracle> {
+    use nanobeam::identify::refine::{fit_projected, FitKind, Model, PER_MODE};
     use nanobeam::identify::{Measurement, Stop};
     use num_complex::Complex64;
     let Measurement::Time { time_s, displacement_m } = &rec.data else { return None };
@@ -470,10 +455,19 @@ fn ring_down_oracle(rec: &Record, noise: Noise) -> Option<Vec<[f64; 4]>> {
         theta[PER_MODE * r + 1] = p.im;
     }
     theta[PER_MODE * modes.len()] = beam.gamma * dt / std::f64::consts::PI;
-    let fit = model.solve_linear(&theta).and_then(|t| fit_projected(&model, &t))?;
-    let s = std::f64::consts::PI / dt;
+    let fit = model.solve_linear(&theta).and_then(|t| fit_projected(&model, &t));
+    Some(RingDownOracle { model, fit, modes, sd, dt })
+}
+
+/// The oracle's ([`ring_down_oracle_fit`]) ω, sd ω, ζ, sd ζ (rad/s) per true
+/// mode below the cut-off, in the beam's order.
+fn ring_down_oracle(rec: &Record, noise: Noise) -> Option<Vec<[f64; 4]>> {
+    use nanobeam::identify::refine::mode_estimate;
+    let o = ring_down_oracle_fit(rec, noise)?;
+    let fit = o.fit?;
+    let s = std::f64::consts::PI / o.dt;
     Some(
-        (0..modes.len())
+        (0..o.modes.len())
             .map(|r| {
                 let [w, wsd, z, zsd] = mode_estimate(&fit, r);
                 [w * s, wsd * s, z, zsd]

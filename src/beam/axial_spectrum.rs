@@ -384,15 +384,25 @@ fn family_function(b: &Bending, c: f64, ivs: &[(f64, f64)], s: Complex64) -> Jet
 
 /// Newton on E_j from `s0`; `None` without convergence.
 fn newton(b: &Bending, c: f64, ivs: &[(f64, f64)], s0: Complex64) -> Option<Complex64> {
+    newton_from(s0, |s| {
+        let e = family_function(b, c, ivs, s);
+        e.v / e.d
+    })
+}
+
+/// Newton's iteration s ← s − step(s) from `s0`, stopped after a step
+/// ≤ [`NEWTON_TOL`]·|s| (then the root), or `None` on a non-finite step or
+/// after [`NEWTON_MAX_STEPS`]: the one stopping rule of the block paths
+/// (this file's determinants and `spring_spectrum.rs`'s secular function).
+pub(super) fn newton_from(s0: Complex64, mut step: impl FnMut(Complex64) -> Complex64) -> Option<Complex64> {
     let mut s = s0;
     for _ in 0..NEWTON_MAX_STEPS {
-        let e = family_function(b, c, ivs, s);
-        let step = e.v / e.d;
-        if !(step.re.is_finite() && step.im.is_finite()) {
+        let ds = step(s);
+        if !(ds.re.is_finite() && ds.im.is_finite()) {
             return None;
         }
-        s -= step;
-        if step.norm() <= NEWTON_TOL * s.norm() {
+        s -= ds;
+        if ds.norm() <= NEWTON_TOL * s.norm() {
             return Some(s);
         }
     }

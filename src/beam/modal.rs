@@ -41,7 +41,7 @@ use crate::beam::mass_spectrum::MassSpectrumTable;
 use crate::beam::modal_result::{assemble, check_mode_count, oscillatory_pair, ModalResult, SolverPath};
 use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
 use crate::beam::shear_spectrum::ShearSpectrumTable;
-use crate::beam::spec::BeamSpec;
+use crate::beam::spec::{BeamSpec, MAX_INTERNAL_VARIABLES};
 use crate::beam::spectrum::SpectrumTable;
 use crate::beam::spring_spectrum::SpringScratch;
 use crate::beam::state_space_modal::state_space_modal;
@@ -416,12 +416,7 @@ impl ModalSolver {
         {
             let Self { axial_blocks, spring_scratch, roots, .. } = self;
             let blocks = axial_blocks.get_or_insert_with(|| AxialBlocks::new(mesh)).as_ref()?;
-            let mut ivs = [(0.0, 0.0); crate::beam::spec::MAX_INTERNAL_VARIABLES];
-            let mut nv = 0;
-            for iv in beam.internal_variables.iter().filter(|iv| iv.delta > 0.0) {
-                ivs[nv] = (iv.delta, iv.omega_rad_s / sc.omega_ref);
-                nv += 1;
-            }
+            let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
             let t = sc.e_tilde * sc.e_tilde;
             let all = poles == Poles::All;
             // the springs that act (a spring on a rotation the support fixes acts on nothing)
@@ -441,12 +436,7 @@ impl ModalSolver {
         {
             let Self { axial_blocks, axial_scratch, roots, .. } = self;
             let blocks = axial_blocks.get_or_insert_with(|| AxialBlocks::new(mesh)).as_ref()?;
-            let mut ivs = [(0.0, 0.0); crate::beam::spec::MAX_INTERNAL_VARIABLES];
-            let mut nv = 0;
-            for iv in beam.internal_variables.iter().filter(|iv| iv.delta > 0.0) {
-                ivs[nv] = (iv.delta, iv.omega_rad_s / sc.omega_ref);
-                nv += 1;
-            }
+            let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
             let t = sc.e_tilde * sc.e_tilde;
             let all = poles == Poles::All;
             if !blocks.family_roots(t, sc.axial, sc.c, &ivs[..nv], n_modes, all, axial_scratch, roots) {
@@ -484,12 +474,7 @@ impl ModalSolver {
         if !found {
             return None;
         }
-        let mut ivs = [(0.0, 0.0); crate::beam::spec::MAX_INTERNAL_VARIABLES];
-        let mut nv = 0;
-        for iv in beam.internal_variables.iter().filter(|iv| iv.delta > 0.0) {
-            ivs[nv] = (iv.delta, iv.omega_rad_s / sc.omega_ref);
-            nv += 1;
-        }
+        let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
         self.roots.resize(n_modes, Roots::default());
         decoupled_family_roots_into(&self.lambdas, sc.c, &ivs[..nv], &mut self.roots).ok()?;
         Some(sc.omega_ref)
@@ -546,6 +531,19 @@ impl ModalSolver {
         }
         Ok(true)
     }
+}
+
+/// The active internal variables of `beam` as (Δᵢ, Ω̃ᵢ = Ωᵢ/ω_ref), in the
+/// file's order, in a fixed-size array (no allocation per solve), and how
+/// many there are: what every family-root solver of the fast paths takes.
+fn scaled_relaxations(beam: &BeamSpec, omega_ref: f64) -> ([(f64, f64); MAX_INTERNAL_VARIABLES], usize) {
+    let mut ivs = [(0.0, 0.0); MAX_INTERNAL_VARIABLES];
+    let mut nv = 0;
+    for iv in beam.internal_variables.iter().filter(|iv| iv.delta > 0.0) {
+        ivs[nv] = (iv.delta, iv.omega_rad_s / omega_ref);
+        nv += 1;
+    }
+    (ivs, nv)
 }
 
 thread_local! {

@@ -80,18 +80,14 @@
 //! ≲ 10·eps/sin²(φ/2) in the bending eigenvalue, ≈ 1.4e-12 at n_e = 40,
 //! j = 1). det B_j loses ~eps·|B_uu B_vv|/|det B_j| near its roots, which
 //! moves a root of g by ~eps·μ absolutely; Newton stops at a step
-//! ≤ [`NEWTON_TOL`]·|s| (quadratic convergence: the root is then at the
-//! rounding floor).
+//! ≤ 1e-10·|s|, the stopping rule of `axial_spectrum.rs` ([`newton_from`]);
+//! convergence is quadratic, so the root is then at the rounding floor.
 
 use num_complex::Complex64;
 
-use crate::beam::axial_spectrum::{AxialBlocks, Sym2};
+use crate::beam::axial_spectrum::{newton_from, AxialBlocks, Sym2};
 use crate::beam::family::{family_roots_into, Roots, REAL_TOL};
 
-/// Newton on g(s) stops after a step ≤ NEWTON_TOL·|s| (as in
-/// `axial_spectrum.rs`: the error after it is ≈ NEWTON_TOL², round-off).
-const NEWTON_TOL: f64 = 1e-10;
-const NEWTON_MAX_STEPS: usize = 40;
 /// Safeguarded Newton on the real axis stops after a step ≤ EIGEN_TOL·λ.
 const EIGEN_TOL: f64 = 1e-13;
 const EIGEN_MAX_STEPS: usize = 100;
@@ -533,11 +529,11 @@ impl AxialBlocks {
     }
 }
 
-/// Newton on g(s) (module doc) from `s0`; `None` without convergence.
+/// Newton on g(s) (module doc) from `s0` (the stopping rule of
+/// `axial_spectrum.rs`, [`newton_from`]); `None` without convergence.
 fn newton(scratch: &SpringScratch, c: f64, ivs: &[(f64, f64)], removed: &[usize], s0: Complex64) -> Option<Complex64> {
     let one = Complex64::new(1.0, 0.0);
-    let mut s = s0;
-    for _ in 0..NEWTON_MAX_STEPS {
+    newton_from(s0, |s| {
         let p = Jet { v: s * (s + c), d: 2.0 * s + c };
         let (mut g, mut dg) = (one, Complex64::new(0.0, 0.0));
         for &(d, w) in ivs {
@@ -546,16 +542,8 @@ fn newton(scratch: &SpringScratch, c: f64, ivs: &[(f64, f64)], removed: &[usize]
             dg += d * w / (den * den);
         }
         let e = scratch.secular::<Complex64>(p, Jet { v: g, d: dg }, removed);
-        let step = e.v / e.d;
-        if !(step.re.is_finite() && step.im.is_finite()) {
-            return None;
-        }
-        s -= step;
-        if step.norm() <= NEWTON_TOL * s.norm() {
-            return Some(s);
-        }
-    }
-    None
+        e.v / e.d
+    })
 }
 
 #[cfg(test)]
