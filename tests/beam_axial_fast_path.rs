@@ -28,10 +28,11 @@
 //! ≲ 1e-9 relative on these meshes, so it is compared at [`STATE_SPACE_TOL`] = 1e-7
 //! (the tolerance `tests/beam_coupled.rs`-style suites give the dense solve).
 
+mod fast_path_check;
+
+use fast_path_check::{compare, compare_observables};
 use nanobeam::beam::spec::{Section, Tube};
-use nanobeam::beam::{
-    buckling_load_n, modal_state_space, BeamSpec, InternalVariable, ModalResult, ModalSolver, Support,
-};
+use nanobeam::beam::{buckling_load_n, modal_state_space, BeamSpec, InternalVariable, ModalSolver, Support};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -75,21 +76,6 @@ fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
     b
 }
 
-/// Every mode's ω (relative) and ζ (absolute).
-fn compare(fast: &ModalResult, reference: &ModalResult, tol: f64, what: &str) -> f64 {
-    let mut worst = 0.0f64;
-    assert_eq!(fast.modes.len(), reference.modes.len(), "{what}: mode count");
-    assert_eq!(fast.overdamped.len(), reference.overdamped.len(), "{what}: overdamped count");
-    for (f, r) in fast.modes.iter().zip(&reference.modes) {
-        assert_eq!(f.mode, r.mode, "{what}");
-        let rel = (f.omega_rad_s - r.omega_rad_s).abs() / r.omega_rad_s;
-        worst = worst.max(rel);
-        assert!(rel <= tol, "{what}: mode {} ω {} vs {} ({rel:e})", f.mode, f.omega_rad_s, r.omega_rad_s);
-        assert!((f.zeta - r.zeta).abs() <= 2.0 * tol, "{what}: mode {} ζ {} vs {}", f.mode, f.zeta, r.zeta);
-    }
-    worst
-}
-
 /// 300 random beams: the fast path is taken by `observables` on every one
 /// and by `modal` on those without internal variables (with them, `modal`
 /// reports real relaxation poles, left to the reference: module doc of
@@ -108,23 +94,22 @@ fn random_beams_agree_with_the_coupled_reference() {
         let tol = S_TOL * compression_gain(&b);
         // modal() takes the path only without real poles (no internal variable)
         assert_eq!(fast_solver.last_used_axial_blocks(), b.internal_variables.is_empty(), "beam {i}");
-        worst = worst.max(compare(&fast, &reference, tol, &format!("beam {i}: {b:?}")));
+        let what = format!("beam {i}: {b:?}");
+        worst = worst.max(compare(&fast, &reference, tol, &what));
         // observables() (what a calibration calls) takes it always
-        let modes = [1, 2, 3, 4, 5];
-        let mut out = [0.0; 10];
-        let ok = fast_solver.observables(&b, &modes, 5, &mut out).unwrap();
-        if !fast_solver.last_used_axial_blocks() {
-            declined += 1;
-            continue;
-        }
-        taken += 1;
-        assert_eq!(ok, reference.modes.len() == 5, "beam {i}");
-        for (k, &m) in modes.iter().enumerate() {
-            let Some(r) = reference.mode(m) else { continue };
-            let rel = (out[k] - r.omega_rad_s).abs() / r.omega_rad_s;
-            worst = worst.max(rel);
-            assert!(rel <= tol, "beam {i} mode {m}: ω {} vs {} ({rel:e}): {b:?}", out[k], r.omega_rad_s);
-            assert!((out[5 + k] - r.zeta).abs() <= 2.0 * tol, "beam {i} mode {m}: ζ {} vs {}", out[5 + k], r.zeta);
+        match compare_observables::<5>(
+            &mut fast_solver,
+            &b,
+            ModalSolver::last_used_axial_blocks,
+            &reference,
+            tol,
+            &what,
+        ) {
+            Some(w) => {
+                taken += 1;
+                worst = worst.max(w);
+            }
+            None => declined += 1,
         }
     }
     eprintln!("axial fast path: taken {taken}, declined {declined}, worst relative ω difference {worst:e}");
@@ -144,19 +129,17 @@ fn random_beams_agree_with_the_state_space() {
     for i in 0..40 {
         let mut b = random_beam(&mut rng);
         b.elements = 10; // the dense solve is O(dim³)
-        let modes = [1, 2, 3, 4];
-        let mut out = [0.0; 8];
-        let ok = solver.observables(&b, &modes, 4, &mut out).unwrap();
-        assert!(solver.last_used_axial_blocks(), "beam {i}");
         let dense = modal_state_space(&b, 4).unwrap();
-        assert_eq!(ok, dense.modes.len() == 4, "beam {i}");
-        for (k, &m) in modes.iter().enumerate() {
-            let Some(r) = dense.mode(m) else { continue };
-            let rel = (out[k] - r.omega_rad_s).abs() / r.omega_rad_s;
-            worst = worst.max(rel);
-            assert!(rel <= STATE_SPACE_TOL, "beam {i} mode {m}: {} vs {}: {b:?}", out[k], r.omega_rad_s);
-            assert!((out[4 + k] - r.zeta).abs() <= 2.0 * STATE_SPACE_TOL, "beam {i} mode {m}: ζ");
-        }
+        let what = format!("beam {i}: {b:?}");
+        let w = compare_observables::<4>(
+            &mut solver,
+            &b,
+            ModalSolver::last_used_axial_blocks,
+            &dense,
+            STATE_SPACE_TOL,
+            &what,
+        );
+        worst = worst.max(w.unwrap_or_else(|| panic!("{what}: the fast path was not taken")));
     }
     eprintln!("axial fast path vs state space: worst relative ω difference {worst:e}");
 }

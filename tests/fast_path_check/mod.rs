@@ -1,0 +1,55 @@
+//! The comparisons every exact fast path of `beam` is held to, shared by
+//! `beam_axial_fast_path.rs` and `beam_spring_fast_path.rs`: a fast result
+//! against a reference solve of the same beam (the coupled RQI of
+//! `ModalSolver::direct_only`, or the dense state space), ω relative and ζ
+//! absolute, within a tolerance each test derives for its path.
+
+use nanobeam::beam::{ModalResult, ModalSolver};
+
+/// Every mode of `fast` against `reference`: the same modes and overdamped
+/// families, ω within `tol` relative, ζ within `2 tol` absolute. Returns the
+/// worst relative ω difference.
+pub fn compare(fast: &ModalResult, reference: &ModalResult, tol: f64, what: &str) -> f64 {
+    let mut worst = 0.0f64;
+    assert_eq!(fast.modes.len(), reference.modes.len(), "{what}: mode count");
+    assert_eq!(fast.overdamped.len(), reference.overdamped.len(), "{what}: overdamped count");
+    for (f, r) in fast.modes.iter().zip(&reference.modes) {
+        assert_eq!(f.mode, r.mode, "{what}");
+        let rel = (f.omega_rad_s - r.omega_rad_s).abs() / r.omega_rad_s;
+        worst = worst.max(rel);
+        assert!(rel <= tol, "{what}: mode {} ω {} vs {} ({rel:e})", f.mode, f.omega_rad_s, r.omega_rad_s);
+        assert!((f.zeta - r.zeta).abs() <= 2.0 * tol, "{what}: mode {} ζ {} vs {}", f.mode, f.zeta, r.zeta);
+    }
+    worst
+}
+
+/// `solver.observables` of `beam`'s modes 1..=`N` against `reference`: the
+/// same success (every mode oscillatory), ω within `tol` relative, ζ within
+/// `2 tol` absolute. `None` when the solver did not take its fast path
+/// (`took` reads that from the solver after the call), else the worst
+/// relative ω difference.
+pub fn compare_observables<const N: usize>(
+    solver: &mut ModalSolver,
+    beam: &nanobeam::beam::BeamSpec,
+    took: impl Fn(&ModalSolver) -> bool,
+    reference: &ModalResult,
+    tol: f64,
+    what: &str,
+) -> Option<f64> {
+    let modes: [usize; N] = std::array::from_fn(|k| k + 1);
+    let mut out = vec![0.0; 2 * N];
+    let ok = solver.observables(beam, &modes, N, &mut out).unwrap();
+    if !took(solver) {
+        return None;
+    }
+    assert_eq!(ok, reference.modes.len() == N, "{what}");
+    let mut worst = 0.0f64;
+    for (k, &m) in modes.iter().enumerate() {
+        let Some(r) = reference.mode(m) else { continue };
+        let rel = (out[k] - r.omega_rad_s).abs() / r.omega_rad_s;
+        worst = worst.max(rel);
+        assert!(rel <= tol, "{what} mode {m}: ω {} vs {} ({rel:e})", out[k], r.omega_rad_s);
+        assert!((out[N + k] - r.zeta).abs() <= 2.0 * tol, "{what} mode {m}: ζ {} vs {}", out[N + k], r.zeta);
+    }
+    Some(worst)
+}
