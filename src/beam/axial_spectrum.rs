@@ -284,33 +284,12 @@ impl AxialBlocks {
                 return false;
             }
             let mut fam = Roots::default();
-            for &s0 in starts.iter() {
-                if !(s0.im > 0.0 || (s0.im == 0.0 && all)) {
-                    continue;
-                }
+            // real starts never reach here (they end the path above), so
+            // every start is an oscillatory pair's
+            for &s0 in starts.iter().filter(|s| s.im > 0.0) {
                 let Some(s) = newton(b, c, ivs, s0) else { return false };
-                if (s - s0).norm() > 0.5 * s0.norm() {
+                if !accept_pair(s0, s, &mut found, &mut nfound, &mut fam) {
                     return false;
-                }
-                if found[..nfound].iter().any(|f| (s - f).norm() <= 1e-8 * s.norm()) || nfound + 2 > found.len() {
-                    return false;
-                }
-                if s0.im == 0.0 {
-                    // a real start stays real: Newton on a real function from a real point
-                    let s = Complex64::new(s.re, 0.0);
-                    found[nfound] = s;
-                    nfound += 1;
-                    fam.push(s);
-                } else {
-                    if s.im.abs() <= REAL_TOL * s.norm() {
-                        return false;
-                    }
-                    let s = Complex64::new(s.re, s.im.abs());
-                    found[nfound] = s;
-                    found[nfound + 1] = s.conj();
-                    nfound += 2;
-                    fam.push(s);
-                    fam.push(s.conj());
                 }
             }
             *out = fam;
@@ -380,6 +359,35 @@ fn family_function(b: &Bending, c: f64, ivs: &[(f64, f64)], s: Complex64) -> Jet
     let det = auu.mul(avv);
     let off = auv.mul(auv);
     Jet { v: det.v - off.v, d: det.d - off.d }
+}
+
+/// The coupled reference's acceptance of the root `s` Newton reached from the
+/// oscillatory start `s0` (`coupled.rs`): within half the start's modulus, no
+/// root already found within 1e-8·|s| (two starts on one pole), room left in
+/// `found`, and off the real axis. An accepted root joins `found` and `fam`
+/// as the pair (s, s̄) with Im s > 0; `false` ends the fast path.
+pub(super) fn accept_pair(
+    s0: Complex64,
+    s: Complex64,
+    found: &mut [Complex64],
+    nfound: &mut usize,
+    fam: &mut Roots,
+) -> bool {
+    let n = *nfound;
+    if (s - s0).norm() > 0.5 * s0.norm()
+        || found[..n].iter().any(|f| (s - f).norm() <= 1e-8 * s.norm())
+        || n + 2 > found.len()
+        || s.im.abs() <= REAL_TOL * s.norm()
+    {
+        return false;
+    }
+    let s = Complex64::new(s.re, s.im.abs());
+    found[n] = s;
+    found[n + 1] = s.conj();
+    *nfound = n + 2;
+    fam.push(s);
+    fam.push(s.conj());
+    true
 }
 
 /// Newton on E_j from `s0`; `None` without convergence.

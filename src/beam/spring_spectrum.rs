@@ -85,8 +85,8 @@
 
 use num_complex::Complex64;
 
-use crate::beam::axial_spectrum::{newton_from, AxialBlocks, Sym2};
-use crate::beam::family::{family_roots_into, Roots, REAL_TOL};
+use crate::beam::axial_spectrum::{accept_pair, newton_from, AxialBlocks, Sym2};
+use crate::beam::family::{family_roots_into, Roots};
 
 /// Safeguarded Newton on the real axis stops after a step ≤ EIGEN_TOL·λ.
 const EIGEN_TOL: f64 = 1e-13;
@@ -491,26 +491,11 @@ impl AxialBlocks {
                 return false;
             }
             let mut fam = Roots::default();
-            for &s0 in starts.iter() {
-                if s0.im <= 0.0 {
-                    continue;
-                }
+            for &s0 in starts.iter().filter(|s| s.im > 0.0) {
                 let Some(s) = newton(scratch, c, ivs, &removed[..nr], s0) else { return false };
-                if (s - s0).norm() > 0.5 * s0.norm() {
+                if !accept_pair(s0, s, &mut found, &mut nfound, &mut fam) {
                     return false;
                 }
-                if found[..nfound].iter().any(|f| (s - f).norm() <= 1e-8 * s.norm()) || nfound + 2 > found.len() {
-                    return false;
-                }
-                if s.im.abs() <= REAL_TOL * s.norm() {
-                    return false;
-                }
-                let s = Complex64::new(s.re, s.im.abs());
-                found[nfound] = s;
-                found[nfound + 1] = s.conj();
-                nfound += 2;
-                fam.push(s);
-                fam.push(s.conj());
             }
             *out = fam;
         }
