@@ -242,7 +242,8 @@ def read_modes(path):
     return modes
 
 
-# parameter vector u: ln wref, ln g, ln r2, e, n, ct, Delta, ln Om (Om = Omega/wref)
+# parameter vector u: ln wref, ln g, ln r2, e, n, ct, Delta, ln Om (Om = Omega/wref). The `free`
+# class's ct <= 2 lies below cc11's bath (ct about 5); `diagnose-viscous` has the diagnosis's range.
 LO = np.array([np.log(1e9), np.log(0.5), np.log(1e-5), 0.0, -30.0, 0.0, 0.0, np.log(1e-3)])
 HI = np.array([np.log(1e13), np.log(1e5), np.log(1e-1), 0.1, 60.0, 2.0, 5.0, np.log(1e4)])
 
