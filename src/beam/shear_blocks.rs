@@ -419,15 +419,20 @@ impl ShearPencil {
     }
 
     /// det T̃ up to the constant det(V)⁻² (module doc), factored as
-    /// (Π_{j≠r} det(d_j B_j), det of the bordered (n_r + 3)-square matrix
+    /// Π_{j≠r} det(d_j B_j) (each factor passed to `on_block`) times the
+    /// returned det of the bordered (n_r + 3)-square matrix
     /// [[d_r B_r, X_r], [X_rᵀ, C − Σ_{j≠r} X_jᵀ(d_j B_j)⁻¹X_j]]) for the
     /// coefficients (s², s c̃, G(s), 1) of (M̃, M̃_b, K̃, K̃_N). With
     /// `removed = None` no block is kept in the bordered matrix (it is S).
     /// The second factor is entire in s near the roots of det B_r: what
     /// Newton is run on for the poles of block r's family.
-    pub fn determinant<T: Scalar + From<f64>>(&self, coef: [T; 4], removed: Option<usize>) -> Option<(T, T)> {
+    pub fn determinant<T: Scalar + From<f64>>(
+        &self,
+        coef: [T; 4],
+        removed: Option<usize>,
+        mut on_block: impl FnMut(T),
+    ) -> Option<T> {
         let mut s = self.corner(coef);
-        let mut prod: Option<T> = None;
         for j in 0..self.len() {
             if Some(j) == removed {
                 continue;
@@ -445,7 +450,7 @@ impl ShearPencil {
                 y[r] = x[r];
             }
             let det = lu_solve(&mut b, n, &mut y, BORDER)?;
-            prod = Some(prod.map_or(det, |p| p * det));
+            on_block(det);
             for r in 0..BORDER {
                 for k in 0..BORDER {
                     let mut acc = T::zero();
@@ -456,7 +461,6 @@ impl ShearPencil {
                 }
             }
         }
-        let prod = prod.unwrap_or(T::from(1.0));
         let mut big = [[T::zero(); 8]; 8];
         let nr = match removed {
             Some(r) => {
@@ -483,7 +487,7 @@ impl ShearPencil {
         }
         let mut none = [[T::zero(); 1]; 8];
         let det = lu_solve(&mut big, nr + BORDER, &mut none, 0)?;
-        Some((prod, det))
+        Some(det)
     }
 
     /// neg(T̃(λ)) = #{eigenvalues of (K̃ + K̃_N, M̃) below λ} = Σ_j neg(B_j(λ))
@@ -539,18 +543,42 @@ pub struct ModeData {
 }
 
 impl ShearPencil {
-    /// d/dλ ln det T̃(λ) (T̃ = K̃ + K̃_N − λM̃) from the block factorisation.
-    fn log_derivative(&self, lambda: f64) -> Option<f64> {
+    /// The block nearest to singular at λ: the largest |d/dλ ln det B_j(λ)| =
+    /// |Σᵢ 1/(λ − μ_{j,i})| over its eigenvalues μ_{j,i}.
+    fn nearest_block(&self, lambda: f64) -> Option<usize> {
         let coef = [Dual::new(-lambda, -1.0), Dual::new(0.0, 0.0), Dual::new(1.0, 0.0), Dual::new(1.0, 0.0)];
-        let (prod, det) = self.determinant::<Dual<f64>>(coef, None)?;
-        let d = prod.d / prod.v + det.d / det.v;
+        let mut best = (-1.0, 0);
+        for j in 0..self.len() {
+            let (mut a, _) = self.combine(coef, j);
+            let mut none = [[Dual::new(0.0, 0.0); 1]; 8];
+            let det = lu_solve(&mut a, self.dims[j], &mut none, 0)?;
+            let rate = (det.d / det.v).abs();
+            if rate > best.0 {
+                best = (rate, j);
+            }
+        }
+        best.0.is_finite().then_some(best.1)
+    }
+
+    /// d/dλ ln det T̃(λ) (T̃ = K̃ + K̃_N − λM̃) from the block factorisation,
+    /// with block `keep` inside the bordered matrix (`determinant`): the
+    /// poles of ln det B_keep and ln det S at its eigenvalue cancel there
+    /// analytically, not in rounding.
+    fn log_derivative(&self, lambda: f64, keep: usize) -> Option<f64> {
+        let coef = [Dual::new(-lambda, -1.0), Dual::new(0.0, 0.0), Dual::new(1.0, 0.0), Dual::new(1.0, 0.0)];
+        // Σ_j d ln det(d_jB_j) block by block: the product of n_e + 1
+        // determinants of size up to ~1e35 each would overflow
+        let mut d = 0.0;
+        let det = self.determinant::<Dual<f64>>(coef, Some(keep), |b| d += b.d / b.v)?;
+        d += det.d / det.v;
         d.is_finite().then_some(d)
     }
 
     /// The certified eigenvalue λ_r (r = r0 + 1): bisection on the count to a
     /// bracket holding λ_r alone, then Newton on ln det T̃ safeguarded inside
     /// it, accepted only when the count is r − 1 just below and ≥ r just above
-    /// (module doc, "Inertia"); `None` where the path declines.
+    /// (module doc, "Inertia"); `None` where the path declines. `floor` is a
+    /// point where the count is at most r0 (0, or just above λ_{r−1}).
     pub fn eigenvalue(&self, r0: usize, floor: f64) -> Option<f64> {
         let (mut a, mut b) = (floor, floor.max(1.0) * 2.0);
         if self.count(a)? > r0 {
@@ -579,11 +607,20 @@ impl ShearPencil {
             }
         }
         let mut x = 0.5 * (a + b);
+        let keep = self.nearest_block(x)?;
         for _ in 0..EIGEN_MAX_STEPS {
-            let step = 1.0 / self.log_derivative(x)?;
+            let step = 1.0 / self.log_derivative(x, keep)?;
             let newton = x - step;
             let inside = newton.is_finite() && newton > a && newton < b;
-            if inside && (newton - x).abs() <= EIGEN_TOL * newton.abs() {
+            // converged, or the counts pin λ_r to a bracket narrower than
+            // Newton's rounding floor (ln det T̃ near a block eigenvalue
+            // carries ~1e-13 relative noise): its midpoint, within ½(b − a)
+            // (a converged step may land just outside the bracket: the counts
+            // at points within rounding of λ_r are not reliable, the
+            // certificate at λ(1 ± CERTIFY_GAP) is)
+            let pinned = b - a <= 2.0 * EIGEN_TOL * b;
+            if pinned || (newton.is_finite() && (newton - x).abs() <= EIGEN_TOL * newton.abs()) {
+                let newton = if pinned { 0.5 * (a + b) } else { newton };
                 let below = self.count(newton * (1.0 - CERTIFY_GAP))?;
                 let above = self.count(newton * (1.0 + CERTIFY_GAP))?;
                 return (below == r0 && above > r0 && newton > 0.0).then_some(newton);
@@ -602,63 +639,116 @@ impl ShearPencil {
     }
 
     /// The eigenvector of λ in block form and its one-term family data
-    /// (module doc: x = [x_P; z], S(λ)z = 0, y_j = −(d_jB_j)⁻¹X_jz, and
-    /// xᵀAx = Σ_j d_j y_jᵀA_jy_j + 2Σ_j y_jᵀX_{j,A}z + zᵀC_Az per part A);
-    /// `None` unless its Rayleigh quotient is λ to [`RAYLEIGH_TOL`].
+    /// (module doc: x = [x_P; z], y_j = −(d_jB_j)⁻¹X_jz the block coordinates
+    /// of x_P, and xᵀAx = Σ_j d_j y_jᵀA_jy_j + 2Σ_j y_jᵀX_{j,A}z + zᵀC_Az per
+    /// part A). The block r that dominates x is nearly singular at λ (the
+    /// border moves its eigenvalue only slightly), so y_r = −(d_rB_r)⁻¹X_rz
+    /// would carry eps·cond(B_r(λ)); instead (y_r, z) is the null vector of
+    /// the bordered matrix G_r = [[d_rB_r, X_r], [X_rᵀ, S_{−r}]] (`determinant`),
+    /// by one step of inverse iteration (G_r v = 1: at a certified eigenvalue
+    /// G_r is singular to rounding and v is its null vector to ~eps relative).
+    /// r is the block whose part of a first-pass vector (z from the cross
+    /// product of two rows of the equilibrated S) is largest. `None` unless the Rayleigh
+    /// quotient is λ to [`RAYLEIGH_TOL`].
     pub fn mode(&self, lambda: f64) -> Option<ModeData> {
         let coef = [-lambda, 0.0, 1.0, 1.0];
+        let nb = self.len();
         let mut s = self.corner(coef);
-        let mut ys: Vec<[[f64; BORDER]; 8]> = Vec::with_capacity(self.len());
-        for j in 0..self.len() {
+        // B_j⁻¹X_j and X_jᵀB_j⁻¹X_j/d_j per block
+        let mut ys: Vec<[[f64; BORDER]; 8]> = Vec::with_capacity(nb);
+        let mut terms: Vec<Mat3> = Vec::with_capacity(nb);
+        for j in 0..nb {
             let n = self.dims[j];
             let (mut b, x) = self.combine(coef, j);
             let mut y = [[0.0; BORDER]; 8];
             y[..n].copy_from_slice(&x[..n]);
             lu_solve(&mut b, n, &mut y, BORDER)?;
             let d = self.weights[j];
+            let t: Mat3 =
+                std::array::from_fn(|r| std::array::from_fn(|k| (0..n).map(|q| x[q][r] * y[q][k]).sum::<f64>() / d));
             for r in 0..BORDER {
                 for k in 0..BORDER {
-                    let acc: f64 = (0..n).map(|q| x[q][r] * y[q][k]).sum();
-                    s[r][k] -= acc / d;
+                    s[r][k] -= t[r][k];
                 }
             }
             ys.push(y);
+            terms.push(t);
         }
-        // z: the largest cross product of two rows of the singular S
+        // first pass: z from the equilibrated S (entries span ~1e-3 to 1e5:
+        // the χ rows against the s_L row), only to find the dominant block
+        let dsc: [f64; BORDER] = std::array::from_fn(|r| {
+            let d = s[r][r].abs();
+            if d > 0.0 && d.is_finite() {
+                1.0 / d.sqrt()
+            } else {
+                1.0
+            }
+        });
+        let se: Mat3 = std::array::from_fn(|r| std::array::from_fn(|k| s[r][k] * dsc[r] * dsc[k]));
         let cross = |u: [f64; 3], v: [f64; 3]| {
             [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
         };
-        let z = [cross(s[0], s[1]), cross(s[0], s[2]), cross(s[1], s[2])]
+        let norm2 = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>();
+        let z0 = [cross(se[0], se[1]), cross(se[0], se[2]), cross(se[1], se[2])]
             .into_iter()
-            .max_by(|p, q| p.iter().map(|v| v * v).sum::<f64>().total_cmp(&q.iter().map(|v| v * v).sum::<f64>()))?;
-        let zn = z.iter().map(|v| v * v).sum::<f64>().sqrt();
-        if !(zn > 0.0 && zn.is_finite()) {
+            .max_by(|p, q| norm2(p).total_cmp(&norm2(q)))?;
+        let z0: [f64; BORDER] = std::array::from_fn(|r| z0[r] * dsc[r]);
+        let block_y = |j: usize, z: &[f64; BORDER]| -> [f64; 5] {
+            let mut y = [0.0; 5];
+            for (q, yq) in y.iter_mut().enumerate().take(self.dims[j]) {
+                *yq = -(0..BORDER).map(|e| ys[j][q][e] * z[e]).sum::<f64>() / self.weights[j];
+            }
+            y
+        };
+        let size = |j: usize, y: &[f64; 5]| self.weights[j] * y.iter().map(|v| v * v).sum::<f64>();
+        let block = (0..nb).max_by(|&a, &b| size(a, &block_y(a, &z0)).total_cmp(&size(b, &block_y(b, &z0))))?;
+        // second pass: (y_r, z) by inverse iteration on G_r
+        let n = self.dims[block];
+        let (br, xr) = self.combine(coef, block);
+        let d = self.weights[block];
+        let mut g = [[0.0; 8]; 8];
+        for p in 0..n {
+            for q in 0..n {
+                g[p][q] = d * br[p][q];
+            }
+            for e in 0..BORDER {
+                g[p][n + e] = xr[p][e];
+                g[n + e][p] = xr[p][e];
+            }
+        }
+        for r in 0..BORDER {
+            for k in 0..BORDER {
+                g[n + r][n + k] = s[r][k] + terms[block][r][k];
+            }
+        }
+        let mut v = [[1.0; 1]; 8];
+        lu_solve(&mut g, n + BORDER, &mut v, 1)?;
+        let vn = (0..n + BORDER).map(|i| v[i][0] * v[i][0]).sum::<f64>().sqrt();
+        if !(vn > 0.0 && vn.is_finite()) {
             return None;
         }
-        let z = z.map(|v| v / zn);
-        // forms of the four parts, and the dominant block
+        let z: [f64; BORDER] = std::array::from_fn(|e| v[n + e][0] / vn);
+        // forms of the four parts
         let mut forms = [0.0; 4];
-        let (mut best, mut block) = (-1.0, 0);
-        for j in 0..self.len() {
-            let n = self.dims[j];
-            let d = self.weights[j];
-            // y_j = −(B_j)⁻¹X_j z / d_j
-            let mut y = [0.0; 5];
-            for (q, yq) in y.iter_mut().enumerate().take(n) {
-                *yq = -(0..BORDER).map(|e| ys[j][q][e] * z[e]).sum::<f64>() / d;
-            }
-            let size = d * y.iter().map(|v| v * v).sum::<f64>();
-            if size > best {
-                best = size;
-                block = j;
-            }
+        for j in 0..nb {
+            let nj = self.dims[j];
+            let dj = self.weights[j];
+            let y = if j == block {
+                let mut y = [0.0; 5];
+                for (q, yq) in y.iter_mut().enumerate().take(nj) {
+                    *yq = v[q][0] / vn;
+                }
+                y
+            } else {
+                block_y(j, &z)
+            };
             for (f, (blocks, coupling, _)) in forms.iter_mut().zip(&self.parts) {
                 let (bj, xj) = (&blocks[j], &coupling[j]);
                 let mut acc = 0.0;
-                for p in 0..n {
-                    let bx: f64 = (0..n).map(|q| bj[p][q] * y[q]).sum();
+                for p in 0..nj {
+                    let bx: f64 = (0..nj).map(|q| bj[p][q] * y[q]).sum();
                     let xz: f64 = (0..BORDER).map(|e| xj[p][e] * z[e]).sum();
-                    acc += y[p] * (d * bx + 2.0 * xz);
+                    acc += y[p] * (dj * bx + 2.0 * xz);
                 }
                 *f += acc;
             }
@@ -707,7 +797,9 @@ pub fn family_roots(
     let mut floor = 0.0;
     for (r0, out) in roots.iter_mut().enumerate().take(n_modes) {
         let Some(lambda) = pencil.eigenvalue(r0, floor) else { return false };
-        floor = lambda;
+        // the count is certified r0 + 1 there (`eigenvalue`); at λ itself it
+        // is not (S and the nearest block are singular to rounding)
+        floor = lambda * (1.0 + CERTIFY_GAP);
         let Some(md) = pencil.mode(lambda) else { return false };
         if family_roots_into(md.a, md.b, c * md.damping_share, ivs, &mut starts).is_err() {
             return false;
@@ -717,8 +809,8 @@ pub fn family_roots(
         }
         let mut fam = Roots::default();
         for &s0 in starts.iter().filter(|s| s.im > 0.0) {
-            let s = newton_from(s0, |s| match pencil.determinant(coefficients(s, c, ivs), Some(md.block)) {
-                Some((_, det)) => det.v / det.d,
+            let s = newton_from(s0, |s| match pencil.determinant(coefficients(s, c, ivs), Some(md.block), |_| ()) {
+                Some(det) => det.v / det.d,
                 None => Complex64::new(f64::NAN, f64::NAN),
             });
             let Some(s) = s else { return false };
@@ -811,7 +903,8 @@ mod tests {
         let sh = m.shear.as_ref().unwrap();
         for s in [Complex64::new(-0.5, 9.0), Complex64::new(-3.0, 35.0), Complex64::new(-1.0, 80.0)] {
             let coef = coefficients(s, c, &ivs);
-            let (prod, det) = pencil.determinant(coef.map(|x| x.v), None).unwrap();
+            let mut prod = Complex64::new(1.0, 0.0);
+            let det = pencil.determinant(coef.map(|x| x.v), None, |b| prod *= b).unwrap();
             let fast = prod * det / (det_v * det_v);
             let p = PencilParams { e_tilde: t.sqrt(), point_mass: None, spring: [0.0; 2], axial, shear: g };
             let (k, mm) = (m.stiffness(g), m.m0.plus_scaled(t, &m.m1));
