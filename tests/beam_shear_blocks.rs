@@ -17,22 +17,25 @@
 //! Tolerances (derived). Both paths solve the same FE model. The reference's
 //! poles are roots of Rayleigh functionals of converged vectors, rounding
 //! ≤ 1e-12 relative (`beam::modal`'s refinement test, as in
-//! `tests/beam_spring_fast_path.rs`). The fast path's error is the rounding
-//! of its block entries and of the bordered determinant: a relative
-//! perturbation ε of the entries of a block moves an eigenvalue λ by
-//! ≤ ε·‖B‖/λ relative (first-order perturbation of a Rayleigh quotient), and
-//! ‖B_j‖/λ over the blocks near the low modes is what
-//! [`S_TOL`] is built from: ε ≈ 10·eps (a few rounded operations per entry,
-//! `shear_blocks.rs`), ‖B‖/λ₁ ≤ 1.5e3 at n_e = 40 (the bending block's
-//! rotation-branch entries ~(2n_e/π)² over the bending eigenvalue), so
-//! ≈ 2.2e-16·10·1.5e3 ≈ 3.3e-12; with the reference's 1e-12: [`S_TOL`] =
-//! 5e-12 relative on ω, ζ to 2·S_TOL absolute; a compressive force
-//! amplifies both by (1 + r)/(1 − r) (`compression_gain`). A deliberate
-//! perturbation of 1e-6 of one block entry moves λ by ~1e-6 relative and
-//! fails this tolerance by six orders (checked in `shear_blocks.rs`'s unit
-//! test, which also shows the invariance check refusing it). The dense state
-//! space is accurate to ~eps·cond(A) of its eigenproblem: compared at
-//! [`STATE_SPACE_TOL`] = 1e-7 on 10-element meshes, as the spring path is.
+//! `tests/beam_spring_fast_path.rs`). The fast path's block entries are a few
+//! rounded operations on the element entries, with the same-parity sums
+//! written with sin²(φ/2) as in `axial_spectrum.rs`, so the bending
+//! eigenvalue of a block carries the bound derived there,
+//! ≲ 10·eps/sin²(φ/2) ≤ 1.4e-12 at n_e = 40, j = 1; the bordered determinant
+//! sums n_e + 1 Schur terms X_jᵀ(d_jB_j)⁻¹X_j, each exact to
+//! ~eps·cond(B_j) ≲ eps·(2n_e/π)² ≤ 1.4e-12 relative at n_e = 40 (the spring
+//! path's bound on det B_j); the root is at Newton's floor (quadratic stop at a
+//! 1e-10 step). A pole then agrees to 1e-12 + 1.4e-12 + 1.4e-12 ≈ 4e-12,
+//! [`S_TOL`] = 5e-12 relative on ω, ζ to 2·S_TOL absolute; a compressive
+//! force amplifies both sides' rounding by (1 + r)/(1 − r)
+//! (`compression_gain`). The split itself is falsifiable: a relative
+//! perturbation of 1e-6 of one block entry raises the invariance residual
+//! from ~1e-15 to > 1e-9 and the mesh is refused (`shear_blocks.rs`, unit
+//! test `wavenumber_blocks_are_invariant_only_when_simply_supported`), and
+//! it would move an eigenvalue by ~1e-6 relative, six orders above
+//! [`S_TOL`]. The dense state space is accurate to ~eps·cond(A) of its
+//! eigenproblem: compared at [`STATE_SPACE_TOL`] = 1e-7 on 10-element
+//! meshes, as the spring path is.
 
 mod fast_path_check;
 
@@ -95,7 +98,7 @@ fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
 #[test]
 fn random_beams_agree_with_the_coupled_reference() {
     let mut rng = ChaCha8Rng::seed_from_u64(4131);
-    let mut fast_solver = ModalSolver::new();
+    let mut fast_solver = ModalSolver::with_shear_blocks();
     let mut reference_solver = ModalSolver::direct_only();
     let (mut worst, mut taken, mut declined) = (0.0f64, 0, 0);
     for i in 0..240 {
@@ -131,7 +134,7 @@ fn random_beams_agree_with_the_coupled_reference() {
 #[test]
 fn random_beams_agree_with_the_state_space() {
     let mut rng = ChaCha8Rng::seed_from_u64(4132);
-    let mut solver = ModalSolver::new();
+    let mut solver = ModalSolver::with_shear_blocks();
     let mut worst = 0.0f64;
     for i in 0..40 {
         let mut b = random_beam(&mut rng);
@@ -151,7 +154,8 @@ fn random_beams_agree_with_the_state_space() {
     eprintln!("shear block path vs state space: worst relative ω difference {worst:e}");
 }
 
-/// The path is taken only on its hypotheses: a simply supported Timoshenko
+/// The path is taken only when asked for (`ModalSolver::with_shear_blocks`)
+/// and on its hypotheses: a simply supported Timoshenko
 /// mesh with an axial force or C > 0, no point mass, no spring. Clamped
 /// supports, a point mass, a spring, Euler–Bernoulli, and shear alone with
 /// C = 0 (the interpolated decoupled path) do not take it.
@@ -161,7 +165,11 @@ fn the_path_declines_off_its_hypotheses() {
     b.shear_deformation = Some(ShearDeformation { poisson_ratio: 0.2, shear_coefficient: 0.8 });
     b.nonlocal_e0a_nm = 0.7;
     b.viscous_damping_n_s_m2 = 0.1 * 8e11 * b.density_kg_m3 * b.area_m2();
-    let mut solver = ModalSolver::new();
+    // the default solver does not take it (opt-in, not yet faster: benches/README.md)
+    let mut default_solver = ModalSolver::new();
+    default_solver.modal(&b, 4).unwrap();
+    assert!(!default_solver.last_used_shear_blocks());
+    let mut solver = ModalSolver::with_shear_blocks();
     solver.modal(&b, 4).unwrap();
     assert!(solver.last_used_shear_blocks());
     let mut out = [0.0; 8];
@@ -196,7 +204,7 @@ fn same_bits_at_one_and_two_threads_and_after_any_history() {
         format!("{ok} {:?}", out.map(f64::to_bits))
     };
     let run = |bs: &[BeamSpec]| -> Vec<String> {
-        let mut s = ModalSolver::new();
+        let mut s = ModalSolver::with_shear_blocks();
         bs.iter().map(|b| format!("{:?} {}", s.modal(b, 5).unwrap(), obs(&mut s, b))).collect()
     };
     let serial = run(&beams);

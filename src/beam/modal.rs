@@ -106,6 +106,10 @@ pub struct ModalSolver {
     /// The wavenumber blocks of a simply supported Timoshenko mesh
     /// (`shear_blocks.rs`), built on first use per mesh.
     shear_blocks: Option<Option<ShearBlocks>>,
+    /// Take the Timoshenko block path (opt-in: exact, but slower than the
+    /// coupled RQI it would replace, `benches/README.md`; off in
+    /// [`ModalSolver::new`], so a diagnosis does not take it).
+    use_shear_blocks: bool,
     spring_scratch: SpringScratch,
     /// Never use the interpolant (reference solver for tests and benches).
     direct_only: bool,
@@ -320,6 +324,14 @@ impl ModalSolver {
         Self { direct_only: true, ..Self::default() }
     }
 
+    /// A solver that also takes the exact bordered block path of the simply
+    /// supported Timoshenko mesh with an axial force or C > 0
+    /// (`shear_blocks.rs`); [`Self::new`] does not (not yet faster than the
+    /// coupled RQI: `benches/README.md`).
+    pub fn with_shear_blocks() -> Self {
+        Self { use_shear_blocks: true, ..Self::default() }
+    }
+
     /// True when the last result's eigenvalues came from the certified interpolant.
     pub fn last_used_interpolant(&self) -> bool {
         self.last_interpolated
@@ -426,7 +438,8 @@ impl ModalSolver {
         self.last_axial_blocks = false;
         self.last_spring_blocks = false;
         self.last_shear_blocks = false;
-        if mesh.shear.is_some()
+        if self.use_shear_blocks
+            && mesh.shear.is_some()
             && beam.point_mass.is_none()
             && mesh.springs(&sc.spring).next().is_none()
             && (sc.axial != 0.0 || sc.c != 0.0)
