@@ -13,13 +13,14 @@
 //! uniform mesh the vectors with, at node i,
 //!   w_i = a sin(iφ), θ_i = b cos(iφ), χ_i = c sin(iφ), s_i = d sin(iφ), γ_i = e cos(iφ)
 //! (φ = jπ/n_e) are therefore mapped into themselves by every element matrix
-//! A, with the 5 × 5 block (DOF types p, q; local DOF 5α + p of node α ∈ {0, 1})
-//!   B_pq = Σ_{α,β} A[5α+p][5β+q] κ_pq(β − α),
+//! A, with the 5 × 5 block (DOF types p, q; local DOF 5α + p of node α ∈ {0, 1};
+//! A(a, b) the element matrix entry)
+//!   B_pq = Σ_{α,β} A(5α+p, 5β+q)·κ_pq(β − α),
 //!   κ = cos((β − α)φ) for p, q of the same parity, sin((α − β)φ) for p odd and q
 //!   even, sin((β − α)φ) for p even and q odd
 //! (the sums Σₑ sin aₑ sin aₑ₊₁ = (n_e/2)cos φ, Σₑ sin aₑ₊₁ cos aₑ = (n_e/2) sin φ, …,
 //! aₑ = eφ, of `axial_spectrum.rs`, per pair of DOF types). The same-parity
-//! entries are written (ΣA) − 2 sin²(φ/2)(A[p][5+q] + A[5+p][q]), since ΣA is 0
+//! entries are written (ΣA) − 2 sin²(φ/2)(A(p, 5+q) + A(5+p, q)), since ΣA is 0
 //! for the rigid motions and the cos φ form would cancel to O(φ²).
 //! Such a vector is odd about node 0 and about node n_e; the *mirror mesh*
 //! P constrains exactly the odd DOFs there (w, χ, s = 0 at both ends) and
@@ -59,6 +60,9 @@
 //! ([`ShearPencil::count`]), each from an LDLᵀ of a 5 × 5 (or 2 × 2) block and
 //! of the 3 × 3 S without pivoting: the count is `None` (unknown) when a pivot
 //! is zero or not finite.
+
+// Dense 5 × 5 and 8 × 8 kernels with row/column indices, as in the formulas above.
+#![allow(clippy::needless_range_loop)]
 
 use num_complex::Complex64;
 
@@ -446,9 +450,7 @@ impl ShearPencil {
                 }
             }
             let mut y = [[T::zero(); BORDER]; 8];
-            for r in 0..n {
-                y[r] = x[r];
-            }
+            y[..n].copy_from_slice(&x[..n]);
             let det = lu_solve(&mut b, n, &mut y, BORDER)?;
             on_block(det);
             for r in 0..BORDER {
