@@ -32,8 +32,8 @@
 //! perturbation of 1e-6 of one block entry raises the invariance residual
 //! from ~1e-15 to > 1e-9 and the mesh is refused (`shear_blocks.rs`, unit
 //! test `wavenumber_blocks_are_invariant_only_when_simply_supported`), and
-//! it would move an eigenvalue by ~1e-6 relative, six orders above
-//! [`S_TOL`]. The dense state space is accurate to ~eps·cond(A) of its
+//! to first order it would move an eigenvalue by ~1e-6 relative, six orders
+//! above [`S_TOL`] (an estimate: no test runs the perturbed path itself). The dense state space is accurate to ~eps·cond(A) of its
 //! eigenproblem: compared at [`STATE_SPACE_TOL`] = 1e-7 on 10-element
 //! meshes, as the spring path is.
 
