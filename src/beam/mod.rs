@@ -28,6 +28,7 @@ mod mass_spectrum;
 mod modal;
 mod modal_result;
 pub(crate) mod model;
+mod shear_blocks;
 mod shear_spectrum;
 pub mod spec;
 mod spectrum;

@@ -40,6 +40,7 @@ use crate::beam::family::{decoupled_family_roots_into, family_roots, Roots};
 use crate::beam::mass_spectrum::MassSpectrumTable;
 use crate::beam::modal_result::{assemble, check_mode_count, oscillatory_pair, ModalResult, SolverPath};
 use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
+use crate::beam::shear_blocks::{self, ShearBlocks};
 use crate::beam::shear_spectrum::ShearSpectrumTable;
 use crate::beam::spec::{BeamSpec, MAX_INTERNAL_VARIABLES};
 use crate::beam::spectrum::SpectrumTable;
@@ -102,6 +103,13 @@ pub struct ModalSolver {
     /// the mesh has none.
     axial_blocks: Option<Option<AxialBlocks>>,
     axial_scratch: Vec<Bending>,
+    /// The wavenumber blocks of a simply supported Timoshenko mesh
+    /// (`shear_blocks.rs`), built on first use per mesh.
+    shear_blocks: Option<Option<ShearBlocks>>,
+    /// Take the Timoshenko block path (opt-in: exact, but slower than the
+    /// coupled RQI it would replace, `benches/README.md`; off in
+    /// [`ModalSolver::new`], so a diagnosis does not take it).
+    use_shear_blocks: bool,
     spring_scratch: SpringScratch,
     /// Never use the interpolant (reference solver for tests and benches).
     direct_only: bool,
@@ -110,6 +118,8 @@ pub struct ModalSolver {
     last_axial_blocks: bool,
     /// True when the last result came from the support-spring secular path.
     last_spring_blocks: bool,
+    /// True when the last result came from the Timoshenko block path.
+    last_shear_blocks: bool,
     lambdas: Vec<f64>,
     /// Error bounds of `lambdas` on the point-mass path (`mass_spectrum.rs`).
     bounds: Vec<f64>,
@@ -314,6 +324,14 @@ impl ModalSolver {
         Self { direct_only: true, ..Self::default() }
     }
 
+    /// A solver that also takes the exact bordered block path of the simply
+    /// supported Timoshenko mesh with an axial force or C > 0
+    /// (`shear_blocks.rs`); [`Self::new`] does not (not yet faster than the
+    /// coupled RQI: `benches/README.md`).
+    pub fn with_shear_blocks() -> Self {
+        Self { use_shear_blocks: true, ..Self::default() }
+    }
+
     /// True when the last result's eigenvalues came from the certified interpolant.
     pub fn last_used_interpolant(&self) -> bool {
         self.last_interpolated
@@ -329,6 +347,12 @@ impl ModalSolver {
     /// a simply supported Euler–Bernoulli mesh (`spring_spectrum.rs`).
     pub fn last_used_spring_blocks(&self) -> bool {
         self.last_spring_blocks
+    }
+
+    /// True when the last result came from the exact bordered wavenumber-block
+    /// path of a simply supported Timoshenko mesh (`shear_blocks.rs`).
+    pub fn last_used_shear_blocks(&self) -> bool {
+        self.last_shear_blocks
     }
 
     /// The path used by the last successful or attempted call.
@@ -348,6 +372,7 @@ impl ModalSolver {
             self.shear_spectrum = ShearSpectrumTable::default();
             self.mass_spectrum = MassSpectrumTable::default();
             self.axial_blocks = None;
+            self.shear_blocks = None;
         }
         self.last_interpolated = false;
         Ok(())
@@ -365,7 +390,7 @@ impl ModalSolver {
         if !self.direct_only {
             if let Some(result) = self.interpolated(beam, n_modes, poles) {
                 self.last_path = Some(SolverPath::Decoupled);
-                self.last_interpolated = !(self.last_axial_blocks || self.last_spring_blocks);
+                self.last_interpolated = !(self.last_axial_blocks || self.last_spring_blocks || self.last_shear_blocks);
                 return Ok(result);
             }
         }
@@ -412,6 +437,26 @@ impl ModalSolver {
         let sc = Scaling::new(beam);
         self.last_axial_blocks = false;
         self.last_spring_blocks = false;
+        self.last_shear_blocks = false;
+        if self.use_shear_blocks
+            && mesh.shear.is_some()
+            && beam.point_mass.is_none()
+            && mesh.springs(&sc.spring).next().is_none()
+            && (sc.axial != 0.0 || sc.c != 0.0)
+            && n_modes > 0
+        {
+            let Self { shear_blocks, roots, .. } = self;
+            let blocks = shear_blocks.get_or_insert_with(|| ShearBlocks::new(mesh)).as_ref()?;
+            let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
+            let t = sc.e_tilde * sc.e_tilde;
+            let g = crate::beam::model::shear_params(beam).map_or(0.0, |(g, _)| g);
+            let pencil = blocks.pencil(t, g, sc.axial);
+            if !shear_blocks::family_roots(&pencil, sc.c, &ivs[..nv], n_modes, poles == Poles::All, roots) {
+                return None;
+            }
+            self.last_shear_blocks = true;
+            return Some(sc.omega_ref);
+        }
         if mesh.shear.is_none() && beam.point_mass.is_none() && mesh.springs(&sc.spring).next().is_some() && n_modes > 0
         {
             let Self { axial_blocks, spring_scratch, roots, .. } = self;
@@ -508,7 +553,7 @@ impl ModalSolver {
         if !self.direct_only {
             if let Some(omega_ref) = self.interpolated_roots(beam, n_modes, Poles::Oscillatory) {
                 self.last_path = Some(SolverPath::Decoupled);
-                self.last_interpolated = !(self.last_axial_blocks || self.last_spring_blocks);
+                self.last_interpolated = !(self.last_axial_blocks || self.last_spring_blocks || self.last_shear_blocks);
                 for (k, &mode) in modes.iter().enumerate() {
                     let Some(fam) = mode.checked_sub(1).and_then(|j| self.roots.get(j)).filter(|_| mode <= n_modes)
                     else {
