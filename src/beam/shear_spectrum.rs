@@ -39,7 +39,11 @@
 //!   perturbation series does not suffice: dλ̃_r/dα = −λ̃_r·φᵀR̃φ/φᵀM̃φ is the
 //!   rotary share, (rπ)²r̃² ≈ 0.25 for mode 5 at L/d = 8 (16(L/d)² = 1/r̃²),
 //!   not small, so the second-order term is ~1e-2 relative at ζ = 0.3. These
-//!   models keep `general_path` (nonlinear RQI).
+//!   models keep `general_path` (nonlinear RQI). On the simply supported mesh
+//!   the wavenumber split below holds for the Timoshenko element too, bordered
+//!   by the three end DOFs the mirror does not fix (`shear_blocks.rs`): exact
+//!   for any C and axial force, but slower than the RQI as built, so only
+//!   `ModalSolver::with_shear_blocks` takes it.
 //! * **Axial force** (built for the simply supported Euler–Bernoulli mesh in
 //!   `axial_spectrum.rs`, from the block split below). K̃_N = ñ(G̃₀ + ẽ²G̃₁) is elastic (not relaxed);
 //!   for Euler–Bernoulli G̃₀ = m₁ and G̃₁ = k, so
@@ -58,8 +62,8 @@
 //!   2 × 2 blocks T_j(s), one per j (the last, j = elements, is 1 × 1), with
 //!   entries in closed form, and family j is the lower branch of
 //!   det T_j(s) = 0 for any C, relaxation and ñ: an exact fast path for the
-//!   simply supported axial-force model (`axial_spectrum.rs`; Timoshenko + axial
-//!   is not built). The clamped and free ends break the mirror (the
+//!   simply supported axial-force model (`axial_spectrum.rs`; Timoshenko + axial:
+//!   `shear_blocks.rs`, opt-in, above). The clamped and free ends break the mirror (the
 //!   same check finds residuals of order 1 there).
 //! * **Point mass**: built for Euler–Bernoulli with C = 0 in `mass_spectrum.rs`
 //!   (the secular equation below in λ̃, over the whole interpolated spectrum).
