@@ -675,14 +675,10 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
 /// not raise the RSS. The budget is a safety net for a background pole
 /// crawling along a flat valley, not a verdict on the candidate: a candidate
 /// that is still improving when it runs out would otherwise lose to a worse
-/// one that converged (see the `usable` filter of [`best_refinement`]).
-/// Measured on the complex sweeps of tests/identify_coverage.md (additive
-/// noise, seeds 10 and 52, clamped–clamped, relaxation pole below the
-/// band): the 1-real-pole candidate reached its budget (96 evaluations) with
-/// a BIC lower by 560–1 080 than the 0-real-pole candidate's, which converged
-/// without the relaxation pole and was chosen, its σ̂ 1.10–1.20 × the
-/// oracle's and its modes 2.7–4.6 sd off; continued, the 1-pole candidate
-/// converges and is chosen.
+/// one that converged (see the `usable` filter of [`best_refinement`]): on
+/// complex sweeps that dropped a candidate holding the relaxation pole for
+/// one without it, whose modes the unmodelled background then biased
+/// (tests/identify_coverage.md, complex / additive).
 fn continued(model: &Model, fit: FitResult) -> FitResult {
     if fit.converged {
         return fit;
