@@ -255,9 +255,9 @@ fn ring_down_coverage(proportional: bool) {
     subset_coverage(Kind::Time, proportional);
 }
 
-/// Complex sweeps under additive noise: the 100-seed study covers 0.947
-/// (380 intervals) since a candidate at its budget is continued
-/// (tests/identify_coverage.md; 0.918 before).
+/// Complex sweeps under additive noise (the 100-seed study: 0.918 of 378
+/// intervals, 2.0–2.9 MC sd low; tests/identify_coverage.md). A guard
+/// against gross failure only: seeds 0–5 cover 18 of 20.
 #[test]
 fn ci_complex_coverage_under_additive_noise() {
     subset_coverage(Kind::Complex, false);
@@ -270,11 +270,11 @@ fn ci_ring_down_coverage_under_additive_noise() {
 
 /// Proportional noise: detection is measured, not asserted. Seeds 0–5 now
 /// pass the bar (0.826 of 46 intervals against 0.95 ± 0.136), but the
-/// 100-seed study covers 0.899 (844 intervals), 4.8–6.6 Monte Carlo sd
+/// 100-seed study covers 0.911 (852 intervals), 3.6–5.2 Monte Carlo sd
 /// under 0.95: a pass here would come from the bar's width, so the test
 /// stays ignored (tests/identify_coverage.md).
 #[test]
-#[ignore = "known under-coverage: ring-down intervals under proportional noise cover 0.899 over 100 seeds (tests/identify_coverage.md)"]
+#[ignore = "known under-coverage: ring-down intervals under proportional noise cover 0.911 over 100 seeds (tests/identify_coverage.md)"]
 fn ci_ring_down_coverage_under_proportional_noise() {
     ring_down_coverage(true);
 }
@@ -693,7 +693,8 @@ fn frequency_breakdown() {
     let tag = 4200 + 10 * kind as u64 + u64::from(proportional);
     let first: u64 = std::env::var("IDENTIFY_FIRST").ok().and_then(|s| s.parse().ok()).unwrap_or(0);
     // (label, [z identify ω, z identify ζ, z oracle ω, z oracle ζ], snr, band points)
-    let mut rows: Vec<(String, [f64; 4], f64, usize)> = Vec::new();
+    type Row = (String, [f64; 4], f64, usize);
+    let mut rows: Vec<Row> = Vec::new();
     for seed in first..first + seeds() {
         let support = SUPPORTS[(seed % 3) as usize];
         let (x_in, x_out) = positions(tag, seed);
@@ -773,7 +774,7 @@ fn frequency_breakdown() {
             rows.push((label.clone(), [zi[0], zi[1], zo[0], zo[1]], snr, band));
         }
     }
-    let summary = |what: &str, pick: &dyn Fn(&(String, [f64; 4], f64, usize)) -> bool| {
+    let summary = |what: &str, pick: &dyn Fn(&Row) -> bool| {
         let sel: Vec<&[f64; 4]> = rows.iter().filter(|r| pick(r)).map(|r| &r.1).collect();
         let cover = |k: usize| {
             let z: Vec<f64> = sel.iter().flat_map(|r| [r[k], r[k + 1]]).filter(|z| z.is_finite()).collect();
@@ -909,6 +910,7 @@ fn complex_real_pole_candidates() {
 /// within 10 % of the true γ, and every visible mode found within 3.5 sd
 /// with no false mode (the bound of `subset_record`).
 #[test]
+#[ignore = "known failure on main: the continuation it tests was reverted (it broke identify_loop::noise_free_sweep_gives_the_model_modes; tests/identify_coverage.md)"]
 fn a_refinement_at_its_budget_is_continued() {
     let (kind, seed) = (Kind::Complex, 10);
     let tag = 4200 + 10 * kind as u64;

@@ -611,7 +611,6 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
                 }
                 let candidate = initial_theta(&model, sc, initial)
                     .and_then(|t| refine::fit_projected(&model, &t))
-                    .map(|f| continued(&model, f))
                     .and_then(|f| scored(model, f));
                 match &candidate {
                     // forward selection: a real pole that does not lower the
@@ -667,26 +666,6 @@ fn best_refinement(sc: &Scaled, initial: &[Complex64]) -> Result<(Model, FitResu
             "the nonlinear least-squares refinement did not converge (try --modes K with fewer modes, a lower --max-order, or a record cropped to its clearest part)".into(),
         )
     })
-}
-
-/// A projected refinement that stopped at its evaluation budget
-/// (`refine::VARPRO_PATIENCE`) without converging is continued once from
-/// where it stopped (a second budget), and the continuation kept when it did
-/// not raise the RSS. The budget is a safety net for a background pole
-/// crawling along a flat valley, not a verdict on the candidate: a candidate
-/// that is still improving when it runs out would otherwise lose to a worse
-/// one that converged (see the `usable` filter of [`best_refinement`]): on
-/// complex sweeps that dropped a candidate holding the relaxation pole for
-/// one without it, whose modes the unmodelled background then biased
-/// (tests/identify_coverage.md, complex / additive).
-fn continued(model: &Model, fit: FitResult) -> FitResult {
-    if fit.converged {
-        return fit;
-    }
-    match refine::fit_projected(model, &fit.theta) {
-        Some(more) if more.rss <= fit.rss => more,
-        _ => fit,
-    }
 }
 
 /// Most poles [`with_missed_decay_poles`] adds to a free decay's fit.
