@@ -225,29 +225,42 @@ fn ci_subset_ring_down_with_additive_noise() {
     subset_record(Kind::Time, false);
 }
 
-/// CI-sized coverage study of ring-downs (issue 42 items 1 and 2): seeds
-/// 0–5 of the study (the study's records, same generator). Asserts that no
-/// record fails, that under additive noise every visible mode is found, and
-/// that the 95 % intervals' coverage lies within 3 Monte Carlo sd of 0.95.
-/// The Monte Carlo sd: ω and ζ of one mode are correlated, so the effective
-/// number of independent intervals lies between the number of modes k and
-/// 2k; the bound takes k, sd = sqrt(0.95·0.05/k), which overstates the error
-/// (the bar errs towards passing a slightly low coverage, never towards
-/// failing a right one: the false-failure rate stays ≤ 0.27 %).
-fn ring_down_coverage(proportional: bool) {
-    let t = study(Kind::Time, proportional, 0..6);
-    print(Kind::Time, proportional, &t);
-    assert_eq!(t.failed, 0, "proportional={proportional}: failed records");
+/// CI-sized coverage study (issue 42 items 1 and 2): seeds 0–5 of the
+/// study's `kind` / noise cell (the study's records, same generator).
+/// Asserts that no record fails, that under additive noise every visible
+/// mode is found, and that the 95 % intervals' coverage lies within 3 Monte
+/// Carlo sd of 0.95. The Monte Carlo sd: ω and ζ of one mode are
+/// correlated, so the effective number of independent intervals lies
+/// between the number of modes k and 2k; the bound takes k, sd =
+/// sqrt(0.95·0.05/k), which overstates the error (the bar errs towards
+/// passing a slightly low coverage, never towards failing a right one: the
+/// false-failure rate stays ≤ 0.27 %).
+fn subset_coverage(kind: Kind, proportional: bool) {
+    let t = study(kind, proportional, 0..6);
+    print(kind, proportional, &t);
+    assert_eq!(t.failed, 0, "{kind:?} proportional={proportional}: failed records");
     if !proportional {
-        assert_eq!(t.found, t.visible, "additive: every visible mode found");
+        assert_eq!(t.found, t.visible, "{kind:?} additive: every visible mode found");
     }
     assert!(t.found > 0);
     let cover = t.within_95 as f64 / t.intervals as f64;
     let bar = 3.0 * (0.95f64 * 0.05 / t.found as f64).sqrt();
     assert!(
         (cover - 0.95).abs() <= bar,
-        "proportional={proportional}: 95 % coverage {cover:.3} outside 0.95 ± {bar:.3}"
+        "{kind:?} proportional={proportional}: 95 % coverage {cover:.3} outside 0.95 ± {bar:.3}"
     );
+}
+
+fn ring_down_coverage(proportional: bool) {
+    subset_coverage(Kind::Time, proportional);
+}
+
+/// Complex sweeps under additive noise (the 100-seed study: 0.918 of 378
+/// intervals, 2.0–2.9 MC sd low; tests/identify_coverage.md). A guard
+/// against gross failure only: seeds 0–5 cover 18 of 20.
+#[test]
+fn ci_complex_coverage_under_additive_noise() {
+    subset_coverage(Kind::Complex, false);
 }
 
 #[test]
@@ -257,11 +270,11 @@ fn ci_ring_down_coverage_under_additive_noise() {
 
 /// Proportional noise: detection is measured, not asserted. Seeds 0–5 now
 /// pass the bar (0.826 of 46 intervals against 0.95 ± 0.136), but the
-/// 100-seed study covers 0.899 (844 intervals), 4.8–6.6 Monte Carlo sd
+/// 100-seed study covers 0.911 (852 intervals), 3.6–5.2 Monte Carlo sd
 /// under 0.95: a pass here would come from the bar's width, so the test
 /// stays ignored (tests/identify_coverage.md).
 #[test]
-#[ignore = "known under-coverage: ring-down intervals under proportional noise cover 0.899 over 100 seeds (tests/identify_coverage.md)"]
+#[ignore = "known under-coverage: ring-down intervals under proportional noise cover 0.911 over 100 seeds (tests/identify_coverage.md)"]
 fn ci_ring_down_coverage_under_proportional_noise() {
     ring_down_coverage(true);
 }
@@ -605,4 +618,312 @@ fn a_mode_the_initial_poles_miss_is_found_in_the_residuals() {
         assert!(poles.iter().any(|&w| (w - b.omega).abs() < 0.02 * b.omega), "true mode at {} not in the fit", b.omega);
     }
     assert_visible_found_within_3_5_sd(&rec, &id.modes, "seed 29");
+}
+
+/// The oracle of a frequency record (complex or magnitude): least squares
+/// at the true structure (every true mode of the beam, in band or above it,
+/// and the relaxation pole, no residual terms: H is exactly that rational
+/// function), uniform weights (the additive noise's own law), started at the
+/// true poles and residues. ω, sd ω, ζ, sd ζ (rad/s) per true mode in the
+/// beam's order; `None` when the record is a ring-down or the PSD, or the
+/// fit fails.
+fn frequency_oracle(rec: &Record) -> Option<Vec<[f64; 4]>> {
+    use nanobeam::identify::refine::{fit, fit_projected, mode_estimate, FitKind, Model, PER_MODE};
+    use nanobeam::identify::{Measurement, Stop};
+    use num_complex::Complex64;
+    let (kind, w, y): (FitKind, &Vec<f64>, Vec<Complex64>) = match &rec.data {
+        Measurement::Complex { omega_rad_s, h_m_per_n } => (FitKind::Complex, omega_rad_s, h_m_per_n.clone()),
+        Measurement::Magnitude { omega_rad_s, h_abs_m_per_n } => {
+            (FitKind::Magnitude, omega_rad_s, h_abs_m_per_n.iter().map(|&v| Complex64::new(v, 0.0)).collect())
+        }
+        _ => return None,
+    };
+    let beam = &rec.beam;
+    let w_ref = 1.5 * w[w.len() - 1];
+    let y_ref = y.iter().map(|v| v.norm()).fold(0.0, f64::max);
+    let model = Model {
+        kind,
+        x: w.iter().map(|v| v / w_ref).collect(),
+        y: y.iter().map(|v| v / y_ref).collect(),
+        n_modes: beam.modes.len(),
+        n_real: 1,
+        poly: vec![],
+        weights: None,
+        stop: Stop::default(),
+    };
+    // H = gain/((s − p)(s − p̄)) in s̃ = s/w_ref: residue gain/(w_ref²·2i·Im p̃) at p̃
+    let mut theta = vec![0.0; model.n_params()];
+    for (r, m) in beam.modes.iter().enumerate() {
+        let p = m.pole() / w_ref;
+        let a = Complex64::new(m.gain / (w_ref * w_ref * y_ref), 0.0) / Complex64::new(0.0, 2.0 * p.im);
+        theta[PER_MODE * r..PER_MODE * (r + 1)].copy_from_slice(&[-p.re, p.im, a.re, a.im]);
+    }
+    let o = PER_MODE * beam.modes.len();
+    theta[o] = beam.gamma / w_ref;
+    theta[o + 1] = beam.b / (w_ref * y_ref);
+    let f = if kind == FitKind::Complex { fit_projected(&model, &theta)? } else { fit(&model, theta, &[])? };
+    Some(
+        (0..beam.modes.len())
+            .map(|r| {
+                let [w, wsd, z, zsd] = mode_estimate(&f, r);
+                [w * w_ref, wsd * w_ref, z, zsd]
+            })
+            .collect(),
+    )
+}
+
+/// Breakdown of the coverage of frequency records (prints only; issue 42
+/// item 1): `IDENTIFY_KIND=Complex|Magnitude` (default Complex),
+/// `IDENTIFY_PROPORTIONAL=1` for proportional noise (the oracle then
+/// assumes uniform noise and is not the right oracle). For every visible
+/// mode `identify` found: its z and the oracle's ([`frequency_oracle`]),
+/// the mode's peak SNR over the noise, the samples in its half-power band,
+/// whether `identify`'s fit holds every true mode in the band (a reported
+/// or background pole within 2 %), the noise model and covariance chosen,
+/// the real poles. Summary lines split the coverage by these.
+#[test]
+#[ignore = "diagnostic printout"]
+fn frequency_breakdown() {
+    let proportional = std::env::var("IDENTIFY_PROPORTIONAL").is_ok();
+    let kind = match std::env::var("IDENTIFY_KIND").as_deref() {
+        Ok("Magnitude") => Kind::Magnitude,
+        _ => Kind::Complex,
+    };
+    let noise = noise_of(proportional);
+    let tag = 4200 + 10 * kind as u64 + u64::from(proportional);
+    let first: u64 = std::env::var("IDENTIFY_FIRST").ok().and_then(|s| s.parse().ok()).unwrap_or(0);
+    // (label, [z identify ω, z identify ζ, z oracle ω, z oracle ζ], snr, band points)
+    type Row = (String, [f64; 4], f64, usize);
+    let mut rows: Vec<Row> = Vec::new();
+    for seed in first..first + seeds() {
+        let support = SUPPORTS[(seed % 3) as usize];
+        let (x_in, x_out) = positions(tag, seed);
+        let beam = Beam::new(support, 5, 2.0 * std::f64::consts::PI * 1.0e4, x_in, x_out, 0.3);
+        let rec = record(beam, kind, noise, 3, tag, seed);
+        let Ok(id) = identify(&rec.data, &IdentifySettings::default()) else {
+            println!("seed {seed}: failed");
+            continue;
+        };
+        let oracle = frequency_oracle(&rec);
+        let w: Vec<f64> = match &rec.data {
+            nanobeam::identify::Measurement::Complex { omega_rad_s, .. }
+            | nanobeam::identify::Measurement::Magnitude { omega_rad_s, .. } => omega_rad_s.clone(),
+            _ => unreachable!(),
+        };
+        let hi = w[w.len() - 1];
+        let peak = match &rec.data {
+            nanobeam::identify::Measurement::Complex { h_m_per_n, .. } => {
+                h_m_per_n.iter().map(|v| v.norm()).fold(0.0, f64::max)
+            }
+            nanobeam::identify::Measurement::Magnitude { h_abs_m_per_n, .. } => {
+                h_abs_m_per_n.iter().copied().fold(0.0, f64::max)
+            }
+            _ => unreachable!(),
+        };
+        let poles: Vec<f64> = id.modes.iter().chain(&id.background_modes).map(|m| m.omega_rad_s).collect();
+        let in_band: Vec<_> = rec.beam.modes.iter().filter(|m| m.omega <= hi).copied().collect();
+        let held = in_band.iter().all(|b| poles.iter().any(|&p| (p - b.omega).abs() < 0.02 * b.omega));
+        let extra = poles
+            .iter()
+            .filter(|&&p| p <= hi && !rec.beam.modes.iter().any(|b| (p - b.omega).abs() < 0.02 * b.omega))
+            .count();
+        let label = format!(
+            "held={held} extra={extra} real={} noise={}/{}",
+            id.real_poles_rad_s.len(),
+            id.noise_model.kind,
+            id.noise_model.covariance
+        );
+        println!(
+            "seed {seed} {support:?} x {x_in:.3} {x_out:.3} {label} lr {:.1} bp {:.1} real poles {:?}",
+            id.noise_model.likelihood_ratio, id.noise_model.breusch_pagan, id.real_poles_rad_s
+        );
+        for m in id.modes.iter().chain(&id.background_modes) {
+            if !rec.beam.modes.iter().any(|b| (m.omega_rad_s - b.omega).abs() < 0.02 * b.omega) {
+                println!(
+                    "  extra pole: omega {:.4e} ({:.3} of the band top) zeta {:.2e} peak snr {:.1}",
+                    m.omega_rad_s,
+                    m.omega_rad_s / hi,
+                    m.zeta,
+                    m.peak_snr
+                );
+            }
+        }
+        for v in &rec.visible {
+            let Some(m) = id.modes.iter().find(|m| (m.omega_rad_s - v.omega).abs() < 0.05 * v.omega) else {
+                println!("  missed visible mode at {:.4e}", v.omega);
+                continue;
+            };
+            let r = rec.beam.modes.iter().position(|b| b.omega == v.omega).expect("a true mode");
+            let zi = [(m.omega_rad_s - v.omega) / m.omega_sd_rad_s, (m.zeta - v.zeta) / m.zeta_sd];
+            let zo = oracle
+                .as_ref()
+                .map_or([f64::NAN; 2], |o| [(o[r][0] - v.omega) / o[r][1], (o[r][2] - v.zeta) / o[r][3]]);
+            let sdr = oracle.as_ref().map_or([f64::NAN; 2], |o| [m.omega_sd_rad_s / o[r][1], m.zeta_sd / o[r][3]]);
+            let snr = v.h(v.omega).norm() / noise.sd(v.h(v.omega).norm(), peak);
+            let band = w.iter().filter(|&&x| (x - v.omega).abs() <= v.zeta * v.omega).count();
+            println!(
+                "  mode {} snr {snr:.0} band {band}: identify z {:+.2} {:+.2} oracle z {:+.2} {:+.2} sd ratio {:.2} {:.2}",
+                r + 1,
+                zi[0],
+                zi[1],
+                zo[0],
+                zo[1],
+                sdr[0],
+                sdr[1]
+            );
+            rows.push((label.clone(), [zi[0], zi[1], zo[0], zo[1]], snr, band));
+        }
+    }
+    let summary = |what: &str, pick: &dyn Fn(&Row) -> bool| {
+        let sel: Vec<&[f64; 4]> = rows.iter().filter(|r| pick(r)).map(|r| &r.1).collect();
+        let cover = |k: usize| {
+            let z: Vec<f64> = sel.iter().flat_map(|r| [r[k], r[k + 1]]).filter(|z| z.is_finite()).collect();
+            let n = z.len().max(1) as f64;
+            let c = z.iter().filter(|z| z.abs() <= 1.96).count() as f64 / n;
+            let sd = (z.iter().map(|z| z * z).sum::<f64>() / n).sqrt();
+            let kurt = z.iter().map(|z| z.powi(4)).sum::<f64>() / n / (sd.powi(4)).max(1e-300);
+            format!("cover {c:.3} rms z {sd:.2} kurtosis {kurt:.1} ({} intervals)", z.len())
+        };
+        let omega_zeta = |k: usize| {
+            let z: Vec<f64> = sel.iter().map(|r| r[k]).filter(|z| z.is_finite()).collect();
+            let n = z.len().max(1) as f64;
+            format!("{:.3}", z.iter().filter(|z| z.abs() <= 1.96).count() as f64 / n)
+        };
+        println!(
+            "{what}: {} modes | identify {} (ω {}, ζ {}) | oracle {} (ω {}, ζ {})",
+            sel.len(),
+            cover(0),
+            omega_zeta(0),
+            omega_zeta(1),
+            cover(2),
+            omega_zeta(2),
+            omega_zeta(3)
+        );
+    };
+    summary("all", &|_| true);
+    summary("fit holds every true mode in the band", &|r| r.0.starts_with("held=true"));
+    summary("fit misses a true mode in the band", &|r| r.0.starts_with("held=false"));
+    summary("no extra pole in the band", &|r| r.0.contains("extra=0 "));
+    summary("extra poles in the band", &|r| !r.0.contains("extra=0 "));
+    summary("uniform noise model", &|r| r.0.contains("noise=uniform/"));
+    summary("proportional noise model", &|r| r.0.contains("noise=additive_plus_proportional/"));
+    summary("model covariance", &|r| r.0.ends_with("/model"));
+    summary("sandwich covariance", &|r| r.0.ends_with("/sandwich"));
+    for k in 0..=3 {
+        summary(&format!("{k} real poles"), &|r| r.0.contains(&format!("real={k} ")));
+    }
+    summary("snr 20–50", &|r| r.2 < 50.0);
+    summary("snr 50–200", &|r| (50.0..200.0).contains(&r.2));
+    summary("snr ≥ 200", &|r| r.2 >= 200.0);
+    summary("band points 3–5", &|r| r.3 <= 5);
+    summary("band points 6–10", &|r| (6..=10).contains(&r.3));
+    summary("band points > 10", &|r| r.3 > 10);
+}
+
+/// Experiment (prints only): the complex sweep of `IDENTIFY_SEED` (additive
+/// noise) refined as `identify` does (poles scaled by 1.5·ω_max, residual
+/// terms s̃⁰…s̃², two out-of-band poles at 1.2 and 1.6 of the band top,
+/// real-pole starts geometric over the band), started at the true in-band
+/// poles, with 0…3 real poles: convergence, evaluations, RSS, BIC.
+#[test]
+#[ignore = "diagnostic printout"]
+fn complex_real_pole_candidates() {
+    use nanobeam::identify::refine::{fit_projected, mode_estimate, FitKind, Model, PER_MODE};
+    use nanobeam::identify::{Measurement, Stop};
+    use num_complex::Complex64;
+    let kind = Kind::Complex;
+    let tag = 4200 + 10 * kind as u64;
+    let seed: u64 = std::env::var("IDENTIFY_SEED").ok().and_then(|s| s.parse().ok()).unwrap_or(10);
+    let support = SUPPORTS[(seed % 3) as usize];
+    let (x_in, x_out) = positions(tag, seed);
+    let beam = Beam::new(support, 5, 2.0 * std::f64::consts::PI * 1.0e4, x_in, x_out, 0.3);
+    let rec = record(beam, kind, noise_of(false), 3, tag, seed);
+    let Measurement::Complex { omega_rad_s: w, h_m_per_n: y } = &rec.data else { unreachable!() };
+    let w_ref = 1.5 * w[w.len() - 1];
+    let y_ref = y.iter().map(|v| v.norm()).fold(0.0, f64::max);
+    let x: Vec<f64> = w.iter().map(|v| v / w_ref).collect();
+    let (lo, hi) = (x[0].max(1e-2), 1.0 / 1.5);
+    let mut poles: Vec<Complex64> =
+        rec.beam.modes.iter().filter(|m| m.omega <= w[w.len() - 1]).map(|m| m.pole() / w_ref).collect();
+    let n_in = poles.len();
+    for j in 0..2 {
+        let p = (1.2 + 0.4 * j as f64) * hi;
+        poles.push(Complex64::new(-0.01 * p, p));
+    }
+    println!("seed {seed} {support:?}: gamma/w_ref {:.4}, band [{lo:.4}, {hi:.4}]", rec.beam.gamma / w_ref);
+    for n_real in 0..=3 {
+        let model = Model {
+            kind: FitKind::Complex,
+            x: x.clone(),
+            y: y.iter().map(|v| v / y_ref).collect(),
+            n_modes: poles.len(),
+            n_real,
+            poly: vec![0, 1, 2],
+            weights: None,
+            stop: Stop::default(),
+        };
+        let mut theta = vec![0.0; model.n_params()];
+        for (r, p) in poles.iter().enumerate() {
+            theta[PER_MODE * r] = -p.re;
+            theta[PER_MODE * r + 1] = p.im;
+        }
+        let o = PER_MODE * poles.len();
+        for k in 0..n_real {
+            theta[o + 2 * k] = lo * (hi / lo).powf((k as f64 + 0.5) / n_real as f64);
+        }
+        let theta = model.solve_linear(&theta).unwrap();
+        match fit_projected(&model, &theta) {
+            Some(f) => {
+                let m = model.n_residuals() as f64;
+                let bic = m * (f.rss / m).ln() + model.n_params() as f64 * m.ln();
+                let z: Vec<String> = rec
+                    .visible
+                    .iter()
+                    .filter_map(|v| {
+                        let r =
+                            (0..n_in).find(|&r| (mode_estimate(&f, r)[0] * w_ref - v.omega).abs() < 0.05 * v.omega)?;
+                        let [om, os, ze, zs] = mode_estimate(&f, r);
+                        Some(format!("({:+.2} {:+.2})", (om * w_ref - v.omega) / (os * w_ref), (ze - v.zeta) / zs))
+                    })
+                    .collect();
+                let reals: Vec<f64> = (0..n_real).map(|k| f.theta[o + 2 * k]).collect();
+                let oob: Vec<String> = (n_in..poles.len())
+                    .map(|r| format!("({:.3} {:.3})", f.theta[PER_MODE * r], f.theta[PER_MODE * r + 1]))
+                    .collect();
+                println!(
+                    "  {n_real} real: converged {} evals {} rss {:.6e} bic {bic:.2} real {reals:.4?} oob {oob:?} z {z:?}",
+                    f.converged, f.evaluations, f.rss
+                );
+            }
+            None => println!("  {n_real} real: failed"),
+        }
+    }
+}
+
+/// A candidate that stops at its evaluation budget is continued, not
+/// dropped for a worse one that converged (`identify::continued`): seed 10
+/// of the complex / additive study (clamped–clamped, same generator). Its
+/// 1-real-pole candidate reached the budget with a BIC 1 080 below the
+/// 0-real-pole candidate's; the latter was chosen, without the relaxation
+/// pole at 0.3ω₁, and its three modes came out at |z| up to 4.63 (the
+/// oracle at the true structure: ≤ 0.59). Asserts a real pole in the fit,
+/// within 10 % of the true γ, and every visible mode found within 3.5 sd
+/// with no false mode (the bound of `subset_record`).
+#[test]
+#[ignore = "known failure on main: the continuation it tests was reverted (it broke identify_loop::noise_free_sweep_gives_the_model_modes; tests/identify_coverage.md)"]
+fn a_refinement_at_its_budget_is_continued() {
+    let (kind, seed) = (Kind::Complex, 10);
+    let tag = 4200 + 10 * kind as u64;
+    let support = SUPPORTS[(seed % 3) as usize];
+    let (x_in, x_out) = positions(tag, seed);
+    let beam = Beam::new(support, 5, 2.0 * std::f64::consts::PI * 1.0e4, x_in, x_out, 0.3);
+    let rec = record(beam, kind, noise_of(false), 3, tag, seed);
+    let id = identify(&rec.data, &IdentifySettings::default()).expect("identified");
+    let gamma = rec.beam.gamma;
+    assert!(
+        id.real_poles_rad_s.iter().any(|g| (g - gamma).abs() < 0.1 * gamma),
+        "real poles {:?}, relaxation at {gamma}",
+        id.real_poles_rad_s
+    );
+    assert_visible_found_within_3_5_sd(&rec, &id.modes, "seed 10");
 }
