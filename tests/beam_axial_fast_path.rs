@@ -30,7 +30,7 @@
 
 mod fast_path_check;
 
-use fast_path_check::{compare, compare_observables};
+use fast_path_check::{assert_same_bits_at_one_and_two_threads_and_after_any_history, compare, compare_observables};
 use nanobeam::beam::spec::{Section, Tube};
 use nanobeam::beam::{buckling_load_n, modal_state_space, BeamSpec, InternalVariable, ModalSolver, Support};
 use rand::{Rng, SeedableRng};
@@ -190,25 +190,14 @@ fn closed_form_is_approached_at_the_h4_rate() {
     }
 }
 
-/// Same bits from two threads as from one: the path is a function of its
-/// input alone (no shared state; each thread its own solver, as a diagnosis has).
+/// Same bits from two threads as from one, and whatever the solver saw
+/// before: the path is a function of its input alone (no shared state; each
+/// thread its own solver, as a diagnosis has).
 #[test]
-fn same_bits_at_one_and_two_threads() {
+fn same_bits_at_one_and_two_threads_and_after_any_history() {
     let mut rng = ChaCha8Rng::seed_from_u64(4113);
     let beams: Vec<BeamSpec> = (0..40).map(|_| random_beam(&mut rng)).collect();
-    let run = |bs: &[BeamSpec]| -> Vec<String> {
-        let mut s = ModalSolver::new();
-        bs.iter().map(|b| format!("{:?}", s.modal(b, 5).unwrap())).collect()
-    };
-    let serial = run(&beams);
-    let (a, b) = beams.split_at(20);
-    let (ra, rb) = std::thread::scope(|sc| {
-        let ha = sc.spawn(|| run(a));
-        let hb = sc.spawn(|| run(b));
-        (ha.join().unwrap(), hb.join().unwrap())
-    });
-    let parallel: Vec<String> = ra.into_iter().chain(rb).collect();
-    assert_eq!(serial, parallel);
+    assert_same_bits_at_one_and_two_threads_and_after_any_history(&beams, ModalSolver::new);
 }
 
 /// Near buckling (N = f·N_cr, f up to 0.99999: the cases of

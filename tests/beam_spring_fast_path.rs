@@ -37,7 +37,7 @@
 
 mod fast_path_check;
 
-use fast_path_check::{compare, compare_observables};
+use fast_path_check::{assert_same_bits_at_one_and_two_threads_and_after_any_history, compare, compare_observables};
 use nanobeam::beam::spec::{Section, Tube};
 use nanobeam::beam::{
     buckling_load_n, modal_state_space, BeamSpec, InternalVariable, ModalSolver, PointMass, ShearDeformation, Support,
@@ -203,26 +203,5 @@ fn the_path_declines_off_its_hypotheses() {
 fn same_bits_at_one_and_two_threads_and_after_any_history() {
     let mut rng = ChaCha8Rng::seed_from_u64(4123);
     let beams: Vec<BeamSpec> = (0..40).map(|_| random_beam(&mut rng)).collect();
-    let obs = |s: &mut ModalSolver, b: &BeamSpec| {
-        let mut out = [0.0; 10];
-        let ok = s.observables(b, &[1, 2, 3, 4, 5], 5, &mut out).unwrap();
-        format!("{ok} {:?}", out.map(f64::to_bits))
-    };
-    let run = |bs: &[BeamSpec]| -> Vec<String> {
-        let mut s = ModalSolver::new();
-        bs.iter().map(|b| format!("{:?} {}", s.modal(b, 5).unwrap(), obs(&mut s, b))).collect()
-    };
-    let serial = run(&beams);
-    let (a, b) = beams.split_at(20);
-    let (ra, rb) = std::thread::scope(|sc| {
-        let ha = sc.spawn(|| run(a));
-        let hb = sc.spawn(|| run(b));
-        (ha.join().unwrap(), hb.join().unwrap())
-    });
-    let parallel: Vec<String> = ra.into_iter().chain(rb).collect();
-    assert_eq!(serial, parallel);
-    let reversed: Vec<BeamSpec> = beams.iter().rev().cloned().collect();
-    let mut back = run(&reversed);
-    back.reverse();
-    assert_eq!(serial, back);
+    assert_same_bits_at_one_and_two_threads_and_after_any_history(&beams, ModalSolver::new);
 }

@@ -475,18 +475,22 @@ fn ring_down_oracle_fit(rec: &Record, noise: Noise) -> Option<RingDownOracle> {
 /// The oracle's ([`ring_down_oracle_fit`]) ω, sd ω, ζ, sd ζ (rad/s) per true
 /// mode below the cut-off, in the beam's order.
 fn ring_down_oracle(rec: &Record, noise: Noise) -> Option<Vec<[f64; 4]>> {
-    use nanobeam::identify::refine::mode_estimate;
     let o = ring_down_oracle_fit(rec, noise)?;
     let fit = o.fit?;
     let s = std::f64::consts::PI / o.dt;
-    Some(
-        (0..o.modes.len())
-            .map(|r| {
-                let [w, wsd, z, zsd] = mode_estimate(&fit, r);
-                [w * s, wsd * s, z, zsd]
-            })
-            .collect(),
-    )
+    Some(estimates_in_rad_s(&fit, o.modes.len(), s))
+}
+
+/// ω, sd ω (rad/s: the fit's scaled units times `scale`), ζ, sd ζ of the
+/// first `n` modes of an oracle fit.
+fn estimates_in_rad_s(fit: &nanobeam::identify::refine::FitResult, n: usize, scale: f64) -> Vec<[f64; 4]> {
+    use nanobeam::identify::refine::mode_estimate;
+    (0..n)
+        .map(|r| {
+            let [w, wsd, z, zsd] = mode_estimate(fit, r);
+            [w * scale, wsd * scale, z, zsd]
+        })
+        .collect()
 }
 
 /// Breakdown of the ring-down coverage (issue 42 item 1; prints only): for
@@ -628,7 +632,7 @@ fn a_mode_the_initial_poles_miss_is_found_in_the_residuals() {
 /// beam's order; `None` when the record is a ring-down or the PSD, or the
 /// fit fails.
 fn frequency_oracle(rec: &Record) -> Option<Vec<[f64; 4]>> {
-    use nanobeam::identify::refine::{fit, fit_projected, mode_estimate, FitKind, Model, PER_MODE};
+    use nanobeam::identify::refine::{fit, fit_projected, FitKind, Model, PER_MODE};
     use nanobeam::identify::{Measurement, Stop};
     use num_complex::Complex64;
     let (kind, w, y): (FitKind, &Vec<f64>, Vec<Complex64>) = match &rec.data {
@@ -662,14 +666,7 @@ fn frequency_oracle(rec: &Record) -> Option<Vec<[f64; 4]>> {
     theta[o] = beam.gamma / w_ref;
     theta[o + 1] = beam.b / (w_ref * y_ref);
     let f = if kind == FitKind::Complex { fit_projected(&model, &theta)? } else { fit(&model, theta, &[])? };
-    Some(
-        (0..beam.modes.len())
-            .map(|r| {
-                let [w, wsd, z, zsd] = mode_estimate(&f, r);
-                [w * w_ref, wsd * w_ref, z, zsd]
-            })
-            .collect(),
-    )
+    Some(estimates_in_rad_s(&f, beam.modes.len(), w_ref))
 }
 
 /// Breakdown of the coverage of frequency records (prints only; issue 42

@@ -1,8 +1,9 @@
-//! The comparisons every exact fast path of `beam` is held to, shared by
-//! `beam_axial_fast_path.rs` and `beam_spring_fast_path.rs`: a fast result
-//! against a reference solve of the same beam (the coupled RQI of
-//! `ModalSolver::direct_only`, or the dense state space), ω relative and ζ
-//! absolute, within a tolerance each test derives for its path.
+//! The checks every exact fast path of `beam` is held to, shared by
+//! `beam_axial_fast_path.rs`, `beam_spring_fast_path.rs` and
+//! `beam_shear_blocks.rs`: a fast result against a reference solve of the
+//! same beam (the coupled RQI of `ModalSolver::direct_only`, or the dense
+//! state space), ω relative and ζ absolute, within a tolerance each test
+//! derives for its path; and the same bits at any thread count and history.
 
 use nanobeam::beam::{ModalResult, ModalSolver};
 
@@ -52,4 +53,37 @@ pub fn compare_observables<const N: usize>(
         assert!((out[N + k] - r.zeta).abs() <= 2.0 * tol, "{what} mode {m}: ζ {} vs {}", out[N + k], r.zeta);
     }
     Some(worst)
+}
+
+/// The fast path is a function of its input alone: `modal` (5 modes) and
+/// `observables` (modes 1–5) of every beam give the same bits from one
+/// solver as from two solvers on two threads (the beams split in halves),
+/// and as from one solver that saw them in reverse order (every cache and
+/// scratch state a history leaves). `new_solver` makes the solver under test.
+pub fn assert_same_bits_at_one_and_two_threads_and_after_any_history(
+    beams: &[nanobeam::beam::BeamSpec],
+    new_solver: fn() -> ModalSolver,
+) {
+    let obs = |s: &mut ModalSolver, b: &nanobeam::beam::BeamSpec| {
+        let mut out = [0.0; 10];
+        let ok = s.observables(b, &[1, 2, 3, 4, 5], 5, &mut out).unwrap();
+        format!("{ok} {:?}", out.map(f64::to_bits))
+    };
+    let run = |bs: &[nanobeam::beam::BeamSpec]| -> Vec<String> {
+        let mut s = new_solver();
+        bs.iter().map(|b| format!("{:?} {}", s.modal(b, 5).unwrap(), obs(&mut s, b))).collect()
+    };
+    let serial = run(beams);
+    let (a, b) = beams.split_at(beams.len() / 2);
+    let (ra, rb) = std::thread::scope(|sc| {
+        let ha = sc.spawn(|| run(a));
+        let hb = sc.spawn(|| run(b));
+        (ha.join().unwrap(), hb.join().unwrap())
+    });
+    let parallel: Vec<String> = ra.into_iter().chain(rb).collect();
+    assert_eq!(serial, parallel, "two threads differ from one");
+    let reversed: Vec<nanobeam::beam::BeamSpec> = beams.iter().rev().cloned().collect();
+    let mut back = run(&reversed);
+    back.reverse();
+    assert_eq!(serial, back, "a solver's history changes its bits");
 }
