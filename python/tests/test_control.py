@@ -31,6 +31,10 @@ from test_cli_parity import SAMPLER, VISCO, hidden_mass_data, write
 CHILD = r"""
 import json, os, signal, sys, threading, time, warnings
 import nanobeam
+# a user's Ctrl-C meets Python's own handler; a process started with SIGINT
+# ignored (a background job without job control) inherits SIG_IGN, and Python
+# then installs none
+signal.signal(signal.SIGINT, signal.default_int_handler)
 warnings.simplefilter("ignore")
 kind, path, delay = sys.argv[1], sys.argv[2], float(sys.argv[3])
 sent = []

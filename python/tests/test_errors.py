@@ -111,7 +111,9 @@ def test_ctrl_c_interrupts_a_long_calibration(tmp_path):
     data["sampler"] = dict(SAMPLER, draws_per_chain=1_000_000, chains=2)
     path = write(tmp_path, "m.yaml", data)
     code = (
-        "import sys, nanobeam\n"
+        "import signal, sys, nanobeam\n"
+        # as at a terminal, whatever SIGINT disposition the test runner inherited
+        "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
         "print('started', flush=True)\n"
         "try:\n"
         "    nanobeam.calibrate(sys.argv[1])\n"
