@@ -30,7 +30,10 @@
 
 mod fast_path_check;
 
-use fast_path_check::{assert_same_bits_at_one_and_two_threads_and_after_any_history, compare, compare_observables};
+use fast_path_check::{
+    assert_agrees_with_the_coupled_reference, assert_same_bits_at_one_and_two_threads_and_after_any_history,
+    compare_observables,
+};
 use nanobeam::beam::spec::{Section, Tube};
 use nanobeam::beam::{buckling_load_n, modal_state_space, BeamSpec, InternalVariable, ModalSolver, Support};
 use rand::{Rng, SeedableRng};
@@ -84,38 +87,17 @@ fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
 #[test]
 fn random_beams_agree_with_the_coupled_reference() {
     let mut rng = ChaCha8Rng::seed_from_u64(4111);
-    let mut fast_solver = ModalSolver::new();
-    let mut reference_solver = ModalSolver::direct_only();
-    let (mut worst, mut taken, mut declined) = (0.0f64, 0, 0);
-    for i in 0..300 {
-        let b = random_beam(&mut rng);
-        let reference = reference_solver.modal(&b, 5).unwrap();
-        let fast = fast_solver.modal(&b, 5).unwrap();
-        let tol = S_TOL * compression_gain(&b);
-        // modal() takes the path only without real poles (no internal variable)
-        assert_eq!(fast_solver.last_used_axial_blocks(), b.internal_variables.is_empty(), "beam {i}");
-        let what = format!("beam {i}: {b:?}");
-        worst = worst.max(compare(&fast, &reference, tol, &what));
-        // observables() (what a calibration calls) takes it always
-        match compare_observables::<5>(
-            &mut fast_solver,
-            &b,
-            ModalSolver::last_used_axial_blocks,
-            &reference,
-            tol,
-            &what,
-        ) {
-            Some(w) => {
-                taken += 1;
-                worst = worst.max(w);
-            }
-            None => declined += 1,
-        }
-    }
-    eprintln!("axial fast path: taken {taken}, declined {declined}, worst relative ω difference {worst:e}");
-    // the path must be what the simply supported axial-force model runs on:
-    // it declines only for a mode order it cannot prove (none expected here)
-    assert_eq!(declined, 0);
+    let beams: Vec<BeamSpec> = (0..300).map(|_| random_beam(&mut rng)).collect();
+    // modal() takes the path only without real poles (no internal variable),
+    // observables() (what a calibration calls) always; it declines only for a
+    // mode order it cannot prove (none expected here)
+    assert_agrees_with_the_coupled_reference(
+        &beams,
+        ModalSolver::new(),
+        ModalSolver::last_used_axial_blocks,
+        |b| S_TOL * compression_gain(b),
+        "axial fast path",
+    );
 }
 
 /// 40 random beams against the dense state space (independent of both the

@@ -87,3 +87,39 @@ pub fn assert_same_bits_at_one_and_two_threads_and_after_any_history(
     back.reverse();
     assert_eq!(serial, back, "a solver's history changes its bits");
 }
+
+/// Every beam against the coupled RQI (`ModalSolver::direct_only`, 5 modes):
+/// `modal` takes the path exactly when the beam has no internal variable (no
+/// real poles to leave to the reference), and both `modal` and
+/// `observables` agree within `tol(beam)` ([`compare`],
+/// [`compare_observables`]). Asserts that `observables` never declines and
+/// returns the worst relative ω difference; `label` names the path in the
+/// printed summary.
+pub fn assert_agrees_with_the_coupled_reference(
+    beams: &[nanobeam::beam::BeamSpec],
+    mut fast_solver: ModalSolver,
+    used: fn(&ModalSolver) -> bool,
+    tol: impl Fn(&nanobeam::beam::BeamSpec) -> f64,
+    label: &str,
+) -> f64 {
+    let mut reference_solver = ModalSolver::direct_only();
+    let (mut worst, mut taken, mut declined) = (0.0f64, 0, 0);
+    for (i, b) in beams.iter().enumerate() {
+        let reference = reference_solver.modal(b, 5).unwrap();
+        let fast = fast_solver.modal(b, 5).unwrap();
+        let tol = tol(b);
+        let what = format!("beam {i}: {b:?}");
+        assert_eq!(used(&fast_solver), b.internal_variables.is_empty(), "{what}");
+        worst = worst.max(compare(&fast, &reference, tol, &what));
+        match compare_observables::<5>(&mut fast_solver, b, used, &reference, tol, &what) {
+            Some(w) => {
+                taken += 1;
+                worst = worst.max(w);
+            }
+            None => declined += 1,
+        }
+    }
+    eprintln!("{label}: taken {taken}, declined {declined}, worst relative ω difference {worst:e}");
+    assert_eq!(declined, 0, "{label} declined");
+    worst
+}
