@@ -17,7 +17,9 @@
 //! on this simply supported mesh, the wavenumber-block path of
 //! `beam/axial_spectrum.rs` against the coupled RQI; for
 //! support-rotational-stiffness and its pairs without shear or point mass,
-//! the secular path of `beam/spring_spectrum.rs` against the coupled RQI).
+//! the secular path of `beam/spring_spectrum.rs` against the coupled RQI;
+//! for attached-mass with viscous damping or an axial force, the rank-1
+//! secular path of `beam/mass_blocks.rs` against the coupled RQI).
 //! The tables are in `benches/README.md`.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
@@ -119,6 +121,7 @@ fn models() -> Vec<(&'static str, Causes)> {
         ("shear+mass", Causes { shear: true, mass: true, ..none }),
         ("shear+axial", Causes { shear: true, axial: true, ..none }),
         ("viscous+mass", Causes { viscous: true, mass: true, ..none }),
+        ("axial+mass", Causes { axial: true, mass: true, ..none }),
         ("extra-relaxation+mass", Causes { relaxation: true, mass: true, ..none }),
         ("spring+axial", Causes { spring: true, axial: true, ..none }),
         ("extra-relaxation+spring", Causes { relaxation: true, spring: true, ..none }),

@@ -8,7 +8,8 @@
 //! interpolants from `spectrum` (Euler–Bernoulli) and `shear_spectrum`
 //! (Timoshenko), a point mass by the secular equation of `mass_spectrum`, the axial force on a simply
 //! supported mesh by the wavenumber blocks of `axial_spectrum`, support springs
-//! on it by the rank ≤ 2 secular equation of `spring_spectrum`, or, in `coupled`,
+//! on it by the rank ≤ 2 secular equation of `spring_spectrum` and a point mass
+//! with damping or an axial force by the rank-1 one of `mass_blocks`, or, in `coupled`,
 //! Rayleigh-quotient iteration on T(s) when the extensions couple the modes;
 //! the result types in `modal_result`) →
 //! `frf` (direct banded solves); `time_response` (impulse response by the
@@ -24,6 +25,7 @@ pub mod element;
 mod error;
 pub(crate) mod family;
 mod frf;
+mod mass_blocks;
 mod mass_spectrum;
 mod modal;
 mod modal_result;

@@ -37,6 +37,7 @@ use crate::beam::coupled::{general_path, Poles};
 use crate::beam::dual::Dual;
 use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
 use crate::beam::family::{decoupled_family_roots_into, family_roots, Roots};
+use crate::beam::mass_blocks::MassScratch;
 use crate::beam::mass_spectrum::MassSpectrumTable;
 use crate::beam::modal_result::{assemble, check_mode_count, oscillatory_pair, ModalResult, SolverPath};
 use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
@@ -111,6 +112,7 @@ pub struct ModalSolver {
     /// [`ModalSolver::new`], so a diagnosis does not take it).
     use_shear_blocks: bool,
     spring_scratch: SpringScratch,
+    mass_scratch: MassScratch,
     /// Never use the interpolant (reference solver for tests and benches).
     direct_only: bool,
     last_interpolated: bool,
@@ -120,6 +122,8 @@ pub struct ModalSolver {
     last_spring_blocks: bool,
     /// True when the last result came from the Timoshenko block path.
     last_shear_blocks: bool,
+    /// True when the last result came from the point-mass block path.
+    last_mass_blocks: bool,
     lambdas: Vec<f64>,
     /// Error bounds of `lambdas` on the point-mass path (`mass_spectrum.rs`).
     bounds: Vec<f64>,
@@ -349,6 +353,13 @@ impl ModalSolver {
         self.last_spring_blocks
     }
 
+    /// True when the last result came from the exact point-mass path of a
+    /// simply supported Euler–Bernoulli mesh with damping or an axial force
+    /// (`mass_blocks.rs`).
+    pub fn last_used_mass_blocks(&self) -> bool {
+        self.last_mass_blocks
+    }
+
     /// True when the last result came from the exact bordered wavenumber-block
     /// path of a simply supported Timoshenko mesh (`shear_blocks.rs`).
     pub fn last_used_shear_blocks(&self) -> bool {
@@ -390,7 +401,10 @@ impl ModalSolver {
         if !self.direct_only {
             if let Some(result) = self.interpolated(beam, n_modes, poles) {
                 self.last_path = Some(SolverPath::Decoupled);
-                self.last_interpolated = !(self.last_axial_blocks || self.last_spring_blocks || self.last_shear_blocks);
+                self.last_interpolated = !(self.last_axial_blocks
+                    || self.last_spring_blocks
+                    || self.last_shear_blocks
+                    || self.last_mass_blocks);
                 return Ok(result);
             }
         }
@@ -438,6 +452,23 @@ impl ModalSolver {
         self.last_axial_blocks = false;
         self.last_spring_blocks = false;
         self.last_shear_blocks = false;
+        self.last_mass_blocks = false;
+        if let Some(pm) = beam.point_mass.as_ref().filter(|_| {
+            mesh.shear.is_none() && mesh.springs(&sc.spring).next().is_none() && (sc.c != 0.0 || sc.axial != 0.0)
+        }) {
+            let Self { axial_blocks, mass_scratch, roots, .. } = self;
+            let blocks = axial_blocks.get_or_insert_with(|| AxialBlocks::new(mesh)).as_ref()?;
+            let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
+            let t = sc.e_tilde * sc.e_tilde;
+            // μ̃ and x̃ exactly as `ScaledModel::new` forms them
+            let mass = (pm.mass_kg / (sc.rho_a * sc.l), pm.x_nm / beam.length_nm);
+            let all = poles == Poles::All;
+            if !blocks.mass_family_roots(t, sc.axial, mass, sc.c, &ivs[..nv], n_modes, all, mass_scratch, roots) {
+                return None;
+            }
+            self.last_mass_blocks = true;
+            return Some(sc.omega_ref);
+        }
         if self.use_shear_blocks
             && mesh.shear.is_some()
             && beam.point_mass.is_none()
@@ -553,7 +584,10 @@ impl ModalSolver {
         if !self.direct_only {
             if let Some(omega_ref) = self.interpolated_roots(beam, n_modes, Poles::Oscillatory) {
                 self.last_path = Some(SolverPath::Decoupled);
-                self.last_interpolated = !(self.last_axial_blocks || self.last_spring_blocks || self.last_shear_blocks);
+                self.last_interpolated = !(self.last_axial_blocks
+                    || self.last_spring_blocks
+                    || self.last_shear_blocks
+                    || self.last_mass_blocks);
                 for (k, &mode) in modes.iter().enumerate() {
                     let Some(fam) = mode.checked_sub(1).and_then(|j| self.roots.get(j)).filter(|_| mode <= n_modes)
                     else {

@@ -101,7 +101,7 @@ const RAYLEIGH_TOL: f64 = 1e-8;
 
 /// A number the secular functions are evaluated in: f64 on the real axis,
 /// Complex64 at a pole.
-trait Num:
+pub(super) trait Num:
     Copy
     + std::ops::Add<Output = Self>
     + std::ops::Sub<Output = Self>
@@ -115,28 +115,28 @@ impl Num for Complex64 {}
 
 /// A value with its derivative.
 #[derive(Debug, Clone, Copy)]
-struct Jet<T> {
-    v: T,
-    d: T,
+pub(super) struct Jet<T> {
+    pub(super) v: T,
+    pub(super) d: T,
 }
 
 impl<T: Num> Jet<T> {
-    fn c(v: f64) -> Self {
+    pub(super) fn c(v: f64) -> Self {
         Jet { v: T::from(v), d: T::from(0.0) }
     }
-    fn mul(self, o: Self) -> Self {
+    pub(super) fn mul(self, o: Self) -> Self {
         Jet { v: self.v * o.v, d: self.d * o.v + self.v * o.d }
     }
-    fn add(self, o: Self) -> Self {
+    pub(super) fn add(self, o: Self) -> Self {
         Jet { v: self.v + o.v, d: self.d + o.d }
     }
-    fn sub(self, o: Self) -> Self {
+    pub(super) fn sub(self, o: Self) -> Self {
         Jet { v: self.v - o.v, d: self.d - o.d }
     }
-    fn scale(self, c: f64) -> Self {
+    pub(super) fn scale(self, c: f64) -> Self {
         Jet { v: self.v * T::from(c), d: self.d * T::from(c) }
     }
-    fn div(self, o: Self) -> Self {
+    pub(super) fn div(self, o: Self) -> Self {
         let v = self.v / o.v;
         Jet { v, d: (self.d - v * o.d) / o.v }
     }
@@ -145,18 +145,18 @@ impl<T: Num> Jet<T> {
 /// One wavenumber block at (ẽ², ñ): M_j, K_j (relaxed), N_j (elastic), d_j
 /// and σ_j = (−1)^j; a 1 × 1 block (j = 0, n_e) keeps its entry in `vv`.
 #[derive(Debug, Clone, Copy)]
-struct Block {
-    m: Sym2,
-    k: Sym2,
-    n: Sym2,
-    d: f64,
-    sign: f64,
-    single: bool,
+pub(super) struct Block {
+    pub(super) m: Sym2,
+    pub(super) k: Sym2,
+    pub(super) n: Sym2,
+    pub(super) d: f64,
+    pub(super) sign: f64,
+    pub(super) single: bool,
 }
 
 impl Block {
     /// (B_uu or 1, det B) of B = pM + qK + N (module doc), with derivatives.
-    fn parts<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> (Jet<T>, Jet<T>) {
+    pub(super) fn parts<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> (Jet<T>, Jet<T>) {
         let e = |m: f64, k: f64, n: f64| p.scale(m).add(q.scale(k)).add(Jet::c(n));
         let vv = e(self.m.vv, self.k.vv, self.n.vv);
         if self.single {
@@ -168,7 +168,7 @@ impl Block {
     }
 
     /// The block's real matrices S − λM with S = K + N.
-    fn shifted(&self, lambda: f64) -> Sym2 {
+    pub(super) fn shifted(&self, lambda: f64) -> Sym2 {
         self.k.plus(1.0, self.n).plus(-lambda, self.m)
     }
 }
@@ -400,6 +400,57 @@ impl SpringScratch {
 }
 
 impl AxialBlocks {
+    /// The wavenumber blocks at (t = ẽ², ñ) into `blocks` (j = 0 and n_e
+    /// first, then j = 1..n_e − 1) and the whole spring-free spectrum with
+    /// each eigenvalue's block into `mu`, ascending; `false` when a 2 × 2
+    /// pencil has no real eigenvalues (not positive definite in M).
+    pub(super) fn wavenumber_blocks(
+        &self,
+        t: f64,
+        axial: f64,
+        blocks: &mut Vec<Block>,
+        mu: &mut Vec<(f64, usize)>,
+    ) -> bool {
+        let ne = self.elements;
+        blocks.clear();
+        mu.clear();
+        let sign = |j: usize| if j.is_multiple_of(2) { 1.0 } else { -1.0 };
+        let zero = Sym2 { uu: 0.0, uv: 0.0, vv: 0.0 };
+        for (j, rot) in [(0usize, &self.rotation[0]), (ne, &self.rotation[1])] {
+            let (k, m0, m1) = (rot[0], rot[1], rot[2]);
+            let m = Sym2 { vv: m0 + t * m1, ..zero };
+            let kk = Sym2 { vv: k, ..zero };
+            let n = Sym2 { vv: axial * (m1 + t * k), ..zero };
+            blocks.push(Block { m, k: kk, n, d: ne as f64, sign: sign(j), single: true });
+        }
+        for (i, [k, m0, m1]) in self.blocks.iter().enumerate() {
+            let j = i + 1;
+            let m = m0.plus(t, *m1);
+            let n = m1.plus(t, *k).scaled(axial);
+            blocks.push(Block { m, k: *k, n, d: 0.5 * ne as f64, sign: sign(j), single: false });
+        }
+        for (idx, b) in blocks.iter().enumerate() {
+            let s = b.k.plus(1.0, b.n);
+            if b.single {
+                mu.push((s.vv / b.m.vv, idx));
+                continue;
+            }
+            let m = b.m;
+            let a = m.uu * m.vv - m.uv * m.uv;
+            let bb = s.uu * m.vv + s.vv * m.uu - 2.0 * s.uv * m.uv;
+            let c = s.uu * s.vv - s.uv * s.uv;
+            let disc = bb * bb - 4.0 * a * c;
+            if !(a > 0.0 && disc >= 0.0) {
+                return false;
+            }
+            let up = (bb + disc.sqrt()) / (2.0 * a);
+            mu.push((c / (a * up), idx));
+            mu.push((up, idx));
+        }
+        mu.sort_by(|x, y| x.0.total_cmp(&y.0));
+        true
+    }
+
     /// Fills `scratch` for (t = ẽ², ñ, k̃ at both ends); `false` unless at
     /// least one spring acts and `n_modes + |A|` spring-free eigenvalues exist,
     /// all finite (not necessarily positive: under compression the beam
@@ -415,43 +466,9 @@ impl AxialBlocks {
         if scratch.ends.is_empty() {
             return false;
         }
-        let ne = self.elements;
-        scratch.blocks.clear();
-        scratch.mu.clear();
-        let sign = |j: usize| if j.is_multiple_of(2) { 1.0 } else { -1.0 };
-        let zero = Sym2 { uu: 0.0, uv: 0.0, vv: 0.0 };
-        for (j, rot) in [(0usize, &self.rotation[0]), (ne, &self.rotation[1])] {
-            let (k, m0, m1) = (rot[0], rot[1], rot[2]);
-            let m = Sym2 { vv: m0 + t * m1, ..zero };
-            let kk = Sym2 { vv: k, ..zero };
-            let n = Sym2 { vv: axial * (m1 + t * k), ..zero };
-            scratch.blocks.push(Block { m, k: kk, n, d: ne as f64, sign: sign(j), single: true });
+        if !self.wavenumber_blocks(t, axial, &mut scratch.blocks, &mut scratch.mu) {
+            return false;
         }
-        for (i, [k, m0, m1]) in self.blocks.iter().enumerate() {
-            let j = i + 1;
-            let m = m0.plus(t, *m1);
-            let n = m1.plus(t, *k).scaled(axial);
-            scratch.blocks.push(Block { m, k: *k, n, d: 0.5 * ne as f64, sign: sign(j), single: false });
-        }
-        for (idx, b) in scratch.blocks.iter().enumerate() {
-            let s = b.k.plus(1.0, b.n);
-            if b.single {
-                scratch.mu.push((s.vv / b.m.vv, idx));
-                continue;
-            }
-            let m = b.m;
-            let a = m.uu * m.vv - m.uv * m.uv;
-            let bb = s.uu * m.vv + s.vv * m.uu - 2.0 * s.uv * m.uv;
-            let c = s.uu * s.vv - s.uv * s.uv;
-            let disc = bb * bb - 4.0 * a * c;
-            if !(a > 0.0 && disc >= 0.0) {
-                return false;
-            }
-            let up = (bb + disc.sqrt()) / (2.0 * a);
-            scratch.mu.push((c / (a * up), idx));
-            scratch.mu.push((up, idx));
-        }
-        scratch.mu.sort_by(|x, y| x.0.total_cmp(&y.0));
         let need = n_modes + scratch.ends.len();
         need <= scratch.mu.len() && scratch.mu.iter().all(|&(m, _)| m.is_finite())
     }

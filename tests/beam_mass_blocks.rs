@@ -1,0 +1,185 @@
+//! Issue 41: the exact point-mass fast path of the simply supported
+//! Euler–Bernoulli beam with viscous damping, an axial force or internal
+//! variables (`beam/mass_blocks.rs`: the point mass a rank-1 update of the
+//! wavenumber-block pencil, one scalar secular function per pole) against the
+//! paths it replaces, which stay the reference: the coupled nonlinear RQI on
+//! the whole assembled T̃(s) (`ModalSolver::direct_only`, `coupled.rs`) and the
+//! dense state space (`modal_state_space`).
+//!
+//! Data: generated here (ChaCha8 streams, seeds in each test) over the hidden
+//! suite's nominal beam (L = 8 nm, d = 1 nm, E = 1 TPa, ρ = 2300 kg/m³) and
+//! the priors of the `attached-mass` class and its pairs with
+//! `viscous-damping`, `axial-force` and `extra-relaxation`
+//! (`diagnose::classes`): μ̃ = m/(ρAL) log-uniform on [1e-3, 1], x ~ U[0, L],
+//! e0a ∈ [0, 2] nm, solid or tube section, then either viscous C up to ζ ≈ 0.3
+//! on mode 1, an axial force (N/|N_cr| ∈ [−0.9, 100], N_cr of the beam without
+//! its mass), or both, 0–2 internal variables (Δ ∈ [0.05, 0.6],
+//! Ω ∈ [3e10, 3e12] rad/s), 10–40 elements, odd meshes included.
+//!
+//! Tolerances (derived). Both paths solve the same FE model; the reference's
+//! poles round to ≤ 1e-12 relative (`beam::modal`'s refinement test). The fast
+//! path's block entries carry ≤ 1.4e-12 (the bending eigenvalue at n_e = 40,
+//! j = 1, `tests/beam_axial_fast_path.rs`); the adjugate form and determinant
+//! of a block next to the root lose ≲ eps·cond(B_j) ≲ 1.4e-12 at n_e = 40
+//! (`tests/beam_spring_fast_path.rs`, same blocks); the root is at Newton's
+//! floor. So a pole agrees to [`S_TOL`] = 4e-12 relative, ω = |s| likewise,
+//! ζ to 2·S_TOL absolute, with compression's amplification (λ = λ_K − |λ_N|,
+//! `compression_gain`) on both sides. The mass adds no cancellation: it enters
+//! h(s) as 1/(μ̃s²), a positive term, and n_j is a sum of two products. The
+//! dense state space is accurate to ≲ 1e-9 relative on 10-element meshes
+//! (`tests/beam_axial_fast_path.rs`), compared at [`STATE_SPACE_TOL`] = 1e-7.
+
+mod fast_path_check;
+
+use fast_path_check::{
+    assert_agrees_with_the_coupled_reference, assert_same_bits_at_one_and_two_threads_and_after_any_history,
+    compare_observables,
+};
+use nanobeam::beam::spec::{Section, Tube};
+use nanobeam::beam::{
+    buckling_load_n, modal_state_space, BeamSpec, InternalVariable, ModalSolver, PointMass, ShearDeformation, Support,
+};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+const L_NM: f64 = 8.0;
+/// Relative tolerance on a pole against the coupled RQI reference (module doc).
+const S_TOL: f64 = 4e-12;
+/// Relative tolerance against the dense state space (module doc).
+const STATE_SPACE_TOL: f64 = 1e-7;
+
+/// λ = λ_K − |λ_N| amplifies relative rounding by (1 + r)/(1 − r),
+/// r = |N|/|N_cr| under compression (`tests/beam_spring_fast_path.rs`); the
+/// mass lowers every mode's λ_K and λ_N alike, so r is that of the mass-free beam.
+fn compression_gain(b: &BeamSpec) -> f64 {
+    let free = BeamSpec { point_mass: None, ..b.clone() };
+    let r = (-b.axial_force_n / buckling_load_n(&free).unwrap().abs()).max(0.0);
+    (1.0 + r) / (1.0 - r)
+}
+
+fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
+    let elements = [10, 15, 20, 20, 40][rng.gen_range(0..5)];
+    let mut b = BeamSpec::elastic(L_NM, 1.0, 1e12, 2300.0, Support::SimplySupported, elements);
+    b.nonlocal_e0a_nm = rng.gen_range(0.0..2.0);
+    if rng.gen_bool(0.3) {
+        b.section = Some(Section { tube: Tube { wall_nm: rng.gen_range(0.2..0.45) } });
+    }
+    let rho_a = b.density_kg_m3 * b.area_m2();
+    let mu = 10f64.powf(rng.gen_range(-3.0..0.0));
+    b.point_mass = Some(PointMass { mass_kg: mu * rho_a * L_NM * 1e-9, x_nm: rng.gen_range(0.0..L_NM) });
+    // C up to ≈ 2ζω₁ρA with ζ ≈ 0.3 on mode 1 of the nominal beam (ω₁ ≈ 8e11 rad/s)
+    let damping = |rng: &mut ChaCha8Rng| rng.gen_range(0.01..0.6) * 8e11 * rho_a;
+    let force = |rng: &mut ChaCha8Rng, b: &BeamSpec| {
+        let ncr = buckling_load_n(&BeamSpec { point_mass: None, ..b.clone() }).unwrap().abs();
+        rng.gen_range((-0.9f64).asinh()..100f64.asinh()).sinh() * ncr
+    };
+    match rng.gen_range(0..3) {
+        0 => b.viscous_damping_n_s_m2 = damping(rng),
+        1 => b.axial_force_n = force(rng, &b),
+        _ => {
+            b.viscous_damping_n_s_m2 = damping(rng);
+            b.axial_force_n = force(rng, &b);
+        }
+    }
+    let nv = rng.gen_range(0..3);
+    b.internal_variables = (0..nv)
+        .map(|_| InternalVariable {
+            delta: rng.gen_range(0.05..0.6),
+            omega_rad_s: 10f64.powf(rng.gen_range(10.5..12.5)),
+        })
+        .collect();
+    b
+}
+
+/// 300 random beams: the fast path is taken by `observables` on every one
+/// and by `modal` on those without internal variables (with them `modal`
+/// reports real relaxation poles, left to the reference); ω and ζ of modes
+/// 1–5 agree with the coupled RQI reference within [`S_TOL`].
+#[test]
+fn random_beams_agree_with_the_coupled_reference() {
+    let mut rng = ChaCha8Rng::seed_from_u64(4151);
+    let beams: Vec<BeamSpec> = (0..300).map(|_| random_beam(&mut rng)).collect();
+    assert_agrees_with_the_coupled_reference(
+        &beams,
+        ModalSolver::new(),
+        ModalSolver::last_used_mass_blocks,
+        |b| S_TOL * compression_gain(b),
+        "point-mass block path",
+    );
+}
+
+/// 40 random beams against the dense state space (independent of both the
+/// secular equation and the RQI): ω and ζ of modes 1–4 within
+/// [`STATE_SPACE_TOL`] (`observables`, internal variables included).
+#[test]
+fn random_beams_agree_with_the_state_space() {
+    let mut rng = ChaCha8Rng::seed_from_u64(4152);
+    let mut solver = ModalSolver::new();
+    let mut worst = 0.0f64;
+    for i in 0..40 {
+        let mut b = random_beam(&mut rng);
+        b.elements = 10; // the dense solve is O(dim³)
+        let dense = modal_state_space(&b, 4).unwrap();
+        let what = format!("beam {i}: {b:?}");
+        let w = compare_observables::<4>(
+            &mut solver,
+            &b,
+            ModalSolver::last_used_mass_blocks,
+            &dense,
+            STATE_SPACE_TOL,
+            &what,
+        );
+        worst = worst.max(w.unwrap_or_else(|| panic!("{what}: the fast path was not taken")));
+    }
+    eprintln!("point-mass block path vs state space: worst relative ω difference {worst:e}");
+}
+
+/// The path is taken only on its hypotheses: a simply supported
+/// Euler–Bernoulli mesh, a point mass, damping or an axial force, no spring.
+/// Clamped–pinned, a spring, shear deformation, C = 0 without a force (the
+/// decoupled secular path of `mass_spectrum.rs`) and `modal` with real
+/// relaxation poles all go elsewhere.
+#[test]
+fn the_path_declines_off_its_hypotheses() {
+    let mut b = BeamSpec::elastic(L_NM, 1.0, 1e12, 2300.0, Support::SimplySupported, 20);
+    b.point_mass = Some(PointMass { mass_kg: 3e-26, x_nm: 2.9 });
+    b.viscous_damping_n_s_m2 = 1e-4;
+    b.nonlocal_e0a_nm = 0.7;
+    let mut solver = ModalSolver::new();
+    solver.modal(&b, 4).unwrap();
+    assert!(solver.last_used_mass_blocks());
+    let mut out = [0.0; 8];
+    for (what, v) in [
+        ("clamped-pinned", BeamSpec { support: Support::ClampedPinned, ..b.clone() }),
+        ("spring", BeamSpec { support_rotational_stiffness_n_m_rad: 1e-9, ..b.clone() }),
+        ("undamped, no force", BeamSpec { viscous_damping_n_s_m2: 0.0, ..b.clone() }),
+        (
+            "shear",
+            BeamSpec {
+                shear_deformation: Some(ShearDeformation { poisson_ratio: 0.2, shear_coefficient: 0.8 }),
+                ..b.clone()
+            },
+        ),
+    ] {
+        solver.observables(&v, &[1, 2, 3, 4], 4, &mut out).unwrap();
+        assert!(!solver.last_used_mass_blocks(), "{what}");
+    }
+    let force = BeamSpec { viscous_damping_n_s_m2: 0.0, axial_force_n: 1e-9, ..b.clone() };
+    solver.observables(&force, &[1, 2, 3, 4], 4, &mut out).unwrap();
+    assert!(solver.last_used_mass_blocks(), "an axial force without damping");
+    let mut relax = b.clone();
+    relax.internal_variables = vec![InternalVariable { delta: 0.3, omega_rad_s: 4e11 }];
+    solver.modal(&relax, 4).unwrap();
+    assert!(!solver.last_used_mass_blocks(), "modal with relaxation poles");
+    solver.observables(&relax, &[1, 2, 3, 4], 4, &mut out).unwrap();
+    assert!(solver.last_used_mass_blocks(), "observables with relaxation");
+}
+
+/// Same bits from two threads as from one, and whatever the solver saw
+/// before: the path is a function of its input alone.
+#[test]
+fn same_bits_at_one_and_two_threads_and_after_any_history() {
+    let mut rng = ChaCha8Rng::seed_from_u64(4153);
+    let beams: Vec<BeamSpec> = (0..40).map(|_| random_beam(&mut rng)).collect();
+    assert_same_bits_at_one_and_two_threads_and_after_any_history(&beams, ModalSolver::new);
+}
