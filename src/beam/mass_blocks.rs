@@ -106,8 +106,9 @@ impl MassScratch {
         self.table[(j * i) % (2 * self.table_elements)]
     }
 
-    /// g = Π_{r∈R} δ_r · h at (p, q, s²) (module doc), with its derivative.
-    fn secular<T: Num>(&self, p: Jet<T>, q: Jet<T>, s2: Jet<T>, removed: &[usize]) -> Jet<T> {
+    /// g = Π_{r∈R} δ_r · h at (p, q, s²) (module doc), with its derivative,
+    /// and h itself (from the same terms: the real search counts with it).
+    fn secular<T: Num>(&self, p: Jet<T>, q: Jet<T>, s2: Jet<T>, removed: &[usize]) -> (Jet<T>, T) {
         let mut x = Jet::c(1.0).div(s2.scale(self.mass));
         let mut rem: [(Jet<T>, Jet<T>); 2] = [(Jet::c(0.0), Jet::c(0.0)); 2];
         let mut nrem = 0;
@@ -121,9 +122,11 @@ impl MassScratch {
             }
         }
         match &rem[..nrem] {
-            [] => x,
-            [(b1, d1)] => x.mul(*d1).add(*b1),
-            [(b1, d1), (b2, d2)] => x.mul(d1.mul(*d2)).add(b1.mul(*d2)).add(b2.mul(*d1)),
+            [] => (x, x.v),
+            [(b1, d1)] => (x.mul(*d1).add(*b1), x.v + b1.v / d1.v),
+            [(b1, d1), (b2, d2)] => {
+                (x.mul(d1.mul(*d2)).add(b1.mul(*d2)).add(b2.mul(*d1)), x.v + b1.v / d1.v + b2.v / d2.v)
+            }
             _ => unreachable!("at most two blocks bracket a mode"),
         }
     }
@@ -145,9 +148,13 @@ impl MassScratch {
     /// #{eigenvalues of the mass pencil < λ} (module doc); `None` where h is
     /// zero or not finite (λ at an eigenvalue or a μ).
     fn count(&self, lambda: f64) -> Option<usize> {
+        self.count_with(lambda, self.h_real(lambda)?)
+    }
+
+    /// The count at λ from h(λ) already evaluated.
+    fn count_with(&self, lambda: f64, h: f64) -> Option<usize> {
         let below = self.mu.partition_point(|&(m, _)| m < lambda);
-        let h = self.h_real(lambda)?;
-        (h != 0.0).then_some(below + usize::from(h > 0.0))
+        (h.is_finite() && h != 0.0).then_some(below + usize::from(h > 0.0))
     }
 
     /// The certified eigenvalue λ_r (r = r0 + 1) and the blocks R removed
@@ -182,7 +189,9 @@ impl MassScratch {
         }
         let removed_s = &removed[..nr];
         for _ in 0..EIGEN_MAX_STEPS {
-            let exact = match self.count(x) {
+            let m = Jet { v: -x, d: -1.0 };
+            let (g, h) = self.secular::<f64>(m, Jet::c(1.0), m, removed_s);
+            let exact = match self.count_with(x, h) {
                 Some(c) if c > r0 => {
                     b = x;
                     false
@@ -193,8 +202,6 @@ impl MassScratch {
                 }
                 None => true,
             };
-            let m = Jet { v: -x, d: -1.0 };
-            let g = self.secular::<f64>(m, Jet::c(1.0), m, removed_s);
             let newton = if exact { x } else { x - g.v / g.d };
             let inside = exact || (newton.is_finite() && newton > a && newton < b);
             let converged = inside && (newton - x).abs() <= EIGEN_TOL * newton.abs();
@@ -370,7 +377,7 @@ fn newton(scratch: &MassScratch, c: f64, ivs: &[(f64, f64)], removed: &[usize], 
             g += d * s / den;
             dg += d * w / (den * den);
         }
-        let e = scratch.secular::<Complex64>(p, Jet { v: g, d: dg }, s2, removed);
+        let (e, _) = scratch.secular::<Complex64>(p, Jet { v: g, d: dg }, s2, removed);
         e.v / e.d
     })
 }
