@@ -30,12 +30,30 @@ struct Tripwire {
     evaluations: AtomicU64,
     /// cancel `control` at this evaluation (0: never)
     at: u64,
+    /// the evaluation count read just after the cancel: the evaluations a
+    /// thread started while the cancelling one was between its count and
+    /// its cancel (it may be descheduled there) began before the cancel and
+    /// are not the control's to stop, so bounds count from here
+    counted_at_cancel: AtomicU64,
     control: Control,
 }
 
 impl Tripwire {
     fn new(d: usize, at: u64) -> Self {
-        Self { d, evaluations: AtomicU64::new(0), at, control: Control::default() }
+        Self {
+            d,
+            evaluations: AtomicU64::new(0),
+            at,
+            counted_at_cancel: AtomicU64::new(0),
+            control: Control::default(),
+        }
+    }
+
+    /// Evaluations counted after the cancel took effect (see `counted_at_cancel`).
+    fn evaluations_after_the_cancel(&self) -> u64 {
+        let at_cancel = self.counted_at_cancel.load(Ordering::SeqCst);
+        assert!(at_cancel >= self.at, "the trip at evaluation {} never fired", self.at);
+        self.evaluations.load(Ordering::SeqCst) - at_cancel
     }
 }
 
@@ -49,6 +67,7 @@ impl Posterior for Tripwire {
     fn log_likelihood(&self, t: &[f64]) -> f64 {
         if self.evaluations.fetch_add(1, Ordering::SeqCst) + 1 == self.at {
             self.control.cancel();
+            self.counted_at_cancel.store(self.evaluations.load(Ordering::SeqCst), Ordering::SeqCst);
         }
         -0.5 * t.iter().map(|x| ((x - 1.0) / 0.5).powi(2)).sum::<f64>()
     }
@@ -111,7 +130,7 @@ fn tmcmc_stops_within_one_sample_per_thread_of_a_cancel() {
         let post = Tripwire::new(2, at);
         let r = tmcmc_controlled(&post, &c, &post.control.clone());
         assert_eq!(r.unwrap_err(), BayesError::Cancelled(Cancelled), "cancel at evaluation {at}");
-        let after = post.evaluations.load(Ordering::SeqCst) - at;
+        let after = post.evaluations_after_the_cancel();
         // the thread that cancelled finishes its sample, every other thread its current one
         assert!(after <= threads * per_sample, "{after} evaluations after the cancel at {at} ({threads} threads)");
     }
@@ -226,7 +245,7 @@ fn evidence_stops_within_one_evaluation_per_thread_of_a_cancel_after_tmcmc() {
             let r = estimate(&post, &s, 21, true, &[], &post.control.clone());
             assert_eq!(r.unwrap_err(), BayesError::Cancelled(Cancelled), "cancel at evaluation {at} of {n}");
             // each thread may have passed the flag just before the cancel
-            let after = post.evaluations.load(Ordering::SeqCst) - at;
+            let after = post.evaluations_after_the_cancel();
             assert!(after <= threads, "{after} evaluations after the cancel at {at} of {n} ({threads} threads)");
         }
     });
