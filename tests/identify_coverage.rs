@@ -898,7 +898,7 @@ fn complex_real_pole_candidates() {
 }
 
 /// A candidate that stops at its evaluation budget is continued, not
-/// dropped for a worse one that converged (`identify::continued`): seed 10
+/// dropped for a worse one that converged (`identify`'s `continue_the_leader`): seed 10
 /// of the complex / additive study (clamped–clamped, same generator). Its
 /// 1-real-pole candidate reached the budget with a BIC 1 080 below the
 /// 0-real-pole candidate's; the latter was chosen, without the relaxation
@@ -907,7 +907,6 @@ fn complex_real_pole_candidates() {
 /// within 10 % of the true γ, and every visible mode found within 3.5 sd
 /// with no false mode (the bound of `subset_record`).
 #[test]
-#[ignore = "known failure on main: the continuation it tests was reverted (it broke identify_loop::noise_free_sweep_gives_the_model_modes; tests/identify_coverage.md)"]
 fn a_refinement_at_its_budget_is_continued() {
     let (kind, seed) = (Kind::Complex, 10);
     let tag = 4200 + 10 * kind as u64;
