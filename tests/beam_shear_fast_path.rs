@@ -101,8 +101,10 @@ proptest! {
 
     /// `observables` (what a diagnosis calls) through the interpolant against
     /// the direct path, modes 1–5, C = 0 with one or two relaxations: the
-    /// derived bound of the module doc. With C > 0 the model couples and both
-    /// solvers take the same RQI path (bitwise equal).
+    /// derived bound of the module doc. With C > 0 the model couples: the fast
+    /// solver takes the continuum path (`shear_continuum.rs`), whose bound
+    /// against the mesh is the mesh's discretisation error, checked by
+    /// `tests/beam_shear_continuum.rs`, not this test's 2e-11.
     #[test]
     fn fast_path_agrees_with_the_reference(
         e0a in 0.6f64..1.5,
@@ -124,10 +126,11 @@ proptest! {
         let mut fs = ModalSolver::new();
         let ok_fast = fs.observables(&b, &modes, 5, &mut fast).unwrap();
         prop_assert_eq!(fs.last_used_interpolant(), !damped);
+        prop_assert_eq!(fs.last_used_shear_continuum(), damped);
         let ok_ref = ModalSolver::direct_only().observables(&b, &modes, 5, &mut reference).unwrap();
         prop_assert_eq!(ok_fast, ok_ref);
         if damped {
-            prop_assert_eq!(fast, reference);
+            return Ok(());
         }
         for k in 0..5 {
             prop_assert!((fast[k] - reference[k]).abs() <= 2e-11 * reference[k], "ω{}: {} vs {}", k + 1, fast[k], reference[k]);

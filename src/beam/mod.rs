@@ -31,6 +31,7 @@ mod modal;
 mod modal_result;
 pub(crate) mod model;
 mod shear_blocks;
+mod shear_continuum;
 mod shear_spectrum;
 pub mod spec;
 mod spectrum;

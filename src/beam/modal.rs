@@ -42,8 +42,9 @@ use crate::beam::mass_spectrum::MassSpectrumTable;
 use crate::beam::modal_result::{assemble, check_mode_count, oscillatory_pair, ModalResult, SolverPath};
 use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
 use crate::beam::shear_blocks::{self, ShearBlocks};
+use crate::beam::shear_continuum::{self, ContinuumShear};
 use crate::beam::shear_spectrum::ShearSpectrumTable;
-use crate::beam::spec::{BeamSpec, MAX_INTERNAL_VARIABLES};
+use crate::beam::spec::{BeamSpec, Support, MAX_INTERNAL_VARIABLES};
 use crate::beam::spectrum::SpectrumTable;
 use crate::beam::spring_spectrum::SpringScratch;
 use crate::beam::state_space_modal::state_space_modal;
@@ -124,6 +125,8 @@ pub struct ModalSolver {
     last_shear_blocks: bool,
     /// True when the last result came from the point-mass block path.
     last_mass_blocks: bool,
+    /// True when the last result came from the continuum Timoshenko path.
+    last_shear_continuum: bool,
     lambdas: Vec<f64>,
     /// Error bounds of `lambdas` on the point-mass path (`mass_spectrum.rs`).
     bounds: Vec<f64>,
@@ -366,6 +369,14 @@ impl ModalSolver {
         self.last_shear_blocks
     }
 
+    /// True when the last result came from the closed-form continuum path of
+    /// a uniform simply supported Timoshenko beam with an axial force or C > 0
+    /// (`shear_continuum.rs`): the mesh's continuum limit, within its
+    /// discretisation error of the mesh.
+    pub fn last_used_shear_continuum(&self) -> bool {
+        self.last_shear_continuum
+    }
+
     /// The path used by the last successful or attempted call.
     pub fn last_path(&self) -> Option<SolverPath> {
         self.last_path
@@ -404,7 +415,8 @@ impl ModalSolver {
                 self.last_interpolated = !(self.last_axial_blocks
                     || self.last_spring_blocks
                     || self.last_shear_blocks
-                    || self.last_mass_blocks);
+                    || self.last_mass_blocks
+                    || self.last_shear_continuum);
                 return Ok(result);
             }
         }
@@ -453,6 +465,7 @@ impl ModalSolver {
         self.last_spring_blocks = false;
         self.last_shear_blocks = false;
         self.last_mass_blocks = false;
+        self.last_shear_continuum = false;
         if let Some(pm) = beam.point_mass.as_ref().filter(|_| {
             mesh.shear.is_none() && mesh.springs(&sc.spring).next().is_none() && (sc.c != 0.0 || sc.axial != 0.0)
         }) {
@@ -486,6 +499,25 @@ impl ModalSolver {
                 return None;
             }
             self.last_shear_blocks = true;
+            return Some(sc.omega_ref);
+        }
+        if let Some(sh) = mesh.shear.as_ref().filter(|_| {
+            mesh.support == Support::SimplySupported
+                && beam.point_mass.is_none()
+                && mesh.springs(&sc.spring).next().is_none()
+                && (sc.axial != 0.0 || sc.c != 0.0)
+                && mesh.elements >= shear_continuum::MIN_ELEMENTS
+                && n_modes > 0
+                && n_modes <= mesh.elements / shear_continuum::APPLIES_UP_TO
+        }) {
+            let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
+            let g = crate::beam::model::shear_params(beam).map_or(0.0, |(g, _)| g);
+            let pencil = ContinuumShear { e2: sc.e_tilde * sc.e_tilde, shear: g, r2: sh.r2, axial: sc.axial };
+            if !shear_continuum::family_roots(&pencil, sc.c, &ivs[..nv], n_modes, poles == Poles::All, &mut self.roots)
+            {
+                return None;
+            }
+            self.last_shear_continuum = true;
             return Some(sc.omega_ref);
         }
         if mesh.shear.is_none() && beam.point_mass.is_none() && mesh.springs(&sc.spring).next().is_some() && n_modes > 0
@@ -587,7 +619,8 @@ impl ModalSolver {
                 self.last_interpolated = !(self.last_axial_blocks
                     || self.last_spring_blocks
                     || self.last_shear_blocks
-                    || self.last_mass_blocks);
+                    || self.last_mass_blocks
+                    || self.last_shear_continuum);
                 for (k, &mode) in modes.iter().enumerate() {
                     let Some(fam) = mode.checked_sub(1).and_then(|j| self.roots.get(j)).filter(|_| mode <= n_modes)
                     else {

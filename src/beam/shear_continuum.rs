@@ -1,0 +1,258 @@
+//! The uniform simply supported Timoshenko beam in closed form (issue 41):
+//! with an axial force, viscous damping or both, its poles are those of one
+//! 2 × 2 pencil per wavenumber, so a pole costs a scalar Newton iteration
+//! instead of a nonlinear Rayleigh-quotient iteration on the 5n_e − 3 DOFs of
+//! the mesh (`coupled.rs`).
+//!
+//! # The pencil per wavenumber (the derivation)
+//! The fields of the bending–shear split (`element.rs`: w = w_b + w_s,
+//! θ = w_b′, γ = w_s′) on the unit span, with w_b = B sin kx and w_s = S sin kx,
+//! k = jπ (j ≥ 1), meet every condition of the simply supported beam: w, w_b,
+//! w_s and the curvature χ = w_b″ vanish at both ends. Over [0, 1] the sines
+//! and cosines of one k are orthogonal to those of every other and each
+//! integrates to ½ when squared, so each integral of `element.rs`'s
+//! `TimoshenkoElement` is ½ times (u = (B, S), W = B + S):
+//! ∫θ′² = k⁴B², ∫γ² = k²S², ∫w² = W², ∫w′² = k²W², ∫θ² = k²B², ∫w″² = k⁴W².
+//! The model's matrices (`model.rs`, `ScaledModel::new`) combine them as
+//! M̃ = (∫w² + r̃²∫θ²) + ẽ²(∫w′² + r̃²∫θ′²), M̃_b = ∫w² + ẽ²∫w′²,
+//! K̃ = ∫θ′² + g̃∫γ², K̃_N = ñ(∫w′² + ẽ²∫w″²); with a = 1 + ẽ²k² and the ½
+//! dropped (it multiplies the whole pencil):
+//!   T_k(s) = [[P + R + Bk, P], [P, P + Sh]],
+//!   P = a(s² + c̃s + ñk²), R = a r̃²k²s², Bk = G(s)k⁴, Sh = G(s)g̃k²,
+//!   det T_k(s) = P(R + Bk + Sh) + Sh(R + Bk).
+//! As g̃ → ∞ the root condition tends to P + R + Bk = 0, the Rayleigh beam.
+//!
+//! j = 0 adds one more field: θ constant, w_b = θx, w_s = −θx, so w ≡ 0 (the
+//! mesh's θ, γ block at zero wavenumber, `shear_blocks.rs`). Only ∫θ² = 1 and
+//! ∫γ² = 1 survive: r̃²s² + G(s)g̃ = 0, the shear mode ω² = κGA/ρI, which no
+//! damping (it acts on w) and no axial force (on w′, w″) reaches.
+//!
+//! On s² = −λ, G = 1, c̃ = 0, det T_k is the quadratic Aλ² − Bλ + C with
+//!   A = a²r̃²k², B = a(k⁴ + g̃k²) + a²ñr̃²k⁴ + ag̃r̃²k⁴, C = añk²(k⁴ + g̃k²) + g̃k⁶,
+//! whose two roots are the bending and the shear branch of k. The families
+//! are numbered by these eigenvalues over all k, as the mesh numbers its
+//! eigenpairs.
+//!
+//! # What it is exact to
+//! This is the continuum limit of the model's mesh, not the mesh: the two
+//! differ by the mesh's discretisation error, O(h⁶) in λ asymptotically (the
+//! cubic shear field, `element.rs`), far below the Euler–Bernoulli mesh's
+//! O(h⁴) on the same number of elements. `tests/beam_shear_continuum.rs`
+//! bounds the difference on random beams by the Richardson estimate of the
+//! mesh's error; `benches/README.md` records its size. The solver takes the
+//! path only on meshes fine enough for that argument ([`APPLIES_UP_TO`]).
+
+use num_complex::Complex64;
+
+use crate::beam::axial_spectrum::{accept_pair, newton_from};
+use crate::beam::family::{family_roots_into, Roots};
+
+/// The path applies to modes n ≤ n_e / [`APPLIES_UP_TO`] on meshes of at
+/// least [`MIN_ELEMENTS`] elements: there kh = nπ/n_e ≤ π/4, where the mesh
+/// resolves the mode and its error is in the range the Richardson check of
+/// `tests/beam_shear_continuum.rs` measures (the mesh's default is 20
+/// elements, and a diagnosis fits 5–6 modes).
+pub const APPLIES_UP_TO: usize = 4;
+/// See [`APPLIES_UP_TO`].
+pub const MIN_ELEMENTS: usize = 20;
+
+/// The scalars of the continuum pencil: ẽ², g̃, r̃² and ñ (`model.rs`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContinuumShear {
+    pub e2: f64,
+    pub shear: f64,
+    pub r2: f64,
+    pub axial: f64,
+}
+
+/// One family: its wavenumber (0 for the shear mode) and the one-term forms (a = elastic, b = relaxing share,
+/// damping share) of its eigenvector.
+#[derive(Debug, Clone, Copy)]
+struct Family {
+    k: f64,
+    a: f64,
+    b: f64,
+    damping_share: f64,
+}
+
+impl ContinuumShear {
+    /// The bending and shear eigenvalues of wavenumber k (module doc), or
+    /// `None` when they are not real and positive (buckled or not finite).
+    fn branches(&self, k: f64) -> Option<[f64; 2]> {
+        let (k2, k4) = (k * k, k * k * k * k);
+        let a = 1.0 + self.e2 * k2;
+        let qa = a * a * self.r2 * k2;
+        let qb = a * (k4 + self.shear * k2) + a * a * self.axial * self.r2 * k4 + a * self.shear * self.r2 * k4;
+        let qc = a * self.axial * k2 * (k4 + self.shear * k2) + self.shear * k4 * k2;
+        let disc = qb * qb - 4.0 * qa * qc;
+        if !(disc >= 0.0 && qb > 0.0 && qc > 0.0 && qa > 0.0) {
+            return None;
+        }
+        let root = qb + disc.sqrt();
+        // the smaller root as 2C/(B + √D): no cancellation
+        let pair = [2.0 * qc / root, root / (2.0 * qa)];
+        pair.iter().all(|l| l.is_finite() && *l > 0.0).then_some(pair)
+    }
+
+    /// The family of eigenvalue `lambda` of wavenumber k: the eigenvector
+    /// u = (P + Sh, −P) from the second row of T_k at G = 1, c̃ = 0, and its forms.
+    fn family(&self, k: f64, lambda: f64) -> Option<Family> {
+        if k == 0.0 {
+            return Some(Family { k, a: 0.0, b: lambda, damping_share: 0.0 });
+        }
+        let (k2, k4) = (k * k, k * k * k * k);
+        let a = 1.0 + self.e2 * k2;
+        let p = a * (self.axial * k2 - lambda);
+        let (ub, us) = (p + self.shear * k2, -p);
+        let w = ub + us;
+        let m = a * (w * w + self.r2 * k2 * ub * ub);
+        let mb = a * w * w;
+        let kr = k4 * ub * ub + self.shear * k2 * us * us;
+        let kn = self.axial * k2 * a * w * w;
+        let (fa, fb) = (kn / m, kr / m);
+        // the forms reproduce λ (a Rayleigh quotient at an eigenvector)
+        let ok = m > 0.0 && fa.is_finite() && fb.is_finite() && (fa + fb - lambda).abs() <= 1e-9 * lambda;
+        ok.then_some(Family { k, a: fa, b: fb, damping_share: mb / m })
+    }
+
+    /// The families 1..=n_modes in the order of their eigenvalues; `None`
+    /// when a branch is not positive or the ordering is not certain (the
+    /// bending branch must grow with k up to a wavenumber whose eigenvalue
+    /// exceeds the n-th one).
+    fn families(&self, n_modes: usize) -> Option<Vec<Family>> {
+        let mut all = vec![(self.shear / self.r2, 0.0)];
+        let mut last_bending = 0.0;
+        let mut j = 1;
+        loop {
+            let k = j as f64 * std::f64::consts::PI;
+            let [bend, sh] = self.branches(k)?;
+            if bend <= last_bending {
+                return None;
+            }
+            last_bending = bend;
+            all.push((bend, k));
+            all.push((sh, k));
+            if j >= n_modes {
+                let mut sorted: Vec<f64> = all.iter().map(|x| x.0).collect();
+                sorted.sort_by(f64::total_cmp);
+                // every later wavenumber's bending eigenvalue exceeds `bend`, and
+                // its shear eigenvalue its bending one
+                if sorted[n_modes - 1] < bend {
+                    break;
+                }
+            }
+            if j > 4 * n_modes + 8 {
+                return None;
+            }
+            j += 1;
+        }
+        all.sort_by(|x, y| x.0.total_cmp(&y.0));
+        all.iter().take(n_modes).map(|&(lambda, k)| self.family(k, lambda)).collect()
+    }
+
+    /// det T_k(s)/d det T_k/ds (the Newton step), with G(s) from `ivs`.
+    fn newton_step(&self, k: f64, s: Complex64, c: f64, ivs: &[(f64, f64)]) -> Complex64 {
+        let one = Complex64::new(1.0, 0.0);
+        let (mut g, mut dg) = (one, Complex64::new(0.0, 0.0));
+        for &(d, w) in ivs {
+            let den = s + w;
+            g += d * s / den;
+            dg += d * w / (den * den);
+        }
+        if k == 0.0 {
+            let f = s * s * self.r2 + g * self.shear;
+            let df = 2.0 * s * self.r2 + dg * self.shear;
+            return f / df;
+        }
+        let (k2, k4) = (k * k, k * k * k * k);
+        let a = 1.0 + self.e2 * k2;
+        let p = a * (s * s + c * s + self.axial * k2);
+        let dp = a * (2.0 * s + c);
+        let r = a * self.r2 * k2 * s * s;
+        let dr = 2.0 * a * self.r2 * k2 * s;
+        let (b, db) = (g * k4, dg * k4);
+        let (sh, dsh) = (g * self.shear * k2, dg * self.shear * k2);
+        let f = p * (r + b + sh) + sh * (r + b);
+        let df = dp * (r + b + sh) + p * (dr + db + dsh) + dsh * (r + b) + sh * (dr + db);
+        f / df
+    }
+}
+
+/// The poles of families 1..=n_modes (scaled units) of the continuum pencil
+/// `p` with damping c̃ and internal variables `ivs`, into `roots`: the
+/// oscillatory pairs; with `all`, the path declines when a family has a real
+/// start (its real poles are left to the reference). Family r starts from the
+/// one-term roots of its eigenvector's forms, as the mesh paths do
+/// (`shear_blocks::family_roots`), and Newton's iteration on det T_k keeps
+/// the reference's acceptance tests (`axial_spectrum::accept_pair`). `false`
+/// when the path declines: the caller then runs the reference.
+pub fn family_roots(
+    p: &ContinuumShear,
+    c: f64,
+    ivs: &[(f64, f64)],
+    n_modes: usize,
+    all: bool,
+    roots: &mut Vec<Roots>,
+) -> bool {
+    if n_modes == 0 {
+        return false;
+    }
+    let Some(families) = p.families(n_modes) else { return false };
+    roots.resize(n_modes, Roots::default());
+    let mut found = [Complex64::new(0.0, 0.0); 64];
+    let mut nfound = 0;
+    let mut starts = Roots::default();
+    for (f, out) in families.iter().zip(roots.iter_mut()) {
+        let damping = if f.k == 0.0 { 0.0 } else { c * f.damping_share };
+        if family_roots_into(f.a, f.b, damping, ivs, &mut starts).is_err() {
+            return false;
+        }
+        if all && starts.iter().any(|s| s.im == 0.0) {
+            return false;
+        }
+        let mut fam = Roots::default();
+        for &s0 in starts.iter().filter(|s| s.im > 0.0) {
+            let Some(s) = newton_from(s0, |s| p.newton_step(f.k, s, c, ivs)) else { return false };
+            if !accept_pair(s0, s, &mut found, &mut nfound, &mut fam) {
+                return false;
+            }
+        }
+        *out = fam;
+    }
+    true
+}
+
+#[cfg(test)]
+mod tests {
+    //! Data: the closed forms themselves (the Euler–Bernoulli limit) and the
+    //! pencil's own eigenvalue equation; the comparison with the mesh is in
+    //! `tests/beam_shear_continuum.rs`.
+    use super::*;
+
+    /// As g̃ → ∞ without rotary inertia the bending branch is the nonlocal
+    /// Euler–Bernoulli one, k⁴/(1 + ẽ²k²) + ñk².
+    #[test]
+    fn the_bending_branch_tends_to_euler_bernoulli() {
+        let p = ContinuumShear { e2: 0.015, shear: 1e12, r2: 1e-12, axial: 3.0 };
+        for j in 1..6 {
+            let k = j as f64 * std::f64::consts::PI;
+            let [bend, _] = p.branches(k).unwrap();
+            let eb = k.powi(4) / (1.0 + p.e2 * k * k) + p.axial * k * k;
+            assert!((bend - eb).abs() <= 1e-9 * eb, "j {j}: {bend} against {eb}");
+        }
+    }
+
+    /// Without damping or relaxation the oscillatory root is s = i√λ.
+    #[test]
+    fn undamped_roots_are_the_eigenvalues() {
+        let p = ContinuumShear { e2: 0.0156, shear: 349.0, r2: 1.0 / 1024.0, axial: -2.0 };
+        let mut roots = Vec::new();
+        assert!(family_roots(&p, 0.0, &[], 5, false, &mut roots));
+        let fams = p.families(5).unwrap();
+        for (f, r) in fams.iter().zip(&roots) {
+            let s = r.iter().find(|s| s.im > 0.0).unwrap();
+            let w = (f.a + f.b).sqrt();
+            assert!((s.im - w).abs() <= 1e-12 * w && s.re.abs() <= 1e-12 * s.im, "{s} against i{w}");
+        }
+    }
+}
