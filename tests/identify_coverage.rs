@@ -542,10 +542,21 @@ fn ring_down_breakdown() {
                 }
             }
         }
-        for m in id.modes.iter().chain(&id.background_modes) {
+        for (k, m) in id.modes.iter().chain(&id.background_modes).enumerate() {
             if !rec.beam.modes.iter().any(|b| (m.omega_rad_s - b.omega).abs() < 0.02 * b.omega) {
+                // a reported mode 5 % from every true mode is a false mode of the study
+                let reported = k < id.modes.len();
+                let false_mode =
+                    reported && !rec.beam.modes.iter().any(|b| (m.omega_rad_s - b.omega).abs() < 0.05 * b.omega);
                 println!(
-                    "  extra pole: omega {:.4e} ({:.2} Nyquist) zeta {:.2e} amplitude snr {:.1}",
+                    "  extra pole{}: omega {:.4e} ({:.2} Nyquist) zeta {:.2e} amplitude snr {:.1}",
+                    if false_mode {
+                        " (FALSE mode)"
+                    } else if reported {
+                        " (reported)"
+                    } else {
+                        ""
+                    },
                     m.omega_rad_s,
                     m.omega_rad_s / nyquist,
                     m.zeta,
