@@ -270,11 +270,12 @@ fn ci_ring_down_coverage_under_additive_noise() {
 
 /// Proportional noise: detection is measured, not asserted. Seeds 0–5 now
 /// pass the bar (0.826 of 46 intervals against 0.95 ± 0.136), but the
-/// 100-seed study covers 0.911 (852 intervals), 3.6–5.2 Monte Carlo sd
-/// under 0.95: a pass here would come from the bar's width, so the test
+/// 100-seed study covers 0.911 (858 intervals), 3.7–5.2 Monte Carlo sd
+/// under 0.95, and the oracle fit at the true structure covers 0.928 on the
+/// same records: a pass here would come from the bar's width, so the test
 /// stays ignored (tests/identify_coverage.md).
 #[test]
-#[ignore = "known under-coverage: ring-down intervals under proportional noise cover 0.910 over 100 seeds (tests/identify_coverage.md)"]
+#[ignore = "known under-coverage: ring-down intervals under proportional noise cover 0.911 over 100 seeds (tests/identify_coverage.md)"]
 fn ci_ring_down_coverage_under_proportional_noise() {
     ring_down_coverage(true);
 }
@@ -542,10 +543,21 @@ fn ring_down_breakdown() {
                 }
             }
         }
-        for m in id.modes.iter().chain(&id.background_modes) {
+        for (k, m) in id.modes.iter().chain(&id.background_modes).enumerate() {
             if !rec.beam.modes.iter().any(|b| (m.omega_rad_s - b.omega).abs() < 0.02 * b.omega) {
+                // a reported mode 5 % from every true mode is a false mode of the study
+                let reported = k < id.modes.len();
+                let false_mode =
+                    reported && !rec.beam.modes.iter().any(|b| (m.omega_rad_s - b.omega).abs() < 0.05 * b.omega);
                 println!(
-                    "  extra pole: omega {:.4e} ({:.2} Nyquist) zeta {:.2e} amplitude snr {:.1}",
+                    "  extra pole{}: omega {:.4e} ({:.2} Nyquist) zeta {:.2e} amplitude snr {:.1}",
+                    if false_mode {
+                        " (FALSE mode)"
+                    } else if reported {
+                        " (reported)"
+                    } else {
+                        ""
+                    },
                     m.omega_rad_s,
                     m.omega_rad_s / nyquist,
                     m.zeta,
@@ -922,4 +934,86 @@ fn a_refinement_at_its_budget_is_continued() {
         id.real_poles_rad_s
     );
     assert_visible_found_within_3_5_sd(&rec, &id.modes, "seed 10");
+}
+
+/// The magnitude / additive cell's suspect (issue 42 item 1; prints only):
+/// the generator's magnitude is |(|H| + e)|, folded at zero, so near an
+/// antiresonance where |H| is under the noise sd the samples are not the
+/// additive Gaussian law the fit assumes. Each record of the study is
+/// identified twice: as generated, and as its unfolded twin |H| + e (the
+/// same draws of e, regenerated from the generator's stream in its order;
+/// the twin's absolute value is checked to be the record). Prints each
+/// cell's tally as `study` does. `IDENTIFY_SEEDS` (default 100).
+#[test]
+#[ignore = "diagnostic printout"]
+fn magnitude_fold_check() {
+    use nanobeam::bayes::rng::{stream, Purpose};
+    use nanobeam::identify::Measurement;
+    use rand_distr::{Distribution, StandardNormal};
+    let kind = Kind::Magnitude;
+    let noise = noise_of(false);
+    let tag = 4200 + 10 * kind as u64;
+    let (mut folded, mut unfolded) = (Tally::default(), Tally::default());
+    for seed in 0..seeds() {
+        let support = SUPPORTS[(seed % 3) as usize];
+        let (x_in, x_out) = positions(tag, seed);
+        let beam = Beam::new(support, 5, 2.0 * std::f64::consts::PI * 1.0e4, x_in, x_out, 0.3);
+        let rec = record(beam, kind, noise, 3, tag, seed);
+        let Measurement::Magnitude { omega_rad_s, h_abs_m_per_n } = &rec.data else { unreachable!() };
+        let h: Vec<f64> = omega_rad_s.iter().map(|&w| rec.beam.h(w).norm()).collect();
+        let peak = h.iter().copied().fold(0.0, f64::max);
+        let mut rng = stream(42, Purpose::MeasurementNoise, [tag, seed]);
+        let twin: Vec<f64> = h
+            .iter()
+            .map(|&v| {
+                let e: f64 = StandardNormal.sample(&mut rng);
+                v + noise.sd(v, peak) * e
+            })
+            .collect();
+        assert!(
+            twin.iter().zip(h_abs_m_per_n).all(|(a, b)| a.abs() == *b),
+            "seed {seed}: the twin is not the record's"
+        );
+        let negative = twin.iter().filter(|v| **v < 0.0).count();
+        let unfolded_rec = Record {
+            data: Measurement::Magnitude { omega_rad_s: omega_rad_s.clone(), h_abs_m_per_n: twin },
+            visible: rec.visible.clone(),
+            beam: rec.beam.clone(),
+        };
+        for (t, r, what) in [(&mut folded, &rec, "folded"), (&mut unfolded, &unfolded_rec, "unfolded")] {
+            t.records += 1;
+            t.visible += r.visible.len();
+            let Ok(id) = identify(&r.data, &IdentifySettings::default()) else {
+                println!("seed {seed} {what}: failed");
+                t.failed += 1;
+                continue;
+            };
+            let near = |w: f64, m: f64| (w - m).abs() < 0.05 * m;
+            let false_modes =
+                id.modes.iter().filter(|m| !r.beam.modes.iter().any(|b| near(m.omega_rad_s, b.omega))).count();
+            t.false_modes += false_modes;
+            let mut zs = Vec::new();
+            for v in &r.visible {
+                let Some(m) = id.modes.iter().find(|m| near(m.omega_rad_s, v.omega)) else { continue };
+                t.found += 1;
+                for z in [(m.omega_rad_s - v.omega) / m.omega_sd_rad_s, (m.zeta - v.zeta) / m.zeta_sd] {
+                    let z = if z.is_finite() { z.abs() } else { f64::INFINITY };
+                    t.intervals += 1;
+                    t.within_95 += usize::from(z <= 1.96);
+                    t.within_3sd += usize::from(z <= 3.0);
+                    t.worst_z = t.worst_z.max(z);
+                    zs.push(format!("{z:.2}"));
+                }
+            }
+            println!(
+                "seed {seed} {what}: {negative} negative samples unfolded, noise {}/{}, false {false_modes}, |z| {}",
+                id.noise_model.kind,
+                id.noise_model.covariance,
+                zs.join(" ")
+            );
+        }
+    }
+    print(kind, false, &folded);
+    println!("(above: as generated, folded; below: the unfolded twin)");
+    print(kind, false, &unfolded);
 }
