@@ -33,7 +33,7 @@ mod fast_path_check;
 
 use fast_path_check::{
     assert_agrees_with_the_coupled_reference, assert_same_bits_at_one_and_two_threads_and_after_any_history,
-    compare_observables,
+    compare_observables, random_relaxations,
 };
 use nanobeam::beam::spec::{Section, Tube};
 use nanobeam::beam::{
@@ -81,13 +81,7 @@ fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
             b.axial_force_n = force(rng, &b);
         }
     }
-    let nv = rng.gen_range(0..3);
-    b.internal_variables = (0..nv)
-        .map(|_| InternalVariable {
-            delta: rng.gen_range(0.05..0.6),
-            omega_rad_s: 10f64.powf(rng.gen_range(10.5..12.5)),
-        })
-        .collect();
+    b.internal_variables = random_relaxations(rng);
     b
 }
 

@@ -41,7 +41,7 @@ mod fast_path_check;
 
 use fast_path_check::{
     assert_agrees_with_the_coupled_reference, assert_same_bits_at_one_and_two_threads_and_after_any_history,
-    compare_observables,
+    compare_observables, random_axial, random_relaxations, random_viscous,
 };
 use nanobeam::beam::spec::{Section, Tube};
 use nanobeam::beam::{
@@ -76,21 +76,12 @@ fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
     let which = rng.gen_range(0..3);
     if which != 1 {
         let ncr = buckling_load_n(&b).unwrap().abs();
-        let u = rng.gen_range((-0.9f64).asinh()..100f64.asinh());
-        b.axial_force_n = u.sinh() * ncr;
+        b.axial_force_n = random_axial(rng, ncr);
     }
     if which != 0 {
-        // C up to ≈ 2ζω₁ρA with ζ ≈ 0.3 on mode 1 of the nominal beam (ω₁ ≈ 8e11 rad/s)
-        let rho_a = b.density_kg_m3 * b.area_m2();
-        b.viscous_damping_n_s_m2 = rng.gen_range(0.01..0.6) * 8e11 * rho_a;
+        b.viscous_damping_n_s_m2 = random_viscous(rng, &b, 0.01);
     }
-    let nv = rng.gen_range(0..3);
-    b.internal_variables = (0..nv)
-        .map(|_| InternalVariable {
-            delta: rng.gen_range(0.05..0.6),
-            omega_rad_s: 10f64.powf(rng.gen_range(10.5..12.5)),
-        })
-        .collect();
+    b.internal_variables = random_relaxations(rng);
     b
 }
 

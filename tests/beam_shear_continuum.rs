@@ -32,13 +32,13 @@
 //! than the mesh's error, and the Richardson bound catches it: the check is
 //! falsifiable with no reference to the path's own output.
 
-// this suite uses only the shared same-bits check
-#[allow(dead_code)]
 mod fast_path_check;
 
-use fast_path_check::assert_same_bits_at_one_and_two_threads_and_after_any_history;
+use fast_path_check::{
+    assert_same_bits_at_one_and_two_threads_and_after_any_history, random_axial, random_relaxations, random_viscous,
+};
 use nanobeam::beam::spec::{Section, Tube};
-use nanobeam::beam::{buckling_load_n, BeamSpec, InternalVariable, ModalSolver, ShearDeformation, Support};
+use nanobeam::beam::{buckling_load_n, BeamSpec, ModalSolver, ShearDeformation, Support};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -72,20 +72,12 @@ fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
             .map(|f| buckling_load_n(&BeamSpec { elements: f * b.elements, ..b.clone() }).unwrap().abs())
             .into_iter()
             .fold(f64::INFINITY, f64::min);
-        let u = rng.gen_range((-0.9f64).asinh()..100f64.asinh());
-        b.axial_force_n = u.sinh() * ncr;
+        b.axial_force_n = random_axial(rng, ncr);
     }
     if which != 0 {
-        let rho_a = b.density_kg_m3 * b.area_m2();
-        b.viscous_damping_n_s_m2 = rng.gen_range(0.01..0.6) * 8e11 * rho_a;
+        b.viscous_damping_n_s_m2 = random_viscous(rng, &b, 0.01);
     }
-    let nv = rng.gen_range(0..3);
-    b.internal_variables = (0..nv)
-        .map(|_| InternalVariable {
-            delta: rng.gen_range(0.05..0.6),
-            omega_rad_s: 10f64.powf(rng.gen_range(10.5..12.5)),
-        })
-        .collect();
+    b.internal_variables = random_relaxations(rng);
     b
 }
 

@@ -390,6 +390,26 @@ pub(super) fn accept_pair(
     true
 }
 
+/// A family's oscillatory poles: Newton's iteration ([`newton_from`] with
+/// `step`) from each of its starts with Im s > 0, each root accepted by
+/// [`accept_pair`]; `None` when a start fails either (the block and
+/// continuum paths then decline).
+pub(super) fn oscillatory_pairs(
+    starts: &Roots,
+    mut step: impl FnMut(Complex64) -> Complex64,
+    found: &mut [Complex64],
+    nfound: &mut usize,
+) -> Option<Roots> {
+    let mut fam = Roots::default();
+    for &s0 in starts.iter().filter(|s| s.im > 0.0) {
+        let s = newton_from(s0, &mut step)?;
+        if !accept_pair(s0, s, found, nfound, &mut fam) {
+            return None;
+        }
+    }
+    Some(fam)
+}
+
 /// Newton on E_j from `s0`; `None` without convergence.
 fn newton(b: &Bending, c: f64, ivs: &[(f64, f64)], s0: Complex64) -> Option<Complex64> {
     newton_from(s0, |s| {

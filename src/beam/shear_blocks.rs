@@ -66,7 +66,7 @@
 
 use num_complex::Complex64;
 
-use crate::beam::axial_spectrum::{accept_pair, newton_from, INVARIANCE_TOL};
+use crate::beam::axial_spectrum::{oscillatory_pairs, INVARIANCE_TOL};
 use crate::beam::dual::{Dual, Scalar};
 use crate::beam::element;
 use crate::beam::family::{family_roots_into, Roots};
@@ -809,17 +809,11 @@ pub fn family_roots(
         if all && starts.iter().any(|s| s.im == 0.0) {
             return false;
         }
-        let mut fam = Roots::default();
-        for &s0 in starts.iter().filter(|s| s.im > 0.0) {
-            let s = newton_from(s0, |s| match pencil.determinant(coefficients(s, c, ivs), Some(md.block), |_| ()) {
-                Some(det) => det.v / det.d,
-                None => Complex64::new(f64::NAN, f64::NAN),
-            });
-            let Some(s) = s else { return false };
-            if !accept_pair(s0, s, &mut found, &mut nfound, &mut fam) {
-                return false;
-            }
-        }
+        let step = |s| match pencil.determinant(coefficients(s, c, ivs), Some(md.block), |_| ()) {
+            Some(det) => det.v / det.d,
+            None => Complex64::new(f64::NAN, f64::NAN),
+        };
+        let Some(fam) = oscillatory_pairs(&starts, step, &mut found, &mut nfound) else { return false };
         *out = fam;
     }
     true

@@ -44,7 +44,7 @@
 
 use num_complex::Complex64;
 
-use crate::beam::axial_spectrum::{accept_pair, newton_from};
+use crate::beam::axial_spectrum::oscillatory_pairs;
 use crate::beam::family::{family_roots_into, Roots};
 
 /// The path applies to modes n ≤ n_e / [`APPLIES_UP_TO`] on meshes of at
@@ -210,13 +210,8 @@ pub fn family_roots(
         if all && starts.iter().any(|s| s.im == 0.0) {
             return false;
         }
-        let mut fam = Roots::default();
-        for &s0 in starts.iter().filter(|s| s.im > 0.0) {
-            let Some(s) = newton_from(s0, |s| p.newton_step(f.k, s, c, ivs)) else { return false };
-            if !accept_pair(s0, s, &mut found, &mut nfound, &mut fam) {
-                return false;
-            }
-        }
+        let step = |s| p.newton_step(f.k, s, c, ivs);
+        let Some(fam) = oscillatory_pairs(&starts, step, &mut found, &mut nfound) else { return false };
         *out = fam;
     }
     true

@@ -1,11 +1,42 @@
 //! The checks every exact fast path of `beam` is held to, shared by
-//! `beam_axial_fast_path.rs`, `beam_spring_fast_path.rs` and
-//! `beam_shear_blocks.rs`: a fast result against a reference solve of the
+//! `beam_axial_fast_path.rs`, `beam_spring_fast_path.rs`,
+//! `beam_mass_blocks.rs`, `beam_shear_blocks.rs` and
+//! `beam_shear_continuum.rs`: a fast result against a reference solve of the
 //! same beam (the coupled RQI of `ModalSolver::direct_only`, or the dense
 //! state space), ω relative and ζ absolute, within a tolerance each test
 //! derives for its path; and the same bits at any thread count and history.
+//! Also the draws their random beams share (relaxations, damping, axial
+//! force), so the suites draw the same ranges. Each suite uses a subset of
+//! these, hence the `dead_code` allowance.
+#![allow(dead_code)]
 
-use nanobeam::beam::{ModalResult, ModalSolver};
+use nanobeam::beam::{BeamSpec, InternalVariable, ModalResult, ModalSolver};
+use rand::Rng;
+
+/// 0–2 internal variables, Δ ∈ [0.05, 0.6], Ω log-uniform on
+/// [10^10.5, 10^12.5] rad/s.
+pub fn random_relaxations(rng: &mut impl Rng) -> Vec<InternalVariable> {
+    let nv = rng.gen_range(0..3);
+    (0..nv)
+        .map(|_| InternalVariable {
+            delta: rng.gen_range(0.05..0.6),
+            omega_rad_s: 10f64.powf(rng.gen_range(10.5..12.5)),
+        })
+        .collect()
+}
+
+/// Viscous C up to ≈ 2ζω₁ρA with ζ ≈ 0.3 on mode 1 of the nominal beam
+/// (ω₁ ≈ 8e11 rad/s): u·8e11·ρA, u uniform on [lo, 0.6).
+pub fn random_viscous(rng: &mut impl Rng, b: &BeamSpec, lo: f64) -> f64 {
+    let rho_a = b.density_kg_m3 * b.area_m2();
+    rng.gen_range(lo..0.6) * 8e11 * rho_a
+}
+
+/// An axial force asinh-uniform on [−0.9, 100] N_cr, as the axial-force
+/// prior (issue 40), for a buckling load of magnitude `ncr`.
+pub fn random_axial(rng: &mut impl Rng, ncr: f64) -> f64 {
+    rng.gen_range((-0.9f64).asinh()..100f64.asinh()).sinh() * ncr
+}
 
 /// Every mode of `fast` against `reference`: the same modes and overdamped
 /// families, ω within `tol` relative, ζ within `2 tol` absolute. Returns the
