@@ -41,9 +41,8 @@ mod fast_path_check;
 
 use fast_path_check::{
     assert_agrees_with_the_coupled_reference, assert_same_bits_at_one_and_two_threads_and_after_any_history,
-    compare_observables, random_axial, random_relaxations, random_viscous,
+    compare_observables, random_axial, random_relaxations, random_shear_beam, random_viscous,
 };
-use nanobeam::beam::spec::{Section, Tube};
 use nanobeam::beam::{
     buckling_load_n, modal_state_space, BeamSpec, InternalVariable, ModalSolver, PointMass, ShearDeformation, Support,
 };
@@ -65,13 +64,7 @@ fn compression_gain(b: &BeamSpec) -> f64 {
 
 fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
     let elements = [10, 20, 20, 20, 40][rng.gen_range(0..5)];
-    let mut b = BeamSpec::elastic(L_NM, 1.0, 1e12, 2300.0, Support::SimplySupported, elements);
-    b.nonlocal_e0a_nm = rng.gen_range(0.0..2.0);
-    if rng.gen_bool(0.3) {
-        b.section = Some(Section { tube: Tube { wall_nm: rng.gen_range(0.2..0.45) } });
-    }
-    b.shear_deformation =
-        Some(ShearDeformation { poisson_ratio: rng.gen_range(0.1..0.35), shear_coefficient: rng.gen_range(0.3..1.0) });
+    let mut b = random_shear_beam(rng, elements);
     // axial force, damping, or both
     let which = rng.gen_range(0..3);
     if which != 1 {

@@ -35,14 +35,13 @@
 mod fast_path_check;
 
 use fast_path_check::{
-    assert_same_bits_at_one_and_two_threads_and_after_any_history, random_axial, random_relaxations, random_viscous,
+    assert_same_bits_at_one_and_two_threads_and_after_any_history, random_axial, random_relaxations, random_shear_beam,
+    random_viscous,
 };
-use nanobeam::beam::spec::{Section, Tube};
-use nanobeam::beam::{buckling_load_n, BeamSpec, ModalSolver, ShearDeformation, Support};
+use nanobeam::beam::{buckling_load_n, BeamSpec, ModalSolver, Support};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-const L_NM: f64 = 8.0;
 /// Rounding of both paths, relative (module doc).
 const ROUNDING: f64 = 5e-12;
 /// Room for the convergence rate's change between mesh levels (module doc).
@@ -57,13 +56,7 @@ fn compression_gain(b: &BeamSpec) -> f64 {
 
 fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
     let elements = [20, 20, 40][rng.gen_range(0..3)];
-    let mut b = BeamSpec::elastic(L_NM, 1.0, 1e12, 2300.0, Support::SimplySupported, elements);
-    b.nonlocal_e0a_nm = rng.gen_range(0.0..2.0);
-    if rng.gen_bool(0.3) {
-        b.section = Some(Section { tube: Tube { wall_nm: rng.gen_range(0.2..0.45) } });
-    }
-    b.shear_deformation =
-        Some(ShearDeformation { poisson_ratio: rng.gen_range(0.1..0.35), shear_coefficient: rng.gen_range(0.3..1.0) });
+    let mut b = random_shear_beam(rng, elements);
     let which = rng.gen_range(0..3);
     if which != 1 {
         // the lower buckling load of this mesh and the next finer one (a finer

