@@ -25,6 +25,19 @@ struct Tally {
     worst_z: f64,
 }
 
+impl Tally {
+    /// Counts one interval with standardised error `z` (a non-finite z as
+    /// infinitely far); returns |z|.
+    fn interval(&mut self, z: f64) -> f64 {
+        let z = if z.is_finite() { z.abs() } else { f64::INFINITY };
+        self.intervals += 1;
+        self.within_95 += usize::from(z <= 1.96);
+        self.within_3sd += usize::from(z <= 3.0);
+        self.worst_z = self.worst_z.max(z);
+        z
+    }
+}
+
 const SUPPORTS: [Support; 3] = [Support::SimplySupported, Support::ClampedClamped, Support::Cantilever];
 
 fn noise_of(proportional: bool) -> Noise {
@@ -77,11 +90,7 @@ fn study(kind: Kind, proportional: bool, seeds: std::ops::Range<u64>) -> Tally {
                 println!("  omega {:.1}: z omega {zw:.2}, z zeta {:.2}", v.omega, (m.zeta - v.zeta) / m.zeta_sd);
             }
             for z in [(m.omega_rad_s - v.omega) / m.omega_sd_rad_s, (m.zeta - v.zeta) / m.zeta_sd] {
-                let z = if z.is_finite() { z.abs() } else { f64::INFINITY };
-                t.intervals += 1;
-                t.within_95 += usize::from(z <= 1.96);
-                t.within_3sd += usize::from(z <= 3.0);
-                t.worst_z = t.worst_z.max(z);
+                t.interval(z);
             }
         }
     }
@@ -997,11 +1006,7 @@ fn magnitude_fold_check() {
                 let Some(m) = id.modes.iter().find(|m| near(m.omega_rad_s, v.omega)) else { continue };
                 t.found += 1;
                 for z in [(m.omega_rad_s - v.omega) / m.omega_sd_rad_s, (m.zeta - v.zeta) / m.zeta_sd] {
-                    let z = if z.is_finite() { z.abs() } else { f64::INFINITY };
-                    t.intervals += 1;
-                    t.within_95 += usize::from(z <= 1.96);
-                    t.within_3sd += usize::from(z <= 3.0);
-                    t.worst_z = t.worst_z.max(z);
+                    let z = t.interval(z);
                     zs.push(format!("{z:.2}"));
                 }
             }
