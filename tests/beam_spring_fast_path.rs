@@ -39,7 +39,7 @@ mod fast_path_check;
 
 use fast_path_check::{
     assert_agrees_with_the_coupled_reference, assert_same_bits_at_one_and_two_threads_and_after_any_history,
-    compare_observables, random_axial, random_relaxations, random_viscous,
+    compare_observables, random_axial, random_relaxations, random_springs, random_viscous,
 };
 use nanobeam::beam::spec::{Section, Tube};
 use nanobeam::beam::{
@@ -69,18 +69,7 @@ fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
     if rng.gen_bool(0.3) {
         b.section = Some(Section { tube: Tube { wall_nm: rng.gen_range(0.2..0.45) } });
     }
-    // κ = kL/EI log-uniform on the prior [1e-2, 1e3], on one end or both
-    let ei_over_l = b.youngs_modulus_pa * b.inertia_m4() / (L_NM * 1e-9);
-    let kappa = |rng: &mut ChaCha8Rng| 10f64.powf(rng.gen_range(-2.0..3.0)) * ei_over_l;
-    match rng.gen_range(0..4) {
-        0 => b.support_rotational_stiffness_left_n_m_rad = kappa(rng),
-        1 => b.support_rotational_stiffness_right_n_m_rad = kappa(rng),
-        2 => b.support_rotational_stiffness_n_m_rad = kappa(rng),
-        _ => {
-            b.support_rotational_stiffness_left_n_m_rad = kappa(rng);
-            b.support_rotational_stiffness_right_n_m_rad = kappa(rng);
-        }
-    }
+    random_springs(rng, &mut b);
     if rng.gen_bool(0.3) {
         let ncr = buckling_load_n(&b).unwrap().abs();
         b.axial_force_n = random_axial(rng, ncr);

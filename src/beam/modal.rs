@@ -370,9 +370,9 @@ impl ModalSolver {
     }
 
     /// True when the last result came from the closed-form continuum path of
-    /// a uniform simply supported Timoshenko beam with an axial force or C > 0
-    /// (`shear_continuum.rs`): the mesh's continuum limit, within its
-    /// discretisation error of the mesh.
+    /// a uniform simply supported Timoshenko beam with an axial force or C > 0,
+    /// or with support springs alone (`shear_continuum.rs`): the mesh's
+    /// continuum limit, within its discretisation error of the mesh.
     pub fn last_used_shear_continuum(&self) -> bool {
         self.last_shear_continuum
     }
@@ -457,7 +457,9 @@ impl ModalSolver {
     /// wavenumber-block path (`axial_spectrum.rs`; with [`Poles::Oscillatory`]
     /// only the oscillatory pairs, as the coupled reference does); support
     /// springs on that mesh without a point mass (with or without the force)
-    /// the secular path on the same blocks (`spring_spectrum.rs`).
+    /// the secular path on the same blocks (`spring_spectrum.rs`). The
+    /// simply supported Timoshenko mesh with an axial force or damping, or
+    /// with springs alone, takes its continuum limit (`shear_continuum.rs`).
     fn interpolated_roots(&mut self, beam: &BeamSpec, n_modes: usize, poles: Poles) -> Option<f64> {
         let mesh = self.mesh.as_ref()?;
         let sc = Scaling::new(beam);
@@ -515,6 +517,29 @@ impl ModalSolver {
             let pencil = ContinuumShear { e2: sc.e_tilde * sc.e_tilde, shear: g, r2: sh.r2, axial: sc.axial };
             if !shear_continuum::family_roots(&pencil, sc.c, &ivs[..nv], n_modes, poles == Poles::All, &mut self.roots)
             {
+                return None;
+            }
+            self.last_shear_continuum = true;
+            return Some(sc.omega_ref);
+        }
+        if let Some(sh) = mesh.shear.as_ref().filter(|_| {
+            mesh.support == Support::SimplySupported
+                && beam.point_mass.is_none()
+                && mesh.springs(&sc.spring).next().is_some()
+                && sc.axial == 0.0
+                && sc.c == 0.0
+                && mesh.elements >= shear_continuum::MIN_ELEMENTS
+                && n_modes > 0
+                && n_modes <= mesh.elements / shear_continuum::APPLIES_UP_TO
+        }) {
+            let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
+            let g = crate::beam::model::shear_params(beam).map_or(0.0, |(g, _)| g);
+            let pencil = ContinuumShear { e2: sc.e_tilde * sc.e_tilde, shear: g, r2: sh.r2, axial: 0.0 };
+            let spring: [f64; 2] =
+                std::array::from_fn(|e| if mesh.spring_dofs[e].is_some() { sc.spring[e] } else { 0.0 });
+            let Self { spring_scratch, roots, .. } = self;
+            let all = poles == Poles::All;
+            if !shear_continuum::spring_family_roots(&pencil, spring, &ivs[..nv], n_modes, all, spring_scratch, roots) {
                 return None;
             }
             self.last_shear_continuum = true;

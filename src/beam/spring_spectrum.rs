@@ -87,6 +87,7 @@ use num_complex::Complex64;
 
 use crate::beam::axial_spectrum::{accept_pair, newton_from, AxialBlocks, Sym2};
 use crate::beam::family::{family_roots_into, Roots};
+use crate::beam::shear_continuum::SpringTail;
 
 /// Safeguarded Newton on the real axis stops after a step ≤ EIGEN_TOL·λ.
 const EIGEN_TOL: f64 = 1e-13;
@@ -109,9 +110,19 @@ pub(super) trait Num:
     + std::ops::Div<Output = Self>
     + From<f64>
 {
+    /// |x|: the continuum tail's validity test reads magnitudes.
+    fn modulus(self) -> f64;
 }
-impl Num for f64 {}
-impl Num for Complex64 {}
+impl Num for f64 {
+    fn modulus(self) -> f64 {
+        self.abs()
+    }
+}
+impl Num for Complex64 {
+    fn modulus(self) -> f64 {
+        self.norm()
+    }
+}
 
 /// A value with its derivative.
 #[derive(Debug, Clone, Copy)]
@@ -176,11 +187,15 @@ impl Block {
 /// The secular data of one beam: blocks, springs and the spring-free spectrum.
 #[derive(Debug, Default, Clone)]
 pub struct SpringScratch {
-    blocks: Vec<Block>,
+    pub(super) blocks: Vec<Block>,
     /// Spring-free eigenvalues with the block they belong to, ascending.
-    mu: Vec<(f64, usize)>,
+    pub(super) mu: Vec<(f64, usize)>,
     /// The active ends' (k̃, end index 0 = x = 0, 1 = x = L).
-    ends: Vec<(f64, usize)>,
+    pub(super) ends: Vec<(f64, usize)>,
+    /// The blocks beyond the last of `blocks` in closed form, when the
+    /// blocks are a truncated infinite set (the continuum Timoshenko beam,
+    /// `shear_continuum.rs`); `None` on a mesh, whose blocks are all there.
+    pub(super) tail: Option<SpringTail>,
 }
 
 impl SpringScratch {
@@ -212,6 +227,10 @@ impl SpringScratch {
             }
         }
         debug_assert_eq!(nrem, removed.len());
+        if let Some(tail) = &self.tail {
+            let Some([te, to]) = tail.sums(p, q) else { return Jet::c(f64::NAN) };
+            sums = [sums[0].add(te), sums[1].add(to)];
+        }
         let rem = &rem[..nrem];
         // Π over the removed blocks except those in `skip`
         let prod = |skip: &[usize]| {
@@ -253,6 +272,10 @@ impl SpringScratch {
             let s = b.shifted(lambda);
             let a = if b.single { 1.0 / s.vv } else { s.uu / (s.uu * s.vv - s.uv * s.uv) } / b.d;
             sums[usize::from(b.sign < 0.0)] += a;
+        }
+        if let Some(tail) = &self.tail {
+            let [te, to] = tail.sums::<f64>(Jet::c(-lambda), Jet::c(1.0))?;
+            sums = [sums[0] + te.v, sums[1] + to.v];
         }
         let (se, so) = (sums[0], sums[1]);
         let h = if self.ends.len() == 1 {
@@ -364,8 +387,33 @@ impl SpringScratch {
         None
     }
 
+    /// The flexibility sums (S_even, S_odd) = Σ_j α_j over the blocks of even
+    /// and of odd σ_j, the tail included, at (p, q).
+    fn flexibility<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> Option<[Jet<T>; 2]> {
+        let mut sums = [Jet::<T>::c(0.0); 2];
+        for b in &self.blocks {
+            let (adj, det) = b.parts(p, q);
+            let slot = usize::from(b.sign < 0.0);
+            sums[slot] = sums[slot].add(adj.scale(1.0 / b.d).div(det));
+        }
+        if let Some(tail) = &self.tail {
+            let [te, to] = tail.sums(p, q)?;
+            sums = [sums[0].add(te), sums[1].add(to)];
+        }
+        Some(sums)
+    }
+
     /// (a, b) of the one-term family of the eigenvector of λ (module doc).
+    /// With a tail (an infinite set of blocks) the forms come from the
+    /// flexibility instead of a sum over the eigenvector's blocks: with
+    /// x = T₀(λ)⁻¹Ez, H(λ)z = 0 and T₀ = K − λM, d(T₀⁻¹)/dλ = T₀⁻¹MT₀⁻¹ gives
+    /// xᵀM̃x = zᵀF′(λ)z, and the end rotations are Eᵀx = F(λ)z, so the spring
+    /// share is a = Σ_e k̃_e (Fz)_e² / zᵀF′z and b = λ − a (no axial force:
+    /// the continuum path is taken without one).
     fn one_term(&self, lambda: f64) -> Option<(f64, f64)> {
+        if self.tail.is_some() {
+            return self.one_term_from_flexibility(lambda);
+        }
         let h = self.h_real(lambda)?;
         let z: [f64; 2] = if self.ends.len() == 1 {
             [1.0, 0.0]
@@ -396,6 +444,70 @@ impl SpringScratch {
         let (a1, b1) = ((ks + n) / m, k / m);
         let ok = a1.is_finite() && b1.is_finite() && m > 0.0 && (a1 + b1 - lambda).abs() <= RAYLEIGH_TOL * lambda;
         ok.then_some((a1, b1))
+    }
+
+    /// The poles of families 1..=n_modes from the filled scratch into
+    /// `roots` (every pole when `all`, else the oscillatory pairs); `false`
+    /// when the path declines.
+    pub(super) fn family_roots(
+        &self,
+        c: f64,
+        ivs: &[(f64, f64)],
+        n_modes: usize,
+        all: bool,
+        roots: &mut Vec<Roots>,
+    ) -> bool {
+        let scratch = self;
+        if n_modes == 0 {
+            return false;
+        }
+        roots.resize(n_modes, Roots::default());
+        let mut found: [Complex64; 64] = [Complex64::new(0.0, 0.0); 64];
+        let mut nfound = 0;
+        let mut starts = Roots::default();
+        for (r0, out) in roots.iter_mut().enumerate().take(n_modes) {
+            let Some((lambda, removed, nr)) = scratch.eigenvalue(r0) else { return false };
+            let Some((a1, b1)) = scratch.one_term(lambda) else { return false };
+            if family_roots_into(a1, b1, c, ivs, &mut starts).is_err() {
+                return false;
+            }
+            // real poles are left to the reference (as in `axial_spectrum.rs`)
+            if all && starts.iter().any(|s| s.im == 0.0) {
+                return false;
+            }
+            let mut fam = Roots::default();
+            for &s0 in starts.iter().filter(|s| s.im > 0.0) {
+                let Some(s) = newton(scratch, c, ivs, &removed[..nr], s0) else { return false };
+                if !accept_pair(s0, s, &mut found, &mut nfound, &mut fam) {
+                    return false;
+                }
+            }
+            *out = fam;
+        }
+        true
+    }
+
+    /// [`Self::one_term`] from the flexibility F(λ) and F′(λ).
+    fn one_term_from_flexibility(&self, lambda: f64) -> Option<(f64, f64)> {
+        let [se, so] = self.flexibility::<f64>(Jet { v: -lambda, d: -1.0 }, Jet::c(1.0))?;
+        // on the active ends F_ee = S_e + S_o and F_0L = S_e − S_o, and F′ likewise
+        let (f, df) = ([se.v + so.v, se.v - so.v], [se.d + so.d, se.d - so.d]);
+        let (x, m) = if self.ends.len() == 1 {
+            ([f[0], 0.0], df[0])
+        } else {
+            let h = [1.0 / self.ends[0].0 + f[0], f[1], 1.0 / self.ends[1].0 + f[0]];
+            let z = if h[0].abs() + h[1].abs() >= h[1].abs() + h[2].abs() { [-h[1], h[0]] } else { [h[2], -h[1]] };
+            let x = [f[0] * z[0] + f[1] * z[1], f[1] * z[0] + f[0] * z[1]];
+            (x, df[0] * (z[0] * z[0] + z[1] * z[1]) + 2.0 * df[1] * z[0] * z[1])
+        };
+        self.spring_share(lambda, x, m)
+    }
+
+    /// (a, λ − a) with a = Σ_e k̃_e x_e² / m (see [`Self::one_term`]).
+    fn spring_share(&self, lambda: f64, x: [f64; 2], m: f64) -> Option<(f64, f64)> {
+        let ks: f64 = self.ends.iter().enumerate().map(|(i, &(k, _))| k * x[i] * x[i]).sum();
+        let a = ks / m;
+        (m > 0.0 && a.is_finite() && a >= 0.0 && a < lambda).then_some((a, lambda - a))
     }
 }
 
@@ -429,26 +541,7 @@ impl AxialBlocks {
             let n = m1.plus(t, *k).scaled(axial);
             blocks.push(Block { m, k: *k, n, d: 0.5 * ne as f64, sign: sign(j), single: false });
         }
-        for (idx, b) in blocks.iter().enumerate() {
-            let s = b.k.plus(1.0, b.n);
-            if b.single {
-                mu.push((s.vv / b.m.vv, idx));
-                continue;
-            }
-            let m = b.m;
-            let a = m.uu * m.vv - m.uv * m.uv;
-            let bb = s.uu * m.vv + s.vv * m.uu - 2.0 * s.uv * m.uv;
-            let c = s.uu * s.vv - s.uv * s.uv;
-            let disc = bb * bb - 4.0 * a * c;
-            if !(a > 0.0 && disc >= 0.0) {
-                return false;
-            }
-            let up = (bb + disc.sqrt()) / (2.0 * a);
-            mu.push((c / (a * up), idx));
-            mu.push((up, idx));
-        }
-        mu.sort_by(|x, y| x.0.total_cmp(&y.0));
-        true
+        block_spectrum(blocks, mu)
     }
 
     /// Fills `scratch` for (t = ẽ², ñ, k̃ at both ends); `false` unless at
@@ -457,6 +550,7 @@ impl AxialBlocks {
     /// without its springs may be past buckling while the beam is not; the
     /// count and λ_r > 0 decide).
     fn spring_setup(&self, t: f64, axial: f64, spring: [f64; 2], n_modes: usize, scratch: &mut SpringScratch) -> bool {
+        scratch.tail = None;
         scratch.ends.clear();
         for (e, &k) in spring.iter().enumerate() {
             if k > 0.0 {
@@ -493,30 +587,7 @@ impl AxialBlocks {
         if n_modes == 0 || !self.spring_setup(t, axial, spring, n_modes, scratch) {
             return false;
         }
-        roots.resize(n_modes, Roots::default());
-        let mut found: [Complex64; 64] = [Complex64::new(0.0, 0.0); 64];
-        let mut nfound = 0;
-        let mut starts = Roots::default();
-        for (r0, out) in roots.iter_mut().enumerate().take(n_modes) {
-            let Some((lambda, removed, nr)) = scratch.eigenvalue(r0) else { return false };
-            let Some((a1, b1)) = scratch.one_term(lambda) else { return false };
-            if family_roots_into(a1, b1, c, ivs, &mut starts).is_err() {
-                return false;
-            }
-            // real poles are left to the reference (as in `axial_spectrum.rs`)
-            if all && starts.iter().any(|s| s.im == 0.0) {
-                return false;
-            }
-            let mut fam = Roots::default();
-            for &s0 in starts.iter().filter(|s| s.im > 0.0) {
-                let Some(s) = newton(scratch, c, ivs, &removed[..nr], s0) else { return false };
-                if !accept_pair(s0, s, &mut found, &mut nfound, &mut fam) {
-                    return false;
-                }
-            }
-            *out = fam;
-        }
-        true
+        scratch.family_roots(c, ivs, n_modes, all, roots)
     }
 
     /// The lowest `n_modes` eigenvalues of the undamped relaxed pencil
@@ -529,6 +600,34 @@ impl AxialBlocks {
         }
         (0..n_modes).map(|r0| scratch.eigenvalue(r0).map(|e| e.0)).collect()
     }
+}
+
+/// The spring-free spectrum of `blocks` (both eigenvalues of every 2 × 2
+/// pencil (K + N, M), the entry of every 1 × 1 one) with each eigenvalue's
+/// block into `mu`, ascending; `false` when a 2 × 2 pencil has no real
+/// eigenvalues (not positive definite in M).
+pub(super) fn block_spectrum(blocks: &[Block], mu: &mut Vec<(f64, usize)>) -> bool {
+    mu.clear();
+    for (idx, b) in blocks.iter().enumerate() {
+        let s = b.k.plus(1.0, b.n);
+        if b.single {
+            mu.push((s.vv / b.m.vv, idx));
+            continue;
+        }
+        let m = b.m;
+        let a = m.uu * m.vv - m.uv * m.uv;
+        let bb = s.uu * m.vv + s.vv * m.uu - 2.0 * s.uv * m.uv;
+        let c = s.uu * s.vv - s.uv * s.uv;
+        let disc = bb * bb - 4.0 * a * c;
+        if !(a > 0.0 && disc >= 0.0) {
+            return false;
+        }
+        let up = (bb + disc.sqrt()) / (2.0 * a);
+        mu.push((c / (a * up), idx));
+        mu.push((up, idx));
+    }
+    mu.sort_by(|x, y| x.0.total_cmp(&y.0));
+    true
 }
 
 /// Newton on g(s) (module doc) from `s0` (the stopping rule of

@@ -29,6 +29,22 @@ pub fn random_shear_beam(rng: &mut impl Rng, elements: usize) -> BeamSpec {
     b
 }
 
+/// Support springs κ = kL/EI log-uniform on the diagnosis's prior
+/// [1e-2, 1e3], at x = 0, at x = L, at both alike or at both apart.
+pub fn random_springs(rng: &mut impl Rng, b: &mut BeamSpec) {
+    let ei_over_l = b.youngs_modulus_pa * b.inertia_m4() / (b.length_nm * 1e-9);
+    let kappa = |rng: &mut dyn rand::RngCore| 10f64.powf(rng.gen_range(-2.0..3.0)) * ei_over_l;
+    match rng.gen_range(0..4) {
+        0 => b.support_rotational_stiffness_left_n_m_rad = kappa(rng),
+        1 => b.support_rotational_stiffness_right_n_m_rad = kappa(rng),
+        2 => b.support_rotational_stiffness_n_m_rad = kappa(rng),
+        _ => {
+            b.support_rotational_stiffness_left_n_m_rad = kappa(rng);
+            b.support_rotational_stiffness_right_n_m_rad = kappa(rng);
+        }
+    }
+}
+
 /// 0–2 internal variables, Δ ∈ [0.05, 0.6], Ω log-uniform on
 /// [10^10.5, 10^12.5] rad/s.
 pub fn random_relaxations(rng: &mut impl Rng) -> Vec<InternalVariable> {
