@@ -32,6 +32,11 @@
 //! A wrong pencil (a term dropped, a scaling off) moves a pole by far more
 //! than the mesh's error, and the Richardson bound catches it: the check is
 //! falsifiable with no reference to the path's own output.
+//!
+//! The point-mass continuum path is not checked here: the mesh converges too
+//! unevenly under a point mass for a Richardson bound (`shear_continuum.rs`),
+//! so `tests/beam_shear_mass_ode.rs` checks it against the boundary value
+//! problem. Its dispatch and same-bits checks are here.
 
 mod fast_path_check;
 
@@ -202,8 +207,8 @@ fn agree_with_the_mesh(beams: &[BeamSpec], label: &str) -> usize {
 /// The path is taken only where its discretisation argument holds: a simply
 /// supported Timoshenko mesh of ≥ 20 elements, modes n ≤ n_e/4, with an
 /// axial force or viscous damping and no spring or point mass, or with
-/// support springs and neither of the others; elsewhere the solver keeps its
-/// other paths.
+/// support springs alone, or a point mass alone; elsewhere the solver keeps
+/// its other paths.
 #[test]
 fn the_path_is_taken_only_in_its_range() {
     let mut rng = ChaCha8Rng::seed_from_u64(4142);
@@ -238,13 +243,31 @@ fn the_path_is_taken_only_in_its_range() {
     let mut mass = spring.clone();
     mass.point_mass = Some(nanobeam::beam::PointMass { mass_kg: 1e-24, x_nm: 3.0 });
     assert!(!taken(&mut solver, &mass, 5), "a spring and a point mass");
+    mass.support_rotational_stiffness_n_m_rad = 0.0;
+    assert!(taken(&mut solver, &mass, 5), "a point mass alone: the mass continuum");
+    mass.viscous_damping_n_s_m2 = 1e-3;
+    assert!(!taken(&mut solver, &mass, 5), "a point mass with damping");
+    let mut mass = spring.clone();
+    mass.point_mass = Some(nanobeam::beam::PointMass { mass_kg: 1e-24, x_nm: 3.0 });
+    assert!(!taken(&mut solver, &mass, 5), "a spring and a point mass");
 }
 
 /// Same bits at one and two threads and after any history (the shared check
-/// of the fast-path suites).
+/// of the fast-path suites), on axial/damped, spring and point-mass beams.
 #[test]
 fn same_bits_at_one_and_two_threads_and_after_any_history() {
     let mut rng = ChaCha8Rng::seed_from_u64(4143);
-    let beams: Vec<BeamSpec> = (0..24).map(|_| random_beam(&mut rng)).collect();
+    let mut beams: Vec<BeamSpec> = (0..24).map(|_| random_beam(&mut rng)).collect();
+    beams.extend((0..12).map(|_| random_spring_beam(&mut rng)));
+    beams.extend((0..12).map(|_| {
+        let mut b = random_spring_beam(&mut rng);
+        b.support_rotational_stiffness_n_m_rad = 0.0;
+        b.support_rotational_stiffness_left_n_m_rad = 0.0;
+        b.support_rotational_stiffness_right_n_m_rad = 0.0;
+        let beam_mass = b.density_kg_m3 * b.area_m2() * b.length_nm * 1e-9;
+        b.point_mass =
+            Some(nanobeam::beam::PointMass { mass_kg: 0.2 * beam_mass, x_nm: rng.gen_range(0.0..b.length_nm) });
+        b
+    }));
     assert_same_bits_at_one_and_two_threads_and_after_any_history(&beams, ModalSolver::new);
 }

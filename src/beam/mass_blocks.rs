@@ -72,6 +72,7 @@
 use num_complex::Complex64;
 
 use crate::beam::axial_spectrum::{accept_pair, newton_from, AxialBlocks};
+use crate::beam::continuum_tail::MassTail;
 use crate::beam::element;
 use crate::beam::family::{family_roots_into, Roots};
 use crate::beam::spring_spectrum::{Block, Jet, Num, CERTIFY_GAP};
@@ -88,16 +89,20 @@ const RAYLEIGH_TOL: f64 = 1e-8;
 /// mass-free spectrum.
 #[derive(Debug, Default, Clone)]
 pub struct MassScratch {
-    blocks: Vec<Block>,
+    pub(super) blocks: Vec<Block>,
     /// (n_u, n_v) of every block, in the order of `blocks`.
-    coords: Vec<[f64; 2]>,
+    pub(super) coords: Vec<[f64; 2]>,
     /// Mass-free eigenvalues with their block, ascending.
-    mu: Vec<(f64, usize)>,
+    pub(super) mu: Vec<(f64, usize)>,
+    /// The blocks beyond the last of `blocks` in closed form, when the
+    /// blocks are a truncated infinite set (the continuum Timoshenko beam,
+    /// `shear_continuum.rs`); `None` on a mesh.
+    pub(super) tail: Option<MassTail>,
     /// (sin, cos)(πk/n_e), k = 0..2n_e − 1, for `table_elements`.
     table: Vec<(f64, f64)>,
     table_elements: usize,
     /// μ̃ = m/(ρAL).
-    mass: f64,
+    pub(super) mass: f64,
 }
 
 impl MassScratch {
@@ -121,6 +126,10 @@ impl MassScratch {
                 x = x.add(beta.div(det));
             }
         }
+        if let Some(tail) = &self.tail {
+            let Some(t) = tail.sum(p, q, &self.coords) else { return (Jet::c(f64::NAN), T::from(f64::NAN)) };
+            x = x.add(t);
+        }
         match &rem[..nrem] {
             [] => (x, x.v),
             [(b1, d1)] => (x.mul(*d1).add(*b1), x.v + b1.v / d1.v),
@@ -141,6 +150,9 @@ impl MassScratch {
             } else {
                 (n[0] * n[0] * s.vv - 2.0 * n[0] * n[1] * s.uv + n[1] * n[1] * s.uu) / (s.uu * s.vv - s.uv * s.uv)
             } / b.d;
+        }
+        if let Some(tail) = &self.tail {
+            h += tail.sum::<f64>(Jet::c(-lambda), Jet::c(1.0), &self.coords)?.v;
         }
         h.is_finite().then_some(h)
     }
@@ -228,8 +240,53 @@ impl MassScratch {
         None
     }
 
+    /// The poles of families 1..=n_modes from the filled scratch into
+    /// `roots` (every pole when `all`, else the oscillatory pairs); `false`
+    /// when the path declines.
+    pub(super) fn family_roots(
+        &self,
+        c: f64,
+        ivs: &[(f64, f64)],
+        n_modes: usize,
+        all: bool,
+        roots: &mut Vec<Roots>,
+    ) -> bool {
+        let scratch = self;
+        if n_modes == 0 {
+            return false;
+        }
+        roots.resize(n_modes, Roots::default());
+        let mut found: [Complex64; 64] = [Complex64::new(0.0, 0.0); 64];
+        let mut nfound = 0;
+        let mut starts = Roots::default();
+        for (r0, out) in roots.iter_mut().enumerate().take(n_modes) {
+            let Some((lambda, removed, nr)) = scratch.eigenvalue(r0) else { return false };
+            let Some((a1, b1, beam_share)) = scratch.one_term(lambda) else { return false };
+            if family_roots_into(a1, b1, c * beam_share, ivs, &mut starts).is_err() {
+                return false;
+            }
+            if all && starts.iter().any(|s| s.im == 0.0) {
+                return false;
+            }
+            let mut fam = Roots::default();
+            for &s0 in starts.iter().filter(|s| s.im > 0.0) {
+                let Some(s) = newton(scratch, c, ivs, &removed[..nr], s0) else { return false };
+                if !accept_pair(s0, s, &mut found, &mut nfound, &mut fam) {
+                    return false;
+                }
+            }
+            *out = fam;
+        }
+        true
+    }
+
     /// (a, b, c_x/c̃) of the one-term family of the eigenvector of λ (module doc).
+    /// With a tail (the continuum path: no axial force, no damping) the whole
+    /// stiffness relaxes, so a = 0 and b = λ exactly, and c_x does not enter.
     fn one_term(&self, lambda: f64) -> Option<(f64, f64, f64)> {
+        if self.tail.is_some() {
+            return Some((0.0, lambda, 1.0));
+        }
         let (mut m, mut k, mut nn, mut at) = (0.0, 0.0, 0.0, 0.0);
         for (b, n) in self.blocks.iter().zip(&self.coords) {
             let s = b.shifted(lambda);
@@ -270,6 +327,7 @@ impl AxialBlocks {
     /// `n_modes` mass-free eigenvalues exist, all finite, and the lowest is
     /// positive (module doc).
     fn mass_setup(&self, t: f64, axial: f64, mass: f64, x: f64, n_modes: usize, scratch: &mut MassScratch) -> bool {
+        scratch.tail = None;
         if !(mass > 0.0 && mass.is_finite() && (0.0..=1.0).contains(&x)) {
             return false;
         }
@@ -327,29 +385,7 @@ impl AxialBlocks {
         if n_modes == 0 || !self.mass_setup(t, axial, mass, x, n_modes, scratch) {
             return false;
         }
-        roots.resize(n_modes, Roots::default());
-        let mut found: [Complex64; 64] = [Complex64::new(0.0, 0.0); 64];
-        let mut nfound = 0;
-        let mut starts = Roots::default();
-        for (r0, out) in roots.iter_mut().enumerate().take(n_modes) {
-            let Some((lambda, removed, nr)) = scratch.eigenvalue(r0) else { return false };
-            let Some((a1, b1, beam_share)) = scratch.one_term(lambda) else { return false };
-            if family_roots_into(a1, b1, c * beam_share, ivs, &mut starts).is_err() {
-                return false;
-            }
-            if all && starts.iter().any(|s| s.im == 0.0) {
-                return false;
-            }
-            let mut fam = Roots::default();
-            for &s0 in starts.iter().filter(|s| s.im > 0.0) {
-                let Some(s) = newton(scratch, c, ivs, &removed[..nr], s0) else { return false };
-                if !accept_pair(s0, s, &mut found, &mut nfound, &mut fam) {
-                    return false;
-                }
-            }
-            *out = fam;
-        }
-        true
+        scratch.family_roots(c, ivs, n_modes, all, roots)
     }
 
     /// The lowest `n_modes` eigenvalues of the undamped relaxed pencil

@@ -18,6 +18,7 @@
 mod axial_spectrum;
 pub(crate) mod band;
 mod buckling;
+mod continuum_tail;
 mod coupled;
 pub(crate) mod dual;
 pub(crate) mod eigen;
@@ -25,6 +26,7 @@ pub mod element;
 mod error;
 pub(crate) mod family;
 mod frf;
+mod jet;
 mod mass_blocks;
 mod mass_spectrum;
 mod modal;

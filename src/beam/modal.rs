@@ -371,7 +371,7 @@ impl ModalSolver {
 
     /// True when the last result came from the closed-form continuum path of
     /// a uniform simply supported Timoshenko beam with an axial force or C > 0,
-    /// or with support springs alone (`shear_continuum.rs`): the mesh's
+    /// or with support springs or a point mass alone (`shear_continuum.rs`): the mesh's
     /// continuum limit, within its discretisation error of the mesh.
     pub fn last_used_shear_continuum(&self) -> bool {
         self.last_shear_continuum
@@ -459,7 +459,8 @@ impl ModalSolver {
     /// springs on that mesh without a point mass (with or without the force)
     /// the secular path on the same blocks (`spring_spectrum.rs`). The
     /// simply supported Timoshenko mesh with an axial force or damping, or
-    /// with springs alone, takes its continuum limit (`shear_continuum.rs`).
+    /// with springs alone or a point mass alone, takes its continuum limit
+    /// (`shear_continuum.rs`).
     fn interpolated_roots(&mut self, beam: &BeamSpec, n_modes: usize, poles: Poles) -> Option<f64> {
         let mesh = self.mesh.as_ref()?;
         let sc = Scaling::new(beam);
@@ -483,6 +484,29 @@ impl ModalSolver {
             }
             self.last_mass_blocks = true;
             return Some(sc.omega_ref);
+        }
+        if let (Some(pm), Some(sh)) = (beam.point_mass.as_ref(), mesh.shear.as_ref()) {
+            if mesh.support == Support::SimplySupported
+                && mesh.springs(&sc.spring).next().is_none()
+                && sc.axial == 0.0
+                && sc.c == 0.0
+                && mesh.elements >= shear_continuum::MIN_ELEMENTS
+                && n_modes > 0
+                && n_modes <= mesh.elements / shear_continuum::APPLIES_UP_TO
+            {
+                let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
+                let g = crate::beam::model::shear_params(beam).map_or(0.0, |(g, _)| g);
+                let pencil = ContinuumShear { e2: sc.e_tilde * sc.e_tilde, shear: g, r2: sh.r2, axial: 0.0 };
+                // μ̃ and x̃ exactly as `ScaledModel::new` forms them
+                let mass = (pm.mass_kg / (sc.rho_a * sc.l), pm.x_nm / beam.length_nm);
+                let Self { mass_scratch, roots, .. } = self;
+                let all = poles == Poles::All;
+                if !shear_continuum::mass_family_roots(&pencil, mass, &ivs[..nv], n_modes, all, mass_scratch, roots) {
+                    return None;
+                }
+                self.last_shear_continuum = true;
+                return Some(sc.omega_ref);
+            }
         }
         if self.use_shear_blocks
             && mesh.shear.is_some()

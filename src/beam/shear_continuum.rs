@@ -68,6 +68,31 @@
 //! come from the flexibility F(λ) and F′(λ) (`SpringScratch::one_term`),
 //! tail included.
 //!
+//! # A point mass: a rank-1 update, summed in closed form
+//! The mass μ̃ at x̃ adds s²μ̃w(x̃)² (`model.rs`: on the deflection, no Eringen
+//! operator, no damping), and w(x̃) = (S + v/k) sin kx̃, so in the same blocks
+//! the secular problem of `mass_blocks.rs` holds with n_j = sin(kx̃)·(1, 1/k)
+//! (0 for j = 0: w ≡ 0 there). Its terms are
+//!   β_j/δ_j = 2 sin²(kx̃)·N(z)/D(z),  N(z) = (r̃²p + qg̃) + (ẽ²r̃²p + q)z,
+//! with the D of the springs; they fall only like 1/k² (the shear field's
+//! response to a point force), too slowly for the Laurent tail at x̃-dependent
+//! weights. But N/D = A₁/(z − z₁) + A₂/(z − z₂) over the two roots of D, and
+//! Σ_{j≥1} sin²(jπx̃)/(j²π² − ζ) = (cos(b(1 − 2x̃)) − cos b)/(4b sin b), b = √ζ
+//! (from Σ_{j≥1} cos(jθ)/(j² − a²) = 1/2a² − π cos(a(π − θ))/(2a sin aπ),
+//! 0 ≤ θ ≤ 2π), so the sum over all j is closed, and the tail is it less the
+//! kept blocks' terms ([`MassTail::sum`]; the derivative by the chain rule
+//! through z_i(s)). The path declines where D has a double root or b is near
+//! 0 or its cosines would overflow. J needs only to hold the mass-free
+//! eigenvalues that bracket the modes, and is doubled until they are below
+//! the bending eigenvalue of J + 1. The whole stiffness relaxes and nothing
+//! else enters (no axial force, no damping on this path), so each mode's
+//! one-term family is s² + λG(s) = 0 with λ its certified eigenvalue.
+//!
+//! The mesh is not the reference here: its shear field is C¹ (γ a nodal DOF),
+//! the point force makes γ jump, and the mesh converges at O(h) to O(h²),
+//! unevenly. `tests/beam_shear_mass_ode.rs` checks the path against the
+//! beam's boundary value problem solved by transfer matrices instead.
+//!
 //! # What it is exact to
 //! This is the continuum limit of the model's mesh, not the mesh: the two
 //! differ by the mesh's discretisation error, O(h⁶) in λ asymptotically (the
@@ -78,13 +103,16 @@
 //! path only on meshes fine enough for that argument ([`APPLIES_UP_TO`]).
 
 use std::f64::consts::PI;
-use std::sync::OnceLock;
 
 use num_complex::Complex64;
 
 use crate::beam::axial_spectrum::{oscillatory_pairs, Sym2};
+#[cfg(doc)]
+use crate::beam::continuum_tail::TAIL_TERMS;
+use crate::beam::continuum_tail::{tail_consts, MassTail, SpringTail, MAX_BLOCKS, TAIL_RATIO};
 use crate::beam::family::{family_roots_into, Roots};
-use crate::beam::spring_spectrum::{block_spectrum, Block, Jet, Num, SpringScratch};
+use crate::beam::mass_blocks::MassScratch;
+use crate::beam::spring_spectrum::{block_spectrum, Block, Jet, SpringScratch};
 
 /// The path applies to modes n ≤ n_e / [`APPLIES_UP_TO`] on meshes of at
 /// least [`MIN_ELEMENTS`] elements: there kh = nπ/n_e ≤ π/4, where the mesh
@@ -256,105 +284,6 @@ pub fn family_roots(
     true
 }
 
-/// Terms of the spring tail's Laurent series (module doc).
-const TAIL_TERMS: usize = 13;
-/// Every root of D must lie inside 1/TAIL_RATIO of the first omitted
-/// wavenumber's z = (J + 1)²π² (module doc).
-const TAIL_RATIO: f64 = 16.0;
-/// The most blocks the spring path keeps (J ≤ MAX_BLOCKS).
-const MAX_BLOCKS: usize = 128;
-
-/// π^{−2m} Σ_{j>J} j^{−2m} over even and over odd j, m = 1..=[`TAIL_TERMS`].
-type TailConsts = [[f64; 2]; TAIL_TERMS];
-
-/// The tail constants of J blocks, computed once per J.
-fn tail_consts(j_max: usize) -> &'static TailConsts {
-    static TABLE: [OnceLock<TailConsts>; MAX_BLOCKS + 1] = [const { OnceLock::new() }; MAX_BLOCKS + 1];
-    TABLE[j_max].get_or_init(|| {
-        std::array::from_fn(|i| {
-            let p = 2 * (i as i32 + 1);
-            let all = zeta_tail(p, j_max + 1);
-            let even = 2f64.powi(-p) * zeta_tail(p, j_max / 2 + 1);
-            let scale = PI.powi(-p);
-            [scale * even, scale * (all - even)]
-        })
-    })
-}
-
-/// Σ_{j≥n} j^{−p} (p ≥ 2): 64 terms summed, the rest by Euler–Maclaurin,
-///   Σ_{j≥x} j^{−p} = x^{1−p}/(p − 1) + x^{−p}/2 + Σ_k B_{2k}/(2k)!·p(p+1)…(p+2k−2)·x^{−p−2k+1} + …,
-/// four Bernoulli terms at x = n + 64 ≥ 65: for p ≤ 26 the fifth is below
-/// 1e-17 of the sum. Written out because the sum is over a handful of
-/// integer powers only; no dependency provides a Hurwitz zeta of real
-/// argument with this accuracy (statrs has none).
-fn zeta_tail(p: i32, n: usize) -> f64 {
-    const BERNOULLI: [f64; 4] = [1.0 / 6.0, -1.0 / 30.0, 1.0 / 42.0, -1.0 / 30.0];
-    let x = (n + 64) as f64;
-    let pf = f64::from(p);
-    let mut sum = x.powi(1 - p) / (pf - 1.0) + 0.5 * x.powi(-p);
-    let (mut rising, mut factorial) = (pf, 2.0);
-    for (k, b) in (1..).zip(BERNOULLI) {
-        sum += b / factorial * rising * x.powi(-p - 2 * k + 1);
-        let kf = f64::from(k);
-        rising *= (pf + 2.0 * kf - 1.0) * (pf + 2.0 * kf);
-        factorial *= (2.0 * kf + 1.0) * (2.0 * kf + 2.0);
-    }
-    for j in (n..n + 64).rev() {
-        sum += (j as f64).powi(-p);
-    }
-    sum
-}
-
-/// The blocks j > J of the spring path in closed form (module doc).
-#[derive(Debug, Clone, Copy)]
-pub struct SpringTail {
-    t: f64,
-    g: f64,
-    r2: f64,
-    consts: &'static TailConsts,
-    z_limit: f64,
-}
-
-impl SpringTail {
-    /// [D₂, D₁, D₀] of α's denominator at (p, q) (module doc).
-    fn denominator<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> [Jet<T>; 3] {
-        let (pp, pq) = (p.mul(p), p.mul(q));
-        [
-            p.scale(self.t).add(q.scale(self.g)).mul(p.scale(self.r2 * self.t).add(q)),
-            pp.scale(2.0 * self.r2 * self.t).add(pq.scale(1.0 + self.g * (self.t + self.r2))),
-            pp.scale(self.r2).add(pq.scale(self.g)),
-        ]
-    }
-
-    /// Fujiwara's bound on the roots of D at (p, q): every root of
-    /// D₂z² + D₁z + D₀ has |z| ≤ 2 max(|D₁/D₂|, |D₀/2D₂|^½).
-    fn root_bound<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> f64 {
-        let [d2, d1, d0] = self.denominator(p, q).map(|d| d.v.modulus());
-        2.0 * (d1 / d2).max((0.5 * d0 / d2).sqrt())
-    }
-
-    /// (Σ over even j > J, Σ over odd j > J) of α_j at (p, q), with
-    /// derivatives; `None` where the series may not converge (module doc).
-    pub(super) fn sums<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> Option<[Jet<T>; 2]> {
-        let a = p.scale(self.t).add(q.scale(self.g));
-        let [d2, d1, d0] = self.denominator(p, q);
-        if !(self.root_bound(p, q) <= self.z_limit) {
-            return None;
-        }
-        let inv = Jet::c(1.0).div(d2);
-        let mut prev = a.scale(2.0).mul(inv);
-        let mut e = p.scale(2.0).sub(d1.mul(prev)).mul(inv);
-        let c = &self.consts;
-        let mut sums = [prev.scale(c[0][0]).add(e.scale(c[1][0])), prev.scale(c[0][1]).add(e.scale(c[1][1]))];
-        for ci in &c[2..] {
-            let next = Jet::c(0.0).sub(d1.mul(e).add(d0.mul(prev))).mul(inv);
-            (prev, e) = (e, next);
-            sums = [sums[0].add(e.scale(ci[0])), sums[1].add(e.scale(ci[1]))];
-        }
-        Some(sums)
-    }
-}
-
 /// The poles of families 1..=n_modes (scaled units) of the continuum beam
 /// `p` without damping or axial force, with support springs k̃ = `spring`
 /// (x = 0, x = 1; 0 = none) and internal variables `ivs`, into `roots`
@@ -383,7 +312,7 @@ pub fn spring_family_roots(
     // reach (the bracket's top μ), at G = 1 and at the unrelaxed G = 1 + ΣΔ
     // (each evaluation checks its own bound: this only sizes J)
     let mut j_max = 4 * need + 4;
-    let Some(mut cutoff) = continuum_blocks(p, j_max, scratch) else { return false };
+    let Some(mut cutoff) = continuum_blocks(p, j_max, &mut scratch.blocks, &mut scratch.mu) else { return false };
     if scratch.mu.len() < need {
         return false;
     }
@@ -406,7 +335,7 @@ pub fn spring_family_roots(
             return false;
         }
         j_max = wanted - 1;
-        let Some(c) = continuum_blocks(p, j_max, scratch) else { return false };
+        let Some(c) = continuum_blocks(p, j_max, &mut scratch.blocks, &mut scratch.mu) else { return false };
         cutoff = c;
     }
     // every eigenvalue of the omitted blocks lies above `cutoff` (module doc)
@@ -417,14 +346,65 @@ pub fn spring_family_roots(
     scratch.family_roots(0.0, ivs, n_modes, all, roots)
 }
 
+/// The poles of families 1..=n_modes (scaled units) of the continuum beam
+/// `p` without damping or axial force, with a point mass μ̃ at x̃ and
+/// internal variables `ivs`, into `roots` (module doc: the secular problem of
+/// `mass_blocks.rs` over the continuum's blocks and their tail); `false`
+/// when the path declines.
+pub fn mass_family_roots(
+    p: &ContinuumShear,
+    (mass, x): (f64, f64),
+    ivs: &[(f64, f64)],
+    n_modes: usize,
+    all: bool,
+    scratch: &mut MassScratch,
+    roots: &mut Vec<Roots>,
+) -> bool {
+    if n_modes == 0 || p.axial != 0.0 || !(mass > 0.0 && mass.is_finite() && (0.0..=1.0).contains(&x)) {
+        return false;
+    }
+    // the kept blocks need only hold the mass-free eigenvalues that bracket
+    // the modes (the tail is exact for any J): double J until they do
+    let mut j_max = n_modes + 2;
+    loop {
+        let Some(cutoff) = continuum_blocks(p, j_max, &mut scratch.blocks, &mut scratch.mu) else { return false };
+        if scratch.mu.len() >= n_modes && scratch.mu[n_modes - 1].0 < cutoff {
+            break;
+        }
+        j_max *= 2;
+        if j_max > MAX_BLOCKS {
+            return false;
+        }
+    }
+    if !(scratch.mu[0].0 > 0.0) {
+        return false;
+    }
+    scratch.coords.clear();
+    scratch.coords.push([0.0, 0.0]);
+    for j in 1..=j_max {
+        let k = j as f64 * PI;
+        let sin = (k * x).sin();
+        scratch.coords.push([sin, sin / k]);
+    }
+    scratch.mass = mass;
+    let spring = SpringTail { t: p.e2, g: p.shear, r2: p.r2, consts: tail_consts(j_max), z_limit: f64::INFINITY };
+    scratch.tail = Some(MassTail { spring, c: 1.0 - 2.0 * x, j_max });
+    scratch.family_roots(0.0, ivs, n_modes, all, roots)
+}
+
 /// The blocks j = 0..=J of `p` (module doc) and their spectrum into
 /// `scratch`; the bending eigenvalue of J + 1, below which the spectrum is
 /// complete, or `None` when a branch is not positive, the bending branch does
 /// not grow with k up to J + 1, or a block pencil is not definite.
-fn continuum_blocks(p: &ContinuumShear, j_max: usize, scratch: &mut SpringScratch) -> Option<f64> {
+fn continuum_blocks(
+    p: &ContinuumShear,
+    j_max: usize,
+    blocks: &mut Vec<Block>,
+    mu: &mut Vec<(f64, usize)>,
+) -> Option<f64> {
     let zero = Sym2 { uu: 0.0, uv: 0.0, vv: 0.0 };
-    scratch.blocks.clear();
-    scratch.blocks.push(Block {
+    blocks.clear();
+    blocks.push(Block {
         m: Sym2 { vv: p.r2, ..zero },
         k: Sym2 { vv: p.shear, ..zero },
         n: zero,
@@ -444,7 +424,7 @@ fn continuum_blocks(p: &ContinuumShear, j_max: usize, scratch: &mut SpringScratc
             break;
         }
         let (z, a) = (k * k, 1.0 + p.e2 * k * k);
-        scratch.blocks.push(Block {
+        blocks.push(Block {
             m: Sym2 { uu: a, uv: a / k, vv: a * (1.0 + p.r2 * z) / z },
             k: Sym2 { uu: p.shear * z, uv: 0.0, vv: z },
             n: zero,
@@ -453,7 +433,7 @@ fn continuum_blocks(p: &ContinuumShear, j_max: usize, scratch: &mut SpringScratc
             single: false,
         });
     }
-    block_spectrum(&scratch.blocks, &mut scratch.mu).then_some(last_bending)
+    block_spectrum(blocks, mu).then_some(last_bending)
 }
 
 #[cfg(test)]
@@ -488,60 +468,5 @@ mod tests {
             let w = (f.a + f.b).sqrt();
             assert!((s.im - w).abs() <= 1e-12 * w && s.re.abs() <= 1e-12 * s.im, "{s} against i{w}");
         }
-    }
-
-    /// The tail in closed form is the brute-force sum of the omitted blocks'
-    /// α_j = [B_j⁻¹]_vv/d_j (2 × 2 inverses of the blocks themselves, j up to
-    /// 2·10⁵, the rest from its leading term) at a complex point near mode 5
-    /// with a relaxation's G, to 1e-10 relative.
-    #[test]
-    fn the_spring_tail_is_the_sum_of_the_omitted_blocks() {
-        let p = ContinuumShear { e2: 0.0156, shear: 349.0, r2: 1.0 / 1024.0, axial: 0.0 };
-        let j_max = 28;
-        let tail = SpringTail {
-            t: p.e2,
-            g: p.shear,
-            r2: p.r2,
-            consts: tail_consts(j_max),
-            z_limit: ((j_max + 1) as f64 * PI).powi(2) / TAIL_RATIO,
-        };
-        let s = Complex64::new(-2.0, 60.0);
-        let g = Complex64::new(1.0, 0.0) + 0.3 * s / (s + 40.0);
-        let (pj, qj) = (Jet { v: s * s, d: 2.0 * s }, Jet { v: g, d: Complex64::new(0.0, 0.0) });
-        let [even, odd] = tail.sums(pj, qj).unwrap();
-        let mut brute = [Complex64::new(0.0, 0.0); 2];
-        let last = 200_000;
-        for j in j_max + 1..=last {
-            let k = j as f64 * PI;
-            let (z, a) = (k * k, 1.0 + p.e2 * k * k);
-            let (pv, qv) = (s * s, g);
-            let uu = pv * a + qv * p.shear * z;
-            let uv = pv * a / k;
-            let vv = pv * a * (1.0 + p.r2 * z) / z + qv * z;
-            brute[j % 2] += 2.0 * uu / (uu * vv - uv * uv);
-        }
-        // the rest: α ≈ e₀/z, e₀ = 2(pẽ² + qg̃)/D₂, and for even N = last
-        // Σ_{j>N, even} j⁻² = ¼Σ_{i>N/2} i⁻² = 1/2N − 1/2N² + O(N⁻³),
-        // Σ_{j>N, odd} j⁻² = (1/N − 1/2N²) − that = 1/2N + O(N⁻³)
-        let e0 = 2.0 * (s * s * p.e2 + g * p.shear) / ((s * s * p.e2 + g * p.shear) * (s * s * p.r2 * p.e2 + g));
-        let n = last as f64;
-        brute[0] += e0 / (PI * PI) * (0.5 / n - 0.5 / (n * n));
-        brute[1] += e0 / (PI * PI) * (0.5 / n);
-        for (got, want) in [(even.v, brute[0]), (odd.v, brute[1])] {
-            assert!((got - want).norm() <= 1e-10 * want.norm(), "{got} against {want}");
-        }
-    }
-
-    /// Σ_{j≥n} j^{−p} against its values in closed form: ζ(2) = π²/6 and
-    /// ζ(4) = π⁴/90 minus the first terms (n = 1 is the whole sum), and a
-    /// direct sum for p = 26.
-    #[test]
-    fn the_zeta_tail_is_exact() {
-        assert!((zeta_tail(2, 1) - PI * PI / 6.0).abs() <= 1e-15);
-        assert!((zeta_tail(4, 1) - PI.powi(4) / 90.0).abs() <= 1e-15);
-        let partial: f64 = (1..30).map(|j| (j as f64).powi(-2)).sum();
-        assert!((zeta_tail(2, 30) - (PI * PI / 6.0 - partial)).abs() <= 1e-14);
-        let direct: f64 = (30..200).rev().map(|j| (j as f64).powi(-26)).sum();
-        assert!((zeta_tail(26, 30) - direct).abs() <= 1e-15 * direct);
     }
 }

@@ -86,8 +86,9 @@
 use num_complex::Complex64;
 
 use crate::beam::axial_spectrum::{accept_pair, newton_from, AxialBlocks, Sym2};
+use crate::beam::continuum_tail::SpringTail;
 use crate::beam::family::{family_roots_into, Roots};
-use crate::beam::shear_continuum::SpringTail;
+pub(super) use crate::beam::jet::{Jet, Num};
 
 /// Safeguarded Newton on the real axis stops after a step ≤ EIGEN_TOL·λ.
 const EIGEN_TOL: f64 = 1e-13;
@@ -99,59 +100,6 @@ pub const CERTIFY_GAP: f64 = 1e-10;
 /// The eigenvector's Rayleigh quotient a + b must be λ to this (relative):
 /// its forms are sums of positive terms rounded to ~1e-13.
 const RAYLEIGH_TOL: f64 = 1e-8;
-
-/// A number the secular functions are evaluated in: f64 on the real axis,
-/// Complex64 at a pole.
-pub(super) trait Num:
-    Copy
-    + std::ops::Add<Output = Self>
-    + std::ops::Sub<Output = Self>
-    + std::ops::Mul<Output = Self>
-    + std::ops::Div<Output = Self>
-    + From<f64>
-{
-    /// |x|: the continuum tail's validity test reads magnitudes.
-    fn modulus(self) -> f64;
-}
-impl Num for f64 {
-    fn modulus(self) -> f64 {
-        self.abs()
-    }
-}
-impl Num for Complex64 {
-    fn modulus(self) -> f64 {
-        self.norm()
-    }
-}
-
-/// A value with its derivative.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Jet<T> {
-    pub(super) v: T,
-    pub(super) d: T,
-}
-
-impl<T: Num> Jet<T> {
-    pub(super) fn c(v: f64) -> Self {
-        Jet { v: T::from(v), d: T::from(0.0) }
-    }
-    pub(super) fn mul(self, o: Self) -> Self {
-        Jet { v: self.v * o.v, d: self.d * o.v + self.v * o.d }
-    }
-    pub(super) fn add(self, o: Self) -> Self {
-        Jet { v: self.v + o.v, d: self.d + o.d }
-    }
-    pub(super) fn sub(self, o: Self) -> Self {
-        Jet { v: self.v - o.v, d: self.d - o.d }
-    }
-    pub(super) fn scale(self, c: f64) -> Self {
-        Jet { v: self.v * T::from(c), d: self.d * T::from(c) }
-    }
-    pub(super) fn div(self, o: Self) -> Self {
-        let v = self.v / o.v;
-        Jet { v, d: (self.d - v * o.d) / o.v }
-    }
-}
 
 /// One wavenumber block at (ẽ², ñ): M_j, K_j (relaxed), N_j (elastic), d_j
 /// and σ_j = (−1)^j; a 1 × 1 block (j = 0, n_e) keeps its entry in `vv`.

@@ -1,0 +1,77 @@
+//! A value and its first derivative over [`Num`] (f64 on the real axis,
+//! Complex64 at a pole): the form the secular functions of the block paths
+//! (`spring_spectrum.rs`, `mass_blocks.rs`) and the continuum tails
+//! (`continuum_tail.rs`) are written in, one Newton step needing both. Apart
+//! from those files so that each can use it without a circle between them;
+//! the factorisations' dual numbers are `dual.rs`'s.
+
+use num_complex::Complex64;
+
+/// A number the secular functions are evaluated in: f64 on the real axis,
+/// Complex64 at a pole.
+pub(super) trait Num:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Div<Output = Self>
+    + From<f64>
+{
+    /// |x|: the continuum tail's validity test reads magnitudes.
+    fn modulus(self) -> f64;
+    /// The number as a complex one, and back (the real part on the real
+    /// axis, where the continuum's closed forms are real up to rounding).
+    fn to_complex(self) -> Complex64;
+    fn from_complex(c: Complex64) -> Self;
+}
+impl Num for f64 {
+    fn modulus(self) -> f64 {
+        self.abs()
+    }
+    fn to_complex(self) -> Complex64 {
+        Complex64::new(self, 0.0)
+    }
+    fn from_complex(c: Complex64) -> Self {
+        c.re
+    }
+}
+impl Num for Complex64 {
+    fn modulus(self) -> f64 {
+        self.norm()
+    }
+    fn to_complex(self) -> Complex64 {
+        self
+    }
+    fn from_complex(c: Complex64) -> Self {
+        c
+    }
+}
+
+/// A value with its derivative.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Jet<T> {
+    pub(super) v: T,
+    pub(super) d: T,
+}
+
+impl<T: Num> Jet<T> {
+    pub(super) fn c(v: f64) -> Self {
+        Jet { v: T::from(v), d: T::from(0.0) }
+    }
+    pub(super) fn mul(self, o: Self) -> Self {
+        Jet { v: self.v * o.v, d: self.d * o.v + self.v * o.d }
+    }
+    pub(super) fn add(self, o: Self) -> Self {
+        Jet { v: self.v + o.v, d: self.d + o.d }
+    }
+    pub(super) fn sub(self, o: Self) -> Self {
+        Jet { v: self.v - o.v, d: self.d - o.d }
+    }
+    pub(super) fn scale(self, c: f64) -> Self {
+        Jet { v: self.v * T::from(c), d: self.d * T::from(c) }
+    }
+    pub(super) fn div(self, o: Self) -> Self {
+        let v = self.v / o.v;
+        Jet { v, d: (self.d - v * o.d) / o.v }
+    }
+}
