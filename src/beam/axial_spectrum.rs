@@ -410,6 +410,44 @@ pub(super) fn oscillatory_pairs(
     Some(fam)
 }
 
+/// The families 1..=n_modes of a secular path (`spring_spectrum.rs`,
+/// `mass_blocks.rs`) into `roots`. `family(r0)` gives family r0 + 1's
+/// one-term forms (a, b, damping) and what its Newton step needs (the
+/// removed blocks); its starts come from `family_roots_into`, the path
+/// declines on a real start when `all` (real poles are left to the
+/// reference), and its oscillatory pairs come from [`oscillatory_pairs`]
+/// with `step(context, s)`. `false` when any part declines.
+pub(super) fn secular_families<R>(
+    n_modes: usize,
+    all: bool,
+    ivs: &[(f64, f64)],
+    roots: &mut Vec<Roots>,
+    mut family: impl FnMut(usize) -> Option<((f64, f64, f64), R)>,
+    mut step: impl FnMut(&R, Complex64) -> Complex64,
+) -> bool {
+    if n_modes == 0 {
+        return false;
+    }
+    roots.resize(n_modes, Roots::default());
+    let mut found: [Complex64; 64] = [Complex64::new(0.0, 0.0); 64];
+    let mut nfound = 0;
+    let mut starts = Roots::default();
+    for (r0, out) in roots.iter_mut().enumerate().take(n_modes) {
+        let Some(((a1, b1, damping), context)) = family(r0) else { return false };
+        if family_roots_into(a1, b1, damping, ivs, &mut starts).is_err() {
+            return false;
+        }
+        if all && starts.iter().any(|s| s.im == 0.0) {
+            return false;
+        }
+        let Some(fam) = oscillatory_pairs(&starts, |s| step(&context, s), &mut found, &mut nfound) else {
+            return false;
+        };
+        *out = fam;
+    }
+    true
+}
+
 /// Newton on E_j from `s0`; `None` without convergence.
 fn newton(b: &Bending, c: f64, ivs: &[(f64, f64)], s0: Complex64) -> Option<Complex64> {
     newton_from(s0, |s| {

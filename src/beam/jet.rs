@@ -75,3 +75,16 @@ impl<T: Num> Jet<T> {
         Jet { v, d: (self.d - v * o.d) / o.v }
     }
 }
+
+/// G(s) = 1 + Σᵢ Δᵢ s/(s + Ω̃ᵢ) and G′(s) = Σᵢ Δᵢ Ω̃ᵢ/(s + Ω̃ᵢ)² of the internal
+/// variables `ivs` = (Δᵢ, Ω̃ᵢ) (`model.rs`: the relaxation factor of the
+/// stiffness).
+pub(super) fn relaxation(ivs: &[(f64, f64)], s: Complex64) -> Jet<Complex64> {
+    let (mut g, mut dg) = (Complex64::new(1.0, 0.0), Complex64::new(0.0, 0.0));
+    for &(d, w) in ivs {
+        let den = s + w;
+        g += d * s / den;
+        dg += d * w / (den * den);
+    }
+    Jet { v: g, d: dg }
+}

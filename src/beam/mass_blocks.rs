@@ -71,10 +71,11 @@
 
 use num_complex::Complex64;
 
-use crate::beam::axial_spectrum::{accept_pair, newton_from, AxialBlocks};
+use crate::beam::axial_spectrum::{secular_families, AxialBlocks};
 use crate::beam::continuum_tail::MassTail;
 use crate::beam::element;
-use crate::beam::family::{family_roots_into, Roots};
+use crate::beam::family::Roots;
+use crate::beam::jet::relaxation;
 use crate::beam::spring_spectrum::{Block, Jet, Num, CERTIFY_GAP};
 
 /// Safeguarded Newton on the real axis stops after a step ≤ EIGEN_TOL·λ
@@ -251,33 +252,13 @@ impl MassScratch {
         all: bool,
         roots: &mut Vec<Roots>,
     ) -> bool {
-        let scratch = self;
-        if n_modes == 0 {
-            return false;
-        }
-        roots.resize(n_modes, Roots::default());
-        let mut found: [Complex64; 64] = [Complex64::new(0.0, 0.0); 64];
-        let mut nfound = 0;
-        let mut starts = Roots::default();
-        for (r0, out) in roots.iter_mut().enumerate().take(n_modes) {
-            let Some((lambda, removed, nr)) = scratch.eigenvalue(r0) else { return false };
-            let Some((a1, b1, beam_share)) = scratch.one_term(lambda) else { return false };
-            if family_roots_into(a1, b1, c * beam_share, ivs, &mut starts).is_err() {
-                return false;
-            }
-            if all && starts.iter().any(|s| s.im == 0.0) {
-                return false;
-            }
-            let mut fam = Roots::default();
-            for &s0 in starts.iter().filter(|s| s.im > 0.0) {
-                let Some(s) = newton(scratch, c, ivs, &removed[..nr], s0) else { return false };
-                if !accept_pair(s0, s, &mut found, &mut nfound, &mut fam) {
-                    return false;
-                }
-            }
-            *out = fam;
-        }
-        true
+        let family = |r0| {
+            let (lambda, removed, nr) = self.eigenvalue(r0)?;
+            let (a1, b1, beam_share) = self.one_term(lambda)?;
+            Some(((a1, b1, c * beam_share), (removed, nr)))
+        };
+        let step = |&(removed, nr): &([usize; 2], usize), s| newton_step(self, c, ivs, &removed[..nr], s);
+        secular_families(n_modes, all, ivs, roots, family, step)
     }
 
     /// (a, b, c_x/c̃) of the one-term family of the eigenvector of λ (module doc).
@@ -400,22 +381,13 @@ impl AxialBlocks {
     }
 }
 
-/// Newton on g(s) (module doc) from `s0`, with the block paths' stopping rule
-/// ([`newton_from`]); `None` without convergence.
-fn newton(scratch: &MassScratch, c: f64, ivs: &[(f64, f64)], removed: &[usize], s0: Complex64) -> Option<Complex64> {
-    let one = Complex64::new(1.0, 0.0);
-    newton_from(s0, |s| {
-        let p = Jet { v: s * (s + c), d: 2.0 * s + c };
-        let s2 = Jet { v: s * s, d: 2.0 * s };
-        let (mut g, mut dg) = (one, Complex64::new(0.0, 0.0));
-        for &(d, w) in ivs {
-            let den = s + w;
-            g += d * s / den;
-            dg += d * w / (den * den);
-        }
-        let (e, _) = scratch.secular::<Complex64>(p, Jet { v: g, d: dg }, s2, removed);
-        e.v / e.d
-    })
+/// The Newton step g/g′ of g(s) (module doc) at `s`; the iteration and its
+/// stopping rule are `axial_spectrum.rs`'s ([`secular_families`]).
+fn newton_step(scratch: &MassScratch, c: f64, ivs: &[(f64, f64)], removed: &[usize], s: Complex64) -> Complex64 {
+    let p = Jet { v: s * (s + c), d: 2.0 * s + c };
+    let s2 = Jet { v: s * s, d: 2.0 * s };
+    let (e, _) = scratch.secular::<Complex64>(p, relaxation(ivs, s), s2, removed);
+    e.v / e.d
 }
 
 #[cfg(test)]

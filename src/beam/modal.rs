@@ -485,29 +485,6 @@ impl ModalSolver {
             self.last_mass_blocks = true;
             return Some(sc.omega_ref);
         }
-        if let (Some(pm), Some(sh)) = (beam.point_mass.as_ref(), mesh.shear.as_ref()) {
-            if mesh.support == Support::SimplySupported
-                && mesh.springs(&sc.spring).next().is_none()
-                && sc.axial == 0.0
-                && sc.c == 0.0
-                && mesh.elements >= shear_continuum::MIN_ELEMENTS
-                && n_modes > 0
-                && n_modes <= mesh.elements / shear_continuum::APPLIES_UP_TO
-            {
-                let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
-                let g = crate::beam::model::shear_params(beam).map_or(0.0, |(g, _)| g);
-                let pencil = ContinuumShear { e2: sc.e_tilde * sc.e_tilde, shear: g, r2: sh.r2, axial: 0.0 };
-                // μ̃ and x̃ exactly as `ScaledModel::new` forms them
-                let mass = (pm.mass_kg / (sc.rho_a * sc.l), pm.x_nm / beam.length_nm);
-                let Self { mass_scratch, roots, .. } = self;
-                let all = poles == Poles::All;
-                if !shear_continuum::mass_family_roots(&pencil, mass, &ivs[..nv], n_modes, all, mass_scratch, roots) {
-                    return None;
-                }
-                self.last_shear_continuum = true;
-                return Some(sc.omega_ref);
-            }
-        }
         if self.use_shear_blocks
             && mesh.shear.is_some()
             && beam.point_mass.is_none()
@@ -546,10 +523,10 @@ impl ModalSolver {
             self.last_shear_continuum = true;
             return Some(sc.omega_ref);
         }
+        // the same mesh with support springs alone or a point mass alone
         if let Some(sh) = mesh.shear.as_ref().filter(|_| {
             mesh.support == Support::SimplySupported
-                && beam.point_mass.is_none()
-                && mesh.springs(&sc.spring).next().is_some()
+                && beam.point_mass.is_some() != mesh.springs(&sc.spring).next().is_some()
                 && sc.axial == 0.0
                 && sc.c == 0.0
                 && mesh.elements >= shear_continuum::MIN_ELEMENTS
@@ -559,11 +536,29 @@ impl ModalSolver {
             let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
             let g = crate::beam::model::shear_params(beam).map_or(0.0, |(g, _)| g);
             let pencil = ContinuumShear { e2: sc.e_tilde * sc.e_tilde, shear: g, r2: sh.r2, axial: 0.0 };
-            let spring: [f64; 2] =
-                std::array::from_fn(|e| if mesh.spring_dofs[e].is_some() { sc.spring[e] } else { 0.0 });
-            let Self { spring_scratch, roots, .. } = self;
             let all = poles == Poles::All;
-            if !shear_continuum::spring_family_roots(&pencil, spring, &ivs[..nv], n_modes, all, spring_scratch, roots) {
+            let Self { spring_scratch, mass_scratch, roots, .. } = self;
+            let taken = match beam.point_mass.as_ref() {
+                Some(pm) => {
+                    // μ̃ and x̃ exactly as `ScaledModel::new` forms them
+                    let mass = (pm.mass_kg / (sc.rho_a * sc.l), pm.x_nm / beam.length_nm);
+                    shear_continuum::mass_family_roots(&pencil, mass, &ivs[..nv], n_modes, all, mass_scratch, roots)
+                }
+                None => {
+                    let spring: [f64; 2] =
+                        std::array::from_fn(|e| if mesh.spring_dofs[e].is_some() { sc.spring[e] } else { 0.0 });
+                    shear_continuum::spring_family_roots(
+                        &pencil,
+                        spring,
+                        &ivs[..nv],
+                        n_modes,
+                        all,
+                        spring_scratch,
+                        roots,
+                    )
+                }
+            };
+            if !taken {
                 return None;
             }
             self.last_shear_continuum = true;

@@ -111,6 +111,7 @@ use crate::beam::axial_spectrum::{oscillatory_pairs, Sym2};
 use crate::beam::continuum_tail::TAIL_TERMS;
 use crate::beam::continuum_tail::{tail_consts, MassTail, SpringTail, MAX_BLOCKS, TAIL_RATIO};
 use crate::beam::family::{family_roots_into, Roots};
+use crate::beam::jet::relaxation;
 use crate::beam::mass_blocks::MassScratch;
 use crate::beam::spring_spectrum::{block_spectrum, Block, Jet, SpringScratch};
 
@@ -219,13 +220,7 @@ impl ContinuumShear {
 
     /// det T_k(s)/d det T_k/ds (the Newton step), with G(s) from `ivs`.
     fn newton_step(&self, k: f64, s: Complex64, c: f64, ivs: &[(f64, f64)]) -> Complex64 {
-        let one = Complex64::new(1.0, 0.0);
-        let (mut g, mut dg) = (one, Complex64::new(0.0, 0.0));
-        for &(d, w) in ivs {
-            let den = s + w;
-            g += d * s / den;
-            dg += d * w / (den * den);
-        }
+        let Jet { v: g, d: dg } = relaxation(ivs, s);
         if k == 0.0 {
             let f = s * s * self.r2 + g * self.shear;
             let df = 2.0 * s * self.r2 + dg * self.shear;

@@ -80,14 +80,15 @@
 //! ≲ 10·eps/sin²(φ/2) in the bending eigenvalue, ≈ 1.4e-12 at n_e = 40,
 //! j = 1). det B_j loses ~eps·|B_uu B_vv|/|det B_j| near its roots, which
 //! moves a root of g by ~eps·μ absolutely; Newton stops at a step
-//! ≤ 1e-10·|s|, the stopping rule of `axial_spectrum.rs` ([`newton_from`]);
+//! ≤ 1e-10·|s|, the stopping rule of `axial_spectrum.rs` (`newton_from`);
 //! convergence is quadratic, so the root is then at the rounding floor.
 
 use num_complex::Complex64;
 
-use crate::beam::axial_spectrum::{accept_pair, newton_from, AxialBlocks, Sym2};
+use crate::beam::axial_spectrum::{secular_families, AxialBlocks, Sym2};
 use crate::beam::continuum_tail::SpringTail;
-use crate::beam::family::{family_roots_into, Roots};
+use crate::beam::family::Roots;
+use crate::beam::jet::relaxation;
 pub(super) use crate::beam::jet::{Jet, Num};
 
 /// Safeguarded Newton on the real axis stops after a step ≤ EIGEN_TOL·λ.
@@ -405,34 +406,13 @@ impl SpringScratch {
         all: bool,
         roots: &mut Vec<Roots>,
     ) -> bool {
-        let scratch = self;
-        if n_modes == 0 {
-            return false;
-        }
-        roots.resize(n_modes, Roots::default());
-        let mut found: [Complex64; 64] = [Complex64::new(0.0, 0.0); 64];
-        let mut nfound = 0;
-        let mut starts = Roots::default();
-        for (r0, out) in roots.iter_mut().enumerate().take(n_modes) {
-            let Some((lambda, removed, nr)) = scratch.eigenvalue(r0) else { return false };
-            let Some((a1, b1)) = scratch.one_term(lambda) else { return false };
-            if family_roots_into(a1, b1, c, ivs, &mut starts).is_err() {
-                return false;
-            }
-            // real poles are left to the reference (as in `axial_spectrum.rs`)
-            if all && starts.iter().any(|s| s.im == 0.0) {
-                return false;
-            }
-            let mut fam = Roots::default();
-            for &s0 in starts.iter().filter(|s| s.im > 0.0) {
-                let Some(s) = newton(scratch, c, ivs, &removed[..nr], s0) else { return false };
-                if !accept_pair(s0, s, &mut found, &mut nfound, &mut fam) {
-                    return false;
-                }
-            }
-            *out = fam;
-        }
-        true
+        let family = |r0| {
+            let (lambda, removed, nr) = self.eigenvalue(r0)?;
+            let (a1, b1) = self.one_term(lambda)?;
+            Some(((a1, b1, c), (removed, nr)))
+        };
+        let step = |&(removed, nr): &([usize; 3], usize), s| newton_step(self, c, ivs, &removed[..nr], s);
+        secular_families(n_modes, all, ivs, roots, family, step)
     }
 
     /// [`Self::one_term`] from the flexibility F(λ) and F′(λ).
@@ -578,21 +558,12 @@ pub(super) fn block_spectrum(blocks: &[Block], mu: &mut Vec<(f64, usize)>) -> bo
     true
 }
 
-/// Newton on g(s) (module doc) from `s0` (the stopping rule of
-/// `axial_spectrum.rs`, [`newton_from`]); `None` without convergence.
-fn newton(scratch: &SpringScratch, c: f64, ivs: &[(f64, f64)], removed: &[usize], s0: Complex64) -> Option<Complex64> {
-    let one = Complex64::new(1.0, 0.0);
-    newton_from(s0, |s| {
-        let p = Jet { v: s * (s + c), d: 2.0 * s + c };
-        let (mut g, mut dg) = (one, Complex64::new(0.0, 0.0));
-        for &(d, w) in ivs {
-            let den = s + w;
-            g += d * s / den;
-            dg += d * w / (den * den);
-        }
-        let e = scratch.secular::<Complex64>(p, Jet { v: g, d: dg }, removed);
-        e.v / e.d
-    })
+/// The Newton step g/g′ of g(s) (module doc) at `s`; the iteration and its
+/// stopping rule are `axial_spectrum.rs`'s ([`secular_families`]).
+fn newton_step(scratch: &SpringScratch, c: f64, ivs: &[(f64, f64)], removed: &[usize], s: Complex64) -> Complex64 {
+    let p = Jet { v: s * (s + c), d: 2.0 * s + c };
+    let e = scratch.secular::<Complex64>(p, relaxation(ivs, s), removed);
+    e.v / e.d
 }
 
 #[cfg(test)]
