@@ -12,10 +12,10 @@ use num_complex::Complex64;
 
 use crate::beam::jet::{Jet, Num};
 
-/// Terms of the spring tail's Laurent series (module doc).
+/// Terms of the spring tail's Laurent series (`shear_continuum.rs`).
 pub(super) const TAIL_TERMS: usize = 13;
 /// Every root of D must lie inside 1/TAIL_RATIO of the first omitted
-/// wavenumber's z = (J + 1)²π² (module doc).
+/// wavenumber's z = (J + 1)²π² (`shear_continuum.rs`).
 pub(super) const TAIL_RATIO: f64 = 16.0;
 /// The most blocks the spring path keeps (J ≤ MAX_BLOCKS).
 pub(super) const MAX_BLOCKS: usize = 128;
@@ -40,9 +40,8 @@ pub(super) fn tail_consts(j_max: usize) -> &'static TailConsts {
 /// Σ_{j≥n} j^{−p} (p ≥ 2): 64 terms summed, the rest by Euler–Maclaurin,
 ///   Σ_{j≥x} j^{−p} = x^{1−p}/(p − 1) + x^{−p}/2 + Σ_k B_{2k}/(2k)!·p(p+1)…(p+2k−2)·x^{−p−2k+1} + …,
 /// four Bernoulli terms at x = n + 64 ≥ 65: for p ≤ 26 the fifth is below
-/// 1e-17 of the sum. Written out because the sum is over a handful of
-/// integer powers only; no dependency provides a Hurwitz zeta of real
-/// argument with this accuracy (statrs has none).
+/// 1e-17 of the sum. Written out: statrs, the crate's special-function
+/// dependency, has no zeta function, and only these integer powers are needed.
 fn zeta_tail(p: i32, n: usize) -> f64 {
     const BERNOULLI: [f64; 4] = [1.0 / 6.0, -1.0 / 30.0, 1.0 / 42.0, -1.0 / 30.0];
     let x = (n + 64) as f64;
@@ -61,7 +60,7 @@ fn zeta_tail(p: i32, n: usize) -> f64 {
     sum
 }
 
-/// The blocks j > J of the spring path in closed form (module doc).
+/// The blocks j > J of the spring path in closed form (`shear_continuum.rs`).
 #[derive(Debug, Clone, Copy)]
 pub struct SpringTail {
     pub(super) t: f64,
@@ -72,7 +71,7 @@ pub struct SpringTail {
 }
 
 impl SpringTail {
-    /// [D₂, D₁, D₀] of α's denominator at (p, q) (module doc).
+    /// [D₂, D₁, D₀] of α's denominator at (p, q) (`shear_continuum.rs`).
     fn denominator<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> [Jet<T>; 3] {
         let (pp, pq) = (p.mul(p), p.mul(q));
         [
@@ -90,7 +89,7 @@ impl SpringTail {
     }
 
     /// (Σ over even j > J, Σ over odd j > J) of α_j at (p, q), with
-    /// derivatives; `None` where the series may not converge (module doc).
+    /// derivatives; `None` where the series may not converge (`shear_continuum.rs`).
     pub(super) fn sums<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> Option<[Jet<T>; 2]> {
         let a = p.scale(self.t).add(q.scale(self.g));
         let [d2, d1, d0] = self.denominator(p, q);
@@ -111,17 +110,19 @@ impl SpringTail {
     }
 }
 
-/// The blocks j > J of the point-mass path in closed form (module doc).
+/// The blocks j > J of the point-mass path in closed form (`shear_continuum.rs`).
 #[derive(Debug, Clone, Copy)]
 pub struct MassTail {
-    pub(super) spring: SpringTail,
+    /// ẽ², g̃ and r̃², for the denominator D the two tails share (its
+    /// Laurent constants are not used here).
+    pub(super) pencil: SpringTail,
     /// 1 − 2x̃.
     pub(super) c: f64,
     pub(super) j_max: usize,
 }
 
 /// Φ(ζ) = Σ_{j≥1} sin²(jπx̃)/(j²π² − ζ) = (cos(b(1 − 2x̃)) − cos b)/(4b sin b),
-/// b = √ζ (module doc), and dΦ/dζ; `None` near b = 0 (a removable point the
+/// b = √ζ (`shear_continuum.rs`), and dΦ/dζ; `None` near b = 0 (a removable point the
 /// path never needs) or where cos and sin would overflow.
 fn phi(zeta: Complex64, c: f64) -> Option<(Complex64, Complex64)> {
     let b = zeta.sqrt();
@@ -139,14 +140,14 @@ fn phi(zeta: Complex64, c: f64) -> Option<(Complex64, Complex64)> {
 }
 
 impl MassTail {
-    /// Σ_{j>J} β_j/δ_j at (p, q), with its derivative (module doc): the sum
+    /// Σ_{j>J} β_j/δ_j at (p, q), with its derivative (`shear_continuum.rs`): the sum
     /// over all j ≥ 1 in closed form by partial fractions of N/D, less the
     /// kept blocks' terms j = 1..J (`coords[j][0]` = sin(jπx̃)); `None` where D
     /// has a double root or Φ is not evaluable.
     pub(super) fn sum<T: Num>(&self, p: Jet<T>, q: Jet<T>, coords: &[[f64; 2]]) -> Option<Jet<T>> {
         let cx = |j: Jet<T>| Jet { v: j.v.to_complex(), d: j.d.to_complex() };
         let (p, q) = (cx(p), cx(q));
-        let sp = &self.spring;
+        let sp = &self.pencil;
         let n1 = p.scale(sp.t * sp.r2).add(q);
         let n0 = p.scale(sp.r2).add(q.scale(sp.g));
         let [d2, d1, d0] = sp.denominator(p, q);
@@ -272,7 +273,7 @@ mod tests {
                 .collect();
             let spring =
                 SpringTail { t: p.e2, g: p.shear, r2: p.r2, consts: tail_consts(j_max), z_limit: f64::INFINITY };
-            let tail = MassTail { spring, c: 1.0 - 2.0 * x, j_max };
+            let tail = MassTail { pencil: spring, c: 1.0 - 2.0 * x, j_max };
             let got = tail.sum(pj, qj, &coords).unwrap().v;
             let mut brute = Complex64::new(0.0, 0.0);
             let last = 200_000;

@@ -383,7 +383,7 @@ pub fn mass_family_roots(
     }
     scratch.mass = mass;
     let spring = SpringTail { t: p.e2, g: p.shear, r2: p.r2, consts: tail_consts(j_max), z_limit: f64::INFINITY };
-    scratch.tail = Some(MassTail { spring, c: 1.0 - 2.0 * x, j_max });
+    scratch.tail = Some(MassTail { pencil: spring, c: 1.0 - 2.0 * x, j_max });
     scratch.family_roots(0.0, ivs, n_modes, all, roots)
 }
 
