@@ -60,18 +60,17 @@ fn zeta_tail(p: i32, n: usize) -> f64 {
     sum
 }
 
-/// The blocks j > J of the spring path in closed form (`shear_continuum.rs`).
+/// The scalars both tails read, ẽ² (`t`), g̃ and r̃², with the denominator D
+/// of their terms (`shear_continuum.rs`).
 #[derive(Debug, Clone, Copy)]
-pub struct SpringTail {
+pub struct TailPencil {
     pub(super) t: f64,
     pub(super) g: f64,
     pub(super) r2: f64,
-    pub(super) consts: &'static TailConsts,
-    pub(super) z_limit: f64,
 }
 
-impl SpringTail {
-    /// [D₂, D₁, D₀] of α's denominator at (p, q) (`shear_continuum.rs`).
+impl TailPencil {
+    /// [D₂, D₁, D₀] of the terms' denominator at (p, q) (`shear_continuum.rs`).
     fn denominator<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> [Jet<T>; 3] {
         let (pp, pq) = (p.mul(p), p.mul(q));
         [
@@ -87,13 +86,24 @@ impl SpringTail {
         let [d2, d1, d0] = self.denominator(p, q).map(|d| d.v.modulus());
         2.0 * (d1 / d2).max((0.5 * d0 / d2).sqrt())
     }
+}
 
+/// The blocks j > J of the spring path in closed form (`shear_continuum.rs`).
+#[derive(Debug, Clone, Copy)]
+pub struct SpringTail {
+    pub(super) pencil: TailPencil,
+    pub(super) consts: &'static TailConsts,
+    pub(super) z_limit: f64,
+}
+
+impl SpringTail {
     /// (Σ over even j > J, Σ over odd j > J) of α_j at (p, q), with
     /// derivatives; `None` where the series may not converge (`shear_continuum.rs`).
     pub(super) fn sums<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> Option<[Jet<T>; 2]> {
-        let a = p.scale(self.t).add(q.scale(self.g));
-        let [d2, d1, d0] = self.denominator(p, q);
-        if !(self.root_bound(p, q) <= self.z_limit) {
+        let pen = &self.pencil;
+        let a = p.scale(pen.t).add(q.scale(pen.g));
+        let [d2, d1, d0] = pen.denominator(p, q);
+        if !(pen.root_bound(p, q) <= self.z_limit) {
             return None;
         }
         let inv = Jet::c(1.0).div(d2);
@@ -113,9 +123,7 @@ impl SpringTail {
 /// The blocks j > J of the point-mass path in closed form (`shear_continuum.rs`).
 #[derive(Debug, Clone, Copy)]
 pub struct MassTail {
-    /// ẽ², g̃ and r̃², for the denominator D the two tails share (its
-    /// Laurent constants are not used here).
-    pub(super) pencil: SpringTail,
+    pub(super) pencil: TailPencil,
     /// 1 − 2x̃.
     pub(super) c: f64,
     pub(super) j_max: usize,
@@ -203,9 +211,7 @@ mod tests {
         let p = Params { e2: 0.0156, shear: 349.0, r2: 1.0 / 1024.0 };
         let j_max = 28;
         let tail = SpringTail {
-            t: p.e2,
-            g: p.shear,
-            r2: p.r2,
+            pencil: TailPencil { t: p.e2, g: p.shear, r2: p.r2 },
             consts: tail_consts(j_max),
             z_limit: ((j_max + 1) as f64 * PI).powi(2) / TAIL_RATIO,
         };
@@ -271,9 +277,8 @@ mod tests {
                     }
                 })
                 .collect();
-            let spring =
-                SpringTail { t: p.e2, g: p.shear, r2: p.r2, consts: tail_consts(j_max), z_limit: f64::INFINITY };
-            let tail = MassTail { pencil: spring, c: 1.0 - 2.0 * x, j_max };
+            let pencil = TailPencil { t: p.e2, g: p.shear, r2: p.r2 };
+            let tail = MassTail { pencil, c: 1.0 - 2.0 * x, j_max };
             let got = tail.sum(pj, qj, &coords).unwrap().v;
             let mut brute = Complex64::new(0.0, 0.0);
             let last = 200_000;

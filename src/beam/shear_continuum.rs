@@ -109,7 +109,7 @@ use num_complex::Complex64;
 use crate::beam::axial_spectrum::{oscillatory_pairs, Sym2};
 #[cfg(doc)]
 use crate::beam::continuum_tail::TAIL_TERMS;
-use crate::beam::continuum_tail::{tail_consts, MassTail, SpringTail, MAX_BLOCKS, TAIL_RATIO};
+use crate::beam::continuum_tail::{tail_consts, MassTail, SpringTail, TailPencil, MAX_BLOCKS, TAIL_RATIO};
 use crate::beam::family::{family_roots_into, Roots};
 use crate::beam::jet::relaxation;
 use crate::beam::mass_blocks::MassScratch;
@@ -313,17 +313,14 @@ pub fn spring_family_roots(
     }
     let top = 1.2 * scratch.mu[need - 1].0;
     let unrelaxed = 1.0 + ivs.iter().map(|iv| iv.0).sum::<f64>();
+    let pencil = TailPencil { t: p.e2, g: p.shear, r2: p.r2 };
     let tail = |j_max: usize| SpringTail {
-        t: p.e2,
-        g: p.shear,
-        r2: p.r2,
+        pencil,
         consts: tail_consts(j_max),
         z_limit: ((j_max + 1) as f64 * PI).powi(2) / TAIL_RATIO,
     };
-    let reach = [1.0, unrelaxed]
-        .map(|q| tail(j_max).root_bound::<f64>(Jet::c(-top), Jet::c(q)))
-        .into_iter()
-        .fold(0.0, f64::max);
+    let reach =
+        [1.0, unrelaxed].map(|q| pencil.root_bound::<f64>(Jet::c(-top), Jet::c(q))).into_iter().fold(0.0, f64::max);
     let wanted = ((TAIL_RATIO * reach).sqrt() / PI).ceil() as usize;
     if wanted > j_max + 1 {
         if wanted > MAX_BLOCKS + 1 {
@@ -382,8 +379,8 @@ pub fn mass_family_roots(
         scratch.coords.push([sin, sin / k]);
     }
     scratch.mass = mass;
-    let spring = SpringTail { t: p.e2, g: p.shear, r2: p.r2, consts: tail_consts(j_max), z_limit: f64::INFINITY };
-    scratch.tail = Some(MassTail { pencil: spring, c: 1.0 - 2.0 * x, j_max });
+    let pencil = TailPencil { t: p.e2, g: p.shear, r2: p.r2 };
+    scratch.tail = Some(MassTail { pencil, c: 1.0 - 2.0 * x, j_max });
     scratch.family_roots(0.0, ivs, n_modes, all, roots)
 }
 
