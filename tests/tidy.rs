@@ -360,3 +360,57 @@ fn dates_and_hashes_are_recognised() {
     assert_eq!(dated("at 1000000 samples, at deadbeef, at 1e12"), None);
     assert_eq!(dated("let range = 2..=10;"), None);
 }
+
+/// Each package's resolved features in one cargo build context (`cargo tree
+/// -e features` style, read from `--format {p}|{f}`), for the host target
+/// (`cargo tree`'s default).
+fn resolved_features(args: &[&str]) -> BTreeMap<String, BTreeSet<String>> {
+    let out = std::process::Command::new(env!("CARGO"))
+        .current_dir(root())
+        .args(["tree", "--locked", "--prefix", "none", "--format", "{p}|{f}"])
+        .args(args)
+        .output()
+        .expect("cargo runs");
+    assert!(out.status.success(), "cargo tree {args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    let mut features: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let Some((package, list)) = line.trim_end_matches(" (*)").split_once('|') else { continue };
+        let entry = features.entry(package.trim().to_string()).or_default();
+        entry.extend(list.split(',').filter(|f| !f.is_empty()).map(str::to_string));
+    }
+    features
+}
+
+/// The feature-unification block of `Cargo.toml` is complete: the Python
+/// extension's build (maturin: `nanobeam-py` with `extension-module`) and the
+/// xtask driver's (`cargo run -p xtask`) resolve every package they share with
+/// `cargo test --workspace` to the same features, so neither rebuilds the
+/// core crate CI's test build made. The one difference allowed is the
+/// extension's own `extension-module` feature, which only pyo3 and the
+/// extension crate see.
+#[test]
+fn the_extension_and_xtask_builds_reuse_the_test_builds_core_crate() {
+    let test = resolved_features(&["--workspace", "-e", "normal,build,dev"]);
+    let contexts = [
+        ("the Python extension", vec!["-p", "nanobeam-py", "--features", "nanobeam-py/extension-module"]),
+        ("xtask", vec!["-p", "xtask"]),
+    ];
+    for (name, args) in contexts {
+        let mut args = args;
+        args.extend(["-e", "normal,build"]);
+        let other = resolved_features(&args);
+        let differ: Vec<String> = other
+            .iter()
+            .filter(|(p, _)| !p.starts_with("pyo3") && !p.starts_with("nanobeam-py"))
+            .filter_map(|(p, f)| {
+                let t = test.get(p)?;
+                (t != f).then(|| format!("{p}: test build {t:?}, {name} {f:?}"))
+            })
+            .collect();
+        assert!(
+            differ.is_empty(),
+            "features differ from `cargo test --workspace`; name them in Cargo.toml's unification block:\n{}",
+            differ.join("\n")
+        );
+    }
+}
