@@ -66,10 +66,10 @@
 
 use num_complex::Complex64;
 
-use crate::beam::axial_spectrum::{oscillatory_pairs, INVARIANCE_TOL};
+use crate::beam::axial_spectrum::{secular_families, INVARIANCE_TOL};
 use crate::beam::dual::{Dual, Scalar};
 use crate::beam::element;
-use crate::beam::family::{family_roots_into, Roots};
+use crate::beam::family::Roots;
 use crate::beam::model::UnitMesh;
 use crate::beam::spec::Support;
 
@@ -789,34 +789,20 @@ pub fn family_roots(
     all: bool,
     roots: &mut Vec<Roots>,
 ) -> bool {
-    if n_modes == 0 {
-        return false;
-    }
-    roots.resize(n_modes, Roots::default());
-    let mut found: [Complex64; 64] = [Complex64::new(0.0, 0.0); 64];
-    let mut nfound = 0;
-    let mut starts = Roots::default();
     let mut floor = 0.0;
-    for (r0, out) in roots.iter_mut().enumerate().take(n_modes) {
-        let Some(lambda) = pencil.eigenvalue(r0, floor) else { return false };
+    let family = |r0| {
+        let lambda = pencil.eigenvalue(r0, floor)?;
         // the count is certified r0 + 1 there (`eigenvalue`); at λ itself it
         // is not (S and the nearest block are singular to rounding)
         floor = lambda * (1.0 + CERTIFY_GAP);
-        let Some(md) = pencil.mode(lambda) else { return false };
-        if family_roots_into(md.a, md.b, c * md.damping_share, ivs, &mut starts).is_err() {
-            return false;
-        }
-        if all && starts.iter().any(|s| s.im == 0.0) {
-            return false;
-        }
-        let step = |s| match pencil.determinant(coefficients(s, c, ivs), Some(md.block), |_| ()) {
-            Some(det) => det.v / det.d,
-            None => Complex64::new(f64::NAN, f64::NAN),
-        };
-        let Some(fam) = oscillatory_pairs(&starts, step, &mut found, &mut nfound) else { return false };
-        *out = fam;
-    }
-    true
+        let md = pencil.mode(lambda)?;
+        Some(((md.a, md.b, c * md.damping_share), md.block))
+    };
+    let step = |&block: &_, s| match pencil.determinant(coefficients(s, c, ivs), Some(block), |_| ()) {
+        Some(det) => det.v / det.d,
+        None => Complex64::new(f64::NAN, f64::NAN),
+    };
+    secular_families(n_modes, all, ivs, roots, family, step)
 }
 
 /// The coefficients (s², s c̃, G(s), 1) at s with G = 1 + Σᵢ Δᵢ s/(s + Ωᵢ),
