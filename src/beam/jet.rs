@@ -15,6 +15,8 @@ pub(super) trait Num:
     + std::ops::Sub<Output = Self>
     + std::ops::Mul<Output = Self>
     + std::ops::Div<Output = Self>
+    + std::ops::Add<f64, Output = Self>
+    + std::ops::Mul<f64, Output = Self>
     + From<f64>
 {
     /// |x|: the continuum tail's validity test reads magnitudes.
@@ -23,6 +25,10 @@ pub(super) trait Num:
     /// axis, where the continuum's closed forms are real up to rounding).
     fn to_complex(self) -> Complex64;
     fn from_complex(c: Complex64) -> Self;
+    /// 1/x: one real division for a complex x (num_complex's `1 / x` is a
+    /// full complex quotient, two), which the partial-fraction sums of
+    /// `spring_spectrum.rs` take once per term.
+    fn recip(self) -> Self;
 }
 impl Num for f64 {
     fn modulus(self) -> f64 {
@@ -34,6 +40,9 @@ impl Num for f64 {
     fn from_complex(c: Complex64) -> Self {
         c.re
     }
+    fn recip(self) -> Self {
+        1.0 / self
+    }
 }
 impl Num for Complex64 {
     fn modulus(self) -> f64 {
@@ -44,6 +53,10 @@ impl Num for Complex64 {
     }
     fn from_complex(c: Complex64) -> Self {
         c
+    }
+    fn recip(self) -> Self {
+        let w = 1.0 / self.norm_sqr();
+        Complex64::new(self.re * w, -self.im * w)
     }
 }
 

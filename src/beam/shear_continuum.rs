@@ -335,6 +335,7 @@ pub fn spring_family_roots(
         return false;
     }
     scratch.tail = Some(tail(j_max));
+    scratch.partial_fractions();
     scratch.family_roots(0.0, ivs, n_modes, all, roots)
 }
 

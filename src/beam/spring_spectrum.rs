@@ -75,13 +75,41 @@
 //! asked for and a family has real (relaxation) starts, the path declines, as
 //! `axial_spectrum.rs` does.
 //!
+//! # Partial fractions (no axial force)
+//! When every N_j = 0 (no axial force: the mesh at ñ = 0, and every
+//! continuum block), B_j(p, q) = pM_j + qK_j, and with μ₁ ≤ μ₂ the
+//! eigenvalues of the block pencil (K_j, M_j),
+//! det B_j = det M_j (p + qμ₁)(p + qμ₂). Then
+//!   [B_j⁻¹]_vv / d_j = (pM_uu + qK_uu)/(d_j det B_j) = Σ_i c_i/(p + qμ_i),
+//!   c_i = (K_uu − μ_i M_uu) / (d_j det M_j (μ_other − μ_i))
+//! (the residues at p = −qμ_i; for a 1 × 1 block c = 1/(d_j M_vv)), which is
+//! φ_v²/d_j of the M-normalised eigenvector, ≥ 0 by interlacing
+//! (μ₁ ≤ K_uu/M_uu ≤ μ₂). Checked by hand: c₁ + c₂ = M_uu/(d_j det M_j) and
+//! c₁μ₂ + c₂μ₁ = K_uu/(d_j det M_j), the numerator's two coefficients. So
+//! F(s) = Σ_k c_k/(p + qμ_k) w_k w_kᵀ over the whole spring-free spectrum
+//! (`terms`, in the order of `mu`), one complex reciprocal per term instead
+//! of a 2 × 2 determinant and quotient of jets per block. The removed set R
+//! becomes the terms of μ_r … μ_{r+|A|} themselves (β = c_k,
+//! δ = p + qμ_k), and on the real axis H(λ) is the rest's sum plus the
+//! removed terms' c_k/(μ_k − λ), so one sweep gives both g and the count.
+//! A block whose two eigenvalues are within [`RESIDUE_GAP`] (relative) of
+//! each other would lose the split to the difference's rounding; the whole
+//! beam then keeps the block form.
+//!
 //! # Accuracy
 //! The block entries are those of `axial_spectrum.rs` (relative rounding
 //! ≲ 10·eps/sin²(φ/2) in the bending eigenvalue, ≈ 1.4e-12 at n_e = 40,
 //! j = 1). det B_j loses ~eps·|B_uu B_vv|/|det B_j| near its roots, which
 //! moves a root of g by ~eps·μ absolutely; Newton stops at a step
 //! ≤ 1e-10·|s|, the stopping rule of `axial_spectrum.rs` (`newton_from`);
-//! convergence is quadratic, so the root is then at the rounding floor.
+//! convergence is quadratic, so the root is then at the rounding floor. In
+//! partial fractions each term is rounded once (μ_k and c_k to a few eps:
+//! the residue's difference μ_other − μ_k is ≥ 1e-2 of μ_other on a
+//! uniform beam), and no 2 × 2 determinant is formed, so the block form's
+//! loss near det B_j = 0 is gone; what the sums lose to cancellation near
+//! a root is the secular equation's own conditioning, the same in both
+//! forms. The tests below and `tests/beam_spring_fast_path.rs` hold both
+//! forms to the same tolerances.
 
 use num_complex::Complex64;
 
@@ -91,6 +119,12 @@ use crate::beam::family::Roots;
 use crate::beam::jet::relaxation;
 pub(super) use crate::beam::jet::{Jet, Num};
 
+/// The two eigenvalues of a block must differ by this (relative) for its
+/// partial fractions: the residue divides by their difference, whose
+/// rounding (~eps of the larger) is then ≤ 1e-8 of it; the blocks of a
+/// uniform beam are ≥ 1e-2 apart (bending against rotation or shear), so
+/// this only guards a degenerate pencil, which takes the block form.
+const RESIDUE_GAP: f64 = 1e-8;
 /// Safeguarded Newton on the real axis stops after a step ≤ EIGEN_TOL·λ.
 const EIGEN_TOL: f64 = 1e-13;
 const EIGEN_MAX_STEPS: usize = 100;
@@ -131,6 +165,53 @@ impl Block {
     pub(super) fn shifted(&self, lambda: f64) -> Sym2 {
         self.k.plus(1.0, self.n).plus(-lambda, self.m)
     }
+
+    /// Both eigenvalues (low, high) of a 2 × 2 pencil (S, M), S = K + N: the
+    /// roots of det M·μ² − (S_uu M_vv + S_vv M_uu − 2S_uv M_uv)μ + det S, the
+    /// lower one as det S/(det M·high) (no cancellation); `None` when M is not
+    /// positive definite or the roots are not real.
+    fn eigenvalues(&self) -> Option<(f64, f64)> {
+        let (s, m) = (self.k.plus(1.0, self.n), self.m);
+        let a = m.uu * m.vv - m.uv * m.uv;
+        let bb = s.uu * m.vv + s.vv * m.uu - 2.0 * s.uv * m.uv;
+        let c = s.uu * s.vv - s.uv * s.uv;
+        let disc = bb * bb - 4.0 * a * c;
+        if !(a > 0.0 && disc >= 0.0) {
+            return None;
+        }
+        let up = (bb + disc.sqrt()) / (2.0 * a);
+        Some((c / (a * up), up))
+    }
+
+    /// The residue c = φ_v²/d of eigenvalue `mu` (one of
+    /// [`Self::eigenvalues`], bitwise, or the 1 × 1 block's) in
+    /// [B⁻¹]_vv/d = Σ c/(p + qμ) when N = 0 (module doc, "Partial
+    /// fractions"); `None` when the block's two eigenvalues are too close for
+    /// the split to be accurate.
+    fn residue(&self, mu: f64) -> Option<f64> {
+        if self.single {
+            return Some(1.0 / (self.d * self.m.vv));
+        }
+        let (low, up) = self.eigenvalues()?;
+        let other = if mu == low { up } else { low };
+        if !((other - mu).abs() > RESIDUE_GAP * other.abs().max(mu.abs())) {
+            return None;
+        }
+        let m = self.m;
+        let c = (self.k.uu - mu * m.uu) / ((m.uu * m.vv - m.uv * m.uv) * (other - mu) * self.d);
+        c.is_finite().then_some(c)
+    }
+}
+
+/// One term of the partial-fraction form of the flexibility (module doc,
+/// "Partial fractions"): a spring-free eigenvalue μ_k, its residue c_k and
+/// σ_k = (−1)^j of its block, with the products the sums take.
+#[derive(Debug, Clone, Copy)]
+struct Term {
+    mu: f64,
+    sign: f64,
+    /// c_k, σ_k c_k, c_k μ_k, σ_k c_k μ_k.
+    c: [f64; 4],
 }
 
 /// The secular data of one beam: blocks, springs and the spring-free spectrum.
@@ -145,9 +226,107 @@ pub struct SpringScratch {
     /// blocks are a truncated infinite set (the continuum Timoshenko beam,
     /// `shear_continuum.rs`); `None` on a mesh, whose blocks are all there.
     pub(super) tail: Option<SpringTail>,
+    /// The partial-fraction terms, one per entry of `mu` and in its order,
+    /// when every block has N = 0 ([`Self::partial_fractions`]); empty
+    /// otherwise, and the sums then run over the blocks.
+    terms: Vec<Term>,
 }
 
 impl SpringScratch {
+    /// Fills `terms` from `blocks` and `mu` when no block has an axial part
+    /// (module doc, "Partial fractions"), else empties it; the callers run
+    /// it after filling the blocks.
+    pub(super) fn partial_fractions(&mut self) {
+        self.terms.clear();
+        let zero = |n: &Sym2| n.uu == 0.0 && n.uv == 0.0 && n.vv == 0.0;
+        if !self.blocks.iter().all(|b| zero(&b.n)) {
+            return;
+        }
+        for &(mu, j) in &self.mu {
+            let b = &self.blocks[j];
+            let Some(c) = b.residue(mu) else {
+                self.terms.clear();
+                return;
+            };
+            let sc = b.sign * c;
+            self.terms.push(Term { mu, sign: b.sign, c: [c, sc, c * mu, sc * mu] });
+        }
+    }
+
+    /// The flexibility of the ends from every term but those of `removed`
+    /// (a run of consecutive term indices), at (p, q): (F₀₀ = F_LL, F₀L) =
+    /// (Σ a_k, Σ σ_k a_k) with a_k = c_k/(p + qμ_k), and their derivatives.
+    /// With r = p/q, a_k = c_k/(q(r + μ_k)) and
+    /// a_k′ = −c_k(p′ + q′μ_k)/(q²(r + μ_k)²): one reciprocal per term.
+    fn term_sums<T: Num>(&self, p: Jet<T>, q: Jet<T>, removed: &[usize]) -> [Jet<T>; 2] {
+        let (lo, hi) = match removed {
+            [] => (0, 0),
+            [first, .., last] => (*first, *last + 1),
+            [one] => (*one, *one + 1),
+        };
+        debug_assert_eq!(hi - lo, removed.len());
+        let iq = q.v.recip();
+        let r = p.v * iq;
+        let zero = T::from(0.0);
+        // Σ c·inv, Σ σc·inv, Σ c·inv², Σ σc·inv², Σ cμ·inv², Σ σcμ·inv²
+        let mut acc = [zero; 6];
+        let mut add = |terms: &[Term]| {
+            for t in terms {
+                let inv = (r + t.mu).recip();
+                let inv2 = inv * inv;
+                acc[0] = acc[0] + inv * t.c[0];
+                acc[1] = acc[1] + inv * t.c[1];
+                acc[2] = acc[2] + inv2 * t.c[0];
+                acc[3] = acc[3] + inv2 * t.c[1];
+                acc[4] = acc[4] + inv2 * t.c[2];
+                acc[5] = acc[5] + inv2 * t.c[3];
+            }
+        };
+        add(&self.terms[..lo]);
+        add(&self.terms[hi..]);
+        let iq2 = iq * iq;
+        let sum = |f: T, a: T, b: T| Jet { v: f * iq, d: zero - (p.d * a + q.d * b) * iq2 };
+        [sum(acc[0], acc[2], acc[4]), sum(acc[1], acc[3], acc[5])]
+    }
+
+    /// The flexibility of the ends (F₀₀, F₀L) from every block or term but
+    /// those of `removed`, the tail included, at (p, q), and the removed
+    /// ones' (β, δ, σ) into `rem` (α = β/δ, module doc); `None` where the
+    /// tail is outside its bound.
+    fn rest<T: Num>(
+        &self,
+        p: Jet<T>,
+        q: Jet<T>,
+        removed: &[usize],
+        rem: &mut [(Jet<T>, Jet<T>, f64); 3],
+    ) -> Option<[Jet<T>; 2]> {
+        let mut f = if self.terms.is_empty() {
+            let mut sums = [Jet::<T>::c(0.0); 2];
+            for (j, b) in self.blocks.iter().enumerate() {
+                let (adj, det) = b.parts(p, q);
+                let beta = adj.scale(1.0 / b.d);
+                if let Some(r) = removed.iter().position(|&r| r == j) {
+                    rem[r] = (beta, det, b.sign);
+                } else {
+                    let slot = usize::from(b.sign < 0.0);
+                    sums[slot] = sums[slot].add(beta.div(det));
+                }
+            }
+            [sums[0].add(sums[1]), sums[0].sub(sums[1])]
+        } else {
+            for (slot, &k) in rem.iter_mut().zip(removed) {
+                let t = &self.terms[k];
+                *slot = (Jet::c(t.c[0]), p.add(q.scale(t.mu)), t.sign);
+            }
+            self.term_sums(p, q, removed)
+        };
+        if let Some(tail) = &self.tail {
+            let [te, to] = tail.sums(p, q)?;
+            f = [f[0].add(te.add(to)), f[1].add(te.sub(to))];
+        }
+        Some(f)
+    }
+
     /// (w_j)_e: 1 at x = 0, σ_j at x = L.
     fn w(&self, j: usize, e: usize) -> f64 {
         if e == 0 {
@@ -157,46 +336,32 @@ impl SpringScratch {
         }
     }
 
-    /// g = Π_{r∈R} δ_r · det H at (p, q) (module doc), with its derivative.
+    /// g = Π_{r∈R} δ_r · det H at (p, q) (module doc), with its derivative;
+    /// `removed` holds block indices, or term indices with partial fractions.
     fn secular<T: Num>(&self, p: Jet<T>, q: Jet<T>, removed: &[usize]) -> Jet<T> {
-        // rest sums: both ends → (S_even, S_odd); one end → S
-        let mut sums = [Jet::<T>::c(0.0); 2];
         let mut rem: [(Jet<T>, Jet<T>, f64); 3] = [(Jet::c(0.0), Jet::c(0.0), 0.0); 3];
-        let mut nrem = 0;
-        for (j, b) in self.blocks.iter().enumerate() {
-            let (adj, det) = b.parts(p, q);
-            let beta = adj.scale(1.0 / b.d);
-            if let Some(r) = removed.iter().position(|&r| r == j) {
-                rem[r] = (beta, det, b.sign);
-                nrem += 1;
-            } else {
-                let a = beta.div(det);
-                let slot = usize::from(b.sign < 0.0);
-                sums[slot] = sums[slot].add(a);
-            }
-        }
-        debug_assert_eq!(nrem, removed.len());
-        if let Some(tail) = &self.tail {
-            let Some([te, to]) = tail.sums(p, q) else { return Jet::c(f64::NAN) };
-            sums = [sums[0].add(te), sums[1].add(to)];
-        }
-        let rem = &rem[..nrem];
+        let Some(f) = self.rest(p, q, removed, &mut rem) else { return Jet::c(f64::NAN) };
+        self.determinant(f, &rem[..removed.len()])
+    }
+
+    /// g = Π_{r∈R} δ_r · det(X + Σ_r (β_r/δ_r) w_r w_rᵀ) with X = K_s⁻¹ + F
+    /// and F = (F₀₀, F₀L) the rest's flexibility (module doc).
+    fn determinant<T: Num>(&self, [f00, f0l]: [Jet<T>; 2], rem: &[(Jet<T>, Jet<T>, f64)]) -> Jet<T> {
         // Π over the removed blocks except those in `skip`
         let prod = |skip: &[usize]| {
             rem.iter().enumerate().filter(|(i, _)| !skip.contains(i)).fold(Jet::c(1.0), |acc, (_, r)| acc.mul(r.1))
         };
         if self.ends.len() == 1 {
-            let x = Jet::c(1.0 / self.ends[0].0).add(sums[0]).add(sums[1]);
+            let x = Jet::c(1.0 / self.ends[0].0).add(f00);
             let mut g = x.mul(prod(&[]));
             for (i, r) in rem.iter().enumerate() {
                 g = g.add(r.0.mul(prod(&[i])));
             }
             return g;
         }
-        let (se, so) = (sums[0], sums[1]);
-        let x11 = Jet::c(1.0 / self.ends[0].0).add(se).add(so);
-        let x22 = Jet::c(1.0 / self.ends[1].0).add(se).add(so);
-        let x12 = se.sub(so);
+        let x11 = Jet::c(1.0 / self.ends[0].0).add(f00);
+        let x22 = Jet::c(1.0 / self.ends[1].0).add(f00);
+        let x12 = f0l;
         let mut g = x11.mul(x22).sub(x12.mul(x12)).mul(prod(&[]));
         for (i, r) in rem.iter().enumerate() {
             // wᵀ adj(X) w with w = (1, σ)
@@ -214,32 +379,72 @@ impl SpringScratch {
         g
     }
 
+    /// g(λ) of [`Self::secular`] on the real axis (s² = −λ, G = 1, no
+    /// damping) with its derivative in λ, and H(λ) (as [`Self::h_real`]).
+    /// With partial fractions both come from one sweep: H is the rest's
+    /// flexibility plus the removed terms' c/(μ − λ).
+    fn real_secular(&self, lambda: f64, removed: &[usize]) -> (Jet<f64>, Option<[f64; 3]>) {
+        let (p, q) = (Jet { v: -lambda, d: -1.0 }, Jet::c(1.0));
+        if self.terms.is_empty() {
+            return (self.secular::<f64>(p, q, removed), self.h_real(lambda));
+        }
+        let mut rem: [(Jet<f64>, Jet<f64>, f64); 3] = [(Jet::c(0.0), Jet::c(0.0), 0.0); 3];
+        let Some(f) = self.rest(p, q, removed, &mut rem) else { return (Jet::c(f64::NAN), None) };
+        let rem = &rem[..removed.len()];
+        let (mut f00, mut f0l) = (f[0].v, f[1].v);
+        for r in rem {
+            let a = r.0.v / r.1.v;
+            f00 += a;
+            f0l += r.2 * a;
+        }
+        (self.determinant(f, rem), Some(self.h_from(f00, f0l)).filter(|h| h.iter().all(|v| v.is_finite())))
+    }
+
+    /// H from the flexibility (F₀₀, F₀L) of every block: K_s⁻¹ + F on the
+    /// active ends, [h11, h12, h22] (one end: h11).
+    fn h_from(&self, f00: f64, f0l: f64) -> [f64; 3] {
+        if self.ends.len() == 1 {
+            [1.0 / self.ends[0].0 + f00, 0.0, 0.0]
+        } else {
+            [1.0 / self.ends[0].0 + f00, f0l, 1.0 / self.ends[1].0 + f00]
+        }
+    }
+
     /// H(λ) on the real axis (no pole removed): [h11, h12, h22] (one end: h11).
     fn h_real(&self, lambda: f64) -> Option<[f64; 3]> {
-        let mut sums = [0.0; 2];
-        for b in &self.blocks {
-            let s = b.shifted(lambda);
-            let a = if b.single { 1.0 / s.vv } else { s.uu / (s.uu * s.vv - s.uv * s.uv) } / b.d;
-            sums[usize::from(b.sign < 0.0)] += a;
+        let mut f = [0.0; 2];
+        if self.terms.is_empty() {
+            let mut sums = [0.0; 2];
+            for b in &self.blocks {
+                let s = b.shifted(lambda);
+                let a = if b.single { 1.0 / s.vv } else { s.uu / (s.uu * s.vv - s.uv * s.uv) } / b.d;
+                sums[usize::from(b.sign < 0.0)] += a;
+            }
+            f = [sums[0] + sums[1], sums[0] - sums[1]];
+        } else {
+            for t in &self.terms {
+                let inv = 1.0 / (t.mu - lambda);
+                f[0] += t.c[0] * inv;
+                f[1] += t.c[1] * inv;
+            }
         }
         if let Some(tail) = &self.tail {
             let [te, to] = tail.sums::<f64>(Jet::c(-lambda), Jet::c(1.0))?;
-            sums = [sums[0] + te.v, sums[1] + to.v];
+            f = [f[0] + (te.v + to.v), f[1] + (te.v - to.v)];
         }
-        let (se, so) = (sums[0], sums[1]);
-        let h = if self.ends.len() == 1 {
-            [1.0 / self.ends[0].0 + se + so, 0.0, 0.0]
-        } else {
-            [1.0 / self.ends[0].0 + se + so, se - so, 1.0 / self.ends[1].0 + se + so]
-        };
+        let h = self.h_from(f[0], f[1]);
         h.iter().all(|v| v.is_finite()).then_some(h)
     }
 
     /// #{eigenvalues of the spring pencil < λ} = #{μ < λ} − neg(H(λ)) (module
     /// doc); `None` where H is singular or not finite (λ at an eigenvalue or a μ).
     fn count(&self, lambda: f64) -> Option<usize> {
+        self.count_from(lambda, self.h_real(lambda)?)
+    }
+
+    /// [`Self::count`] with H(λ) = `h` given.
+    fn count_from(&self, lambda: f64, h: [f64; 3]) -> Option<usize> {
         let below = self.mu.partition_point(|&(m, _)| m < lambda);
-        let h = self.h_real(lambda)?;
         let neg = if self.ends.len() == 1 {
             if h[0] == 0.0 {
                 return None;
@@ -268,9 +473,17 @@ impl SpringScratch {
         let (mut a, mut b) = (self.mu.get(r0)?.0, self.mu.get(r0 + na)?.0);
         let mut removed = [0usize; 3];
         let mut nr = 0;
-        for &(_, j) in &self.mu[r0..=r0 + na] {
-            if !removed[..nr].contains(&j) {
-                removed[nr] = j;
+        if self.terms.is_empty() {
+            for &(_, j) in &self.mu[r0..=r0 + na] {
+                if !removed[..nr].contains(&j) {
+                    removed[nr] = j;
+                    nr += 1;
+                }
+            }
+        } else {
+            // the terms of μ_r … μ_{r+|A|}, the poles in the bracket
+            for k in r0..=r0 + na {
+                removed[nr] = k;
                 nr += 1;
             }
         }
@@ -296,7 +509,8 @@ impl SpringScratch {
         let removed_s = &removed[..nr];
         for _ in 0..EIGEN_MAX_STEPS {
             // H(x) exactly singular: x is an eigenvalue (certified below)
-            let exact = match self.count(x) {
+            let (g, h) = self.real_secular(x, removed_s);
+            let exact = match h.and_then(|h| self.count_from(x, h)) {
                 Some(n) if n > r0 => {
                     b = x;
                     false
@@ -307,10 +521,12 @@ impl SpringScratch {
                 }
                 None => true,
             };
-            let g = self.secular::<f64>(Jet { v: -x, d: -1.0 }, Jet::c(1.0), removed_s);
             let newton = if exact { x } else { x - g.v / g.d };
             let inside = exact || (newton.is_finite() && newton > a && newton < b);
-            let converged = inside && (newton - x).abs() <= EIGEN_TOL * newton.abs();
+            // a converged step may land on the bracket's end: the count at x
+            // itself (x at the root to rounding) may have set that end
+            let on_bracket = newton.is_finite() && newton >= a && newton <= b;
+            let converged = (inside || on_bracket) && (newton - x).abs() <= EIGEN_TOL * newton.abs();
             if converged || b - a <= 4.0 * f64::EPSILON * b {
                 let lambda = if converged { newton } else { 0.5 * (a + b) };
                 // a root of g is λ_r only if the count says so (it may be
@@ -336,20 +552,10 @@ impl SpringScratch {
         None
     }
 
-    /// The flexibility sums (S_even, S_odd) = Σ_j α_j over the blocks of even
-    /// and of odd σ_j, the tail included, at (p, q).
+    /// The flexibility of the ends (F₀₀, F₀L) over every block, the tail
+    /// included, at (p, q).
     fn flexibility<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> Option<[Jet<T>; 2]> {
-        let mut sums = [Jet::<T>::c(0.0); 2];
-        for b in &self.blocks {
-            let (adj, det) = b.parts(p, q);
-            let slot = usize::from(b.sign < 0.0);
-            sums[slot] = sums[slot].add(adj.scale(1.0 / b.d).div(det));
-        }
-        if let Some(tail) = &self.tail {
-            let [te, to] = tail.sums(p, q)?;
-            sums = [sums[0].add(te), sums[1].add(to)];
-        }
-        Some(sums)
+        self.rest(p, q, &[], &mut [(Jet::c(0.0), Jet::c(0.0), 0.0); 3])
     }
 
     /// (a, b) of the one-term family of the eigenvector of λ (module doc).
@@ -417,9 +623,8 @@ impl SpringScratch {
 
     /// [`Self::one_term`] from the flexibility F(λ) and F′(λ).
     fn one_term_from_flexibility(&self, lambda: f64) -> Option<(f64, f64)> {
-        let [se, so] = self.flexibility::<f64>(Jet { v: -lambda, d: -1.0 }, Jet::c(1.0))?;
-        // on the active ends F_ee = S_e + S_o and F_0L = S_e − S_o, and F′ likewise
-        let (f, df) = ([se.v + so.v, se.v - so.v], [se.d + so.d, se.d - so.d]);
+        let [f00, f0l] = self.flexibility::<f64>(Jet { v: -lambda, d: -1.0 }, Jet::c(1.0))?;
+        let (f, df) = ([f00.v, f0l.v], [f00.d, f0l.d]);
         let (x, m) = if self.ends.len() == 1 {
             ([f[0], 0.0], df[0])
         } else {
@@ -491,6 +696,7 @@ impl AxialBlocks {
         if !self.wavenumber_blocks(t, axial, &mut scratch.blocks, &mut scratch.mu) {
             return false;
         }
+        scratch.partial_fractions();
         let need = n_modes + scratch.ends.len();
         need <= scratch.mu.len() && scratch.mu.iter().all(|&(m, _)| m.is_finite())
     }
@@ -537,21 +743,12 @@ impl AxialBlocks {
 pub(super) fn block_spectrum(blocks: &[Block], mu: &mut Vec<(f64, usize)>) -> bool {
     mu.clear();
     for (idx, b) in blocks.iter().enumerate() {
-        let s = b.k.plus(1.0, b.n);
         if b.single {
-            mu.push((s.vv / b.m.vv, idx));
+            mu.push(((b.k.vv + b.n.vv) / b.m.vv, idx));
             continue;
         }
-        let m = b.m;
-        let a = m.uu * m.vv - m.uv * m.uv;
-        let bb = s.uu * m.vv + s.vv * m.uu - 2.0 * s.uv * m.uv;
-        let c = s.uu * s.vv - s.uv * s.uv;
-        let disc = bb * bb - 4.0 * a * c;
-        if !(a > 0.0 && disc >= 0.0) {
-            return false;
-        }
-        let up = (bb + disc.sqrt()) / (2.0 * a);
-        mu.push((c / (a * up), idx));
+        let Some((low, up)) = b.eigenvalues() else { return false };
+        mu.push((low, idx));
         mu.push((up, idx));
     }
     mu.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -575,6 +772,47 @@ mod tests {
     use crate::beam::eigen::lowest_eigenpairs;
     use crate::beam::model::{PencilParams, UnitMesh};
     use crate::beam::spec::Support;
+
+    /// The partial fractions are the block form's flexibility (module doc,
+    /// "Partial fractions"): F₀₀, F₀L and their derivatives agree at complex
+    /// (p, q) off the real axis to 1e-12 of |F₀₀| + |F₀L|. Both are sums of
+    /// 40 terms, each rounded to a few eps of its own size, and
+    /// |F₀₀| + |F₀L| is the size of the largest sum; the block form's
+    /// determinant loses ≤ eps·cond(B_j) ≲ 2.2e-16·(2n_e/π)² ≈ 4e-14 at 20
+    /// elements (`tests/beam_spring_fast_path.rs`). The scale is not |F₀L|
+    /// itself: F₀L is an alternating sum and cancels (by 2e4 at
+    /// p = 2 + 5e4i, where a 50-digit evaluation of the blocks put the
+    /// partial fractions 4e-12 and the block form 1e-11 of |F₀L| off).
+    #[test]
+    fn partial_fractions_are_the_block_form() {
+        let mesh = UnitMesh::new(20, Support::SimplySupported);
+        let blocks = AxialBlocks::new(&mesh).unwrap();
+        let mut scratch = SpringScratch::default();
+        for (e, spring) in [(0.0, [1.0, 1.0]), (0.1, [1e-2, 0.0]), (0.2, [0.0, 30.0])] {
+            assert!(blocks.spring_setup(e * e, 0.0, spring, 5, &mut scratch));
+            assert_eq!(scratch.terms.len(), scratch.mu.len());
+            for (p, q) in
+                [(Complex64::new(-50.0, 30.0), 1.0), (Complex64::new(-3e3, -1e2), 1.3), (Complex64::new(2.0, 5e4), 0.9)]
+            {
+                let (p, q) =
+                    (Jet { v: p, d: 2.0 * p }, Jet { v: Complex64::new(q, 0.2), d: Complex64::new(0.1, -0.3) });
+                let fast = scratch.flexibility(p, q).unwrap();
+                let terms = std::mem::take(&mut scratch.terms);
+                let reference = scratch.flexibility(p, q).unwrap();
+                scratch.terms = terms;
+                let scale =
+                    [reference[0].v.norm() + reference[1].v.norm(), reference[0].d.norm() + reference[1].d.norm()];
+                for (f, r) in fast.iter().zip(&reference) {
+                    for ((a, b), scale) in [(f.v, r.v), (f.d, r.d)].into_iter().zip(scale) {
+                        assert!((a - b).norm() <= 1e-12 * scale, "ẽ {e} k {spring:?} p {:?}: {a} vs {b}", p.v);
+                    }
+                }
+            }
+        }
+        // an axial force keeps the block form
+        assert!(blocks.spring_setup(0.01, 5.0, [1.0, 1.0], 5, &mut scratch));
+        assert!(scratch.terms.is_empty());
+    }
 
     /// The certified secular eigenvalues are the lowest eigenvalues of the
     /// assembled spring pencil: within 3e-12 relative (the direct solve's
