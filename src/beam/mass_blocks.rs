@@ -307,7 +307,15 @@ impl AxialBlocks {
     /// Fills `scratch` for (t = ẽ², ñ, μ̃, x̃); `false` unless μ̃ > 0, x̃ ∈ [0, 1],
     /// `n_modes` mass-free eigenvalues exist, all finite, and the lowest is
     /// positive (module doc).
-    fn mass_setup(&self, t: f64, axial: f64, mass: f64, x: f64, n_modes: usize, scratch: &mut MassScratch) -> bool {
+    pub(super) fn mass_setup(
+        &self,
+        t: f64,
+        axial: f64,
+        mass: f64,
+        x: f64,
+        n_modes: usize,
+        scratch: &mut MassScratch,
+    ) -> bool {
         scratch.tail = None;
         if !(mass > 0.0 && mass.is_finite() && (0.0..=1.0).contains(&x)) {
             return false;

@@ -9,7 +9,8 @@
 //! (Timoshenko), a point mass by the secular equation of `mass_spectrum`, the axial force on a simply
 //! supported mesh by the wavenumber blocks of `axial_spectrum`, support springs
 //! on it by the rank ≤ 2 secular equation of `spring_spectrum` and a point mass
-//! with damping or an axial force by the rank-1 one of `mass_blocks`, or, in `coupled`,
+//! with damping or an axial force by the rank-1 one of `mass_blocks`, springs and
+//! a point mass together by the order ≤ 3 secular determinant of `spring_mass`, or, in `coupled`,
 //! Rayleigh-quotient iteration on T(s) when the extensions couple the modes;
 //! the result types in `modal_result`) →
 //! `frf` (direct banded solves); `time_response` (impulse response by the
@@ -37,6 +38,7 @@ mod shear_continuum;
 mod shear_spectrum;
 pub mod spec;
 mod spectrum;
+mod spring_mass;
 mod spring_spectrum;
 mod state_space;
 mod state_space_modal;

@@ -46,6 +46,7 @@ use crate::beam::shear_continuum::{self, ContinuumShear};
 use crate::beam::shear_spectrum::ShearSpectrumTable;
 use crate::beam::spec::{BeamSpec, Support, MAX_INTERNAL_VARIABLES};
 use crate::beam::spectrum::SpectrumTable;
+use crate::beam::spring_mass::SpringMassScratch;
 use crate::beam::spring_spectrum::SpringScratch;
 use crate::beam::state_space_modal::state_space_modal;
 use crate::beam::BeamError;
@@ -113,6 +114,7 @@ pub struct ModalSolver {
     /// [`ModalSolver::new`], so a diagnosis does not take it).
     use_shear_blocks: bool,
     spring_scratch: SpringScratch,
+    spring_mass_scratch: SpringMassScratch,
     mass_scratch: MassScratch,
     /// Never use the interpolant (reference solver for tests and benches).
     direct_only: bool,
@@ -121,6 +123,7 @@ pub struct ModalSolver {
     last_axial_blocks: bool,
     /// True when the last result came from the support-spring secular path.
     last_spring_blocks: bool,
+    last_spring_mass_blocks: bool,
     /// True when the last result came from the Timoshenko block path.
     last_shear_blocks: bool,
     /// True when the last result came from the point-mass block path.
@@ -356,6 +359,13 @@ impl ModalSolver {
         self.last_spring_blocks
     }
 
+    /// True when the last result came from the exact path of support springs
+    /// and a point mass together on a simply supported Euler–Bernoulli mesh
+    /// without an axial force (`spring_mass.rs`).
+    pub fn last_used_spring_mass_blocks(&self) -> bool {
+        self.last_spring_mass_blocks
+    }
+
     /// True when the last result came from the exact point-mass path of a
     /// simply supported Euler–Bernoulli mesh with damping or an axial force
     /// (`mass_blocks.rs`).
@@ -414,6 +424,7 @@ impl ModalSolver {
                 self.last_path = Some(SolverPath::Decoupled);
                 self.last_interpolated = !(self.last_axial_blocks
                     || self.last_spring_blocks
+                    || self.last_spring_mass_blocks
                     || self.last_shear_blocks
                     || self.last_mass_blocks
                     || self.last_shear_continuum);
@@ -466,6 +477,7 @@ impl ModalSolver {
         let sc = Scaling::new(beam);
         self.last_axial_blocks = false;
         self.last_spring_blocks = false;
+        self.last_spring_mass_blocks = false;
         self.last_shear_blocks = false;
         self.last_mass_blocks = false;
         self.last_shear_continuum = false;
@@ -562,6 +574,34 @@ impl ModalSolver {
                 return None;
             }
             self.last_shear_continuum = true;
+            return Some(sc.omega_ref);
+        }
+        if let Some(pm) = beam.point_mass.as_ref().filter(|_| {
+            mesh.shear.is_none() && mesh.springs(&sc.spring).next().is_some() && sc.axial == 0.0 && n_modes > 0
+        }) {
+            let Self { axial_blocks, spring_mass_scratch, roots, .. } = self;
+            let blocks = axial_blocks.get_or_insert_with(|| AxialBlocks::new(mesh)).as_ref()?;
+            let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
+            let t = sc.e_tilde * sc.e_tilde;
+            // μ̃ and x̃ exactly as `ScaledModel::new` forms them
+            let mass = (pm.mass_kg / (sc.rho_a * sc.l), pm.x_nm / beam.length_nm);
+            let spring: [f64; 2] =
+                std::array::from_fn(|e| if mesh.spring_dofs[e].is_some() { sc.spring[e] } else { 0.0 });
+            let all = poles == Poles::All;
+            if !blocks.spring_mass_family_roots(
+                t,
+                spring,
+                mass,
+                sc.c,
+                &ivs[..nv],
+                n_modes,
+                all,
+                spring_mass_scratch,
+                roots,
+            ) {
+                return None;
+            }
+            self.last_spring_mass_blocks = true;
             return Some(sc.omega_ref);
         }
         if mesh.shear.is_none() && beam.point_mass.is_none() && mesh.springs(&sc.spring).next().is_some() && n_modes > 0

@@ -124,7 +124,7 @@ pub(super) use crate::beam::jet::{Jet, Num};
 /// rounding (~eps of the larger) is then ≤ 1e-8 of it; the blocks of a
 /// uniform beam are ≥ 1e-2 apart (bending against rotation or shear), so
 /// this only guards a degenerate pencil, which takes the block form.
-const RESIDUE_GAP: f64 = 1e-8;
+pub(super) const RESIDUE_GAP: f64 = 1e-8;
 /// Safeguarded Newton on the real axis stops after a step ≤ EIGEN_TOL·λ.
 const EIGEN_TOL: f64 = 1e-13;
 const EIGEN_MAX_STEPS: usize = 100;
@@ -170,7 +170,7 @@ impl Block {
     /// roots of det M·μ² − (S_uu M_vv + S_vv M_uu − 2S_uv M_uv)μ + det S, the
     /// lower one as det S/(det M·high) (no cancellation); `None` when M is not
     /// positive definite or the roots are not real.
-    fn eigenvalues(&self) -> Option<(f64, f64)> {
+    pub(super) fn eigenvalues(&self) -> Option<(f64, f64)> {
         let (s, m) = (self.k.plus(1.0, self.n), self.m);
         let a = m.uu * m.vv - m.uv * m.uv;
         let bb = s.uu * m.vv + s.vv * m.uu - 2.0 * s.uv * m.uv;
