@@ -96,15 +96,13 @@ const MAX_REMOVED: usize = 4;
 /// The order of the bordered matrix: |A| + 1 constraints and the removed terms.
 const MAX_ORDER: usize = 3 + MAX_REMOVED;
 
-/// One term: a spring- and mass-free eigenvalue μ_k and the products
-/// u_a u_b of its constraint vector over the upper triangle (row-major),
-/// with the same products times μ_k.
+/// One term: a spring- and mass-free eigenvalue μ_k, its constraint vector
+/// u_k and the products u_a u_b over the upper triangle (row-major).
 #[derive(Debug, Clone, Copy, Default)]
 struct Term {
     mu: f64,
     u: [f64; 3],
     uu: [f64; 6],
-    uu_mu: [f64; 6],
 }
 
 /// The secular data of one beam.
@@ -161,7 +159,6 @@ impl SpringMassScratch {
                 for c in a..m {
                     let k = tri(m, a, c);
                     t.uu[k] = u[a] * u[c];
-                    t.uu_mu[k] = t.uu[k] * mu;
                 }
             }
             self.terms.push(t);
@@ -170,25 +167,24 @@ impl SpringMassScratch {
     }
 
     /// Σ_{k∉removed} u_k u_kᵀ/(p + qμ_k) over the upper triangle, with
-    /// derivatives (as `spring_spectrum.rs`'s `term_sums`: one reciprocal
-    /// per term through r = p/q).
+    /// derivatives: with r = p/q, 1/(p + qμ_k) = 1/(q(r + μ_k)) and its
+    /// derivative −(p′ + q′μ_k)/(q²(r + μ_k)²), one reciprocal per term.
     fn rest_sums<T: Num>(&self, p: Jet<T>, q: Jet<T>, removed: (usize, usize)) -> [Jet<T>; 6] {
         let n = tri(self.m, self.m - 1, self.m - 1) + 1;
         let iq = q.v.recip();
         let r = p.v * iq;
         let zero = T::from(0.0);
-        let (mut f, mut a, mut b) = ([zero; 6], [zero; 6], [zero; 6]);
+        let (mut f, mut d) = ([zero; 6], [zero; 6]);
         for t in self.terms[..removed.0].iter().chain(&self.terms[removed.1..]) {
             let inv = (r + t.mu).recip();
-            let inv2 = inv * inv;
+            let dk = (p.d + q.d * t.mu) * (inv * inv);
             for k in 0..n {
                 f[k] = f[k] + inv * t.uu[k];
-                a[k] = a[k] + inv2 * t.uu[k];
-                b[k] = b[k] + inv2 * t.uu_mu[k];
+                d[k] = d[k] + dk * t.uu[k];
             }
         }
         let iq2 = iq * iq;
-        std::array::from_fn(|k| Jet { v: f[k] * iq, d: zero - (p.d * a[k] + q.d * b[k]) * iq2 })
+        std::array::from_fn(|k| Jet { v: f[k] * iq, d: zero - d[k] * iq2 })
     }
 
     /// X = C⁻¹ + the rest's flexibility as a full m × m matrix of jets.
@@ -211,8 +207,12 @@ impl SpringMassScratch {
 
     /// g = (−1)^{|R|} det Q at (p, q, s²) (module doc), with its derivative.
     fn secular<T: Num>(&self, p: Jet<T>, q: Jet<T>, s2: Jet<T>, removed: (usize, usize)) -> Jet<T> {
+        self.bordered(self.x_matrix(p, q, s2, removed), p, q, removed)
+    }
+
+    /// (−1)^{|R|} det Q from X (module doc).
+    fn bordered<T: Num>(&self, x: [[Jet<T>; 3]; 3], p: Jet<T>, q: Jet<T>, removed: (usize, usize)) -> Jet<T> {
         let (m, nr) = (self.m, removed.1 - removed.0);
-        let x = self.x_matrix(p, q, s2, removed);
         let n = m + nr;
         let mut a = [[Jet::<T>::c(0.0); MAX_ORDER]; MAX_ORDER];
         for i in 0..m {
@@ -231,6 +231,55 @@ impl SpringMassScratch {
         } else {
             d
         }
+    }
+
+    /// g(λ) on the real axis (p = s² = −λ, q = 1) with its derivative in λ,
+    /// and H(λ) from the same sweep: X plus the removed terms' u uᵀ/(μ − λ).
+    fn real_secular(&self, lambda: f64, removed: (usize, usize)) -> (Jet<f64>, Option<[[f64; 3]; 3]>) {
+        let p = Jet { v: -lambda, d: -1.0 };
+        let x = self.x_matrix(p, Jet::c(1.0), p, removed);
+        let m = self.m;
+        let mut h = [[0.0; 3]; 3];
+        for i in 0..m {
+            for j in 0..m {
+                h[i][j] = x[i][j].v;
+            }
+        }
+        for t in &self.terms[removed.0..removed.1] {
+            let inv = 1.0 / (t.mu - lambda);
+            for (row, ui) in h.iter_mut().zip(&t.u).take(m) {
+                for (v, uj) in row.iter_mut().zip(&t.u).take(m) {
+                    *v += ui * uj * inv;
+                }
+            }
+        }
+        let finite = h.iter().flatten().all(|v| v.is_finite());
+        (self.bordered(x, p, Jet::c(1.0), removed), finite.then_some(h))
+    }
+
+    /// H(λ) on the real axis, values only (the certifying counts).
+    fn h_value(&self, lambda: f64) -> [[f64; 3]; 3] {
+        let m = self.m;
+        let n = tri(m, m - 1, m - 1) + 1;
+        let mut f = [0.0; 6];
+        for t in &self.terms {
+            let inv = 1.0 / (t.mu - lambda);
+            for (v, uu) in f.iter_mut().zip(&t.uu).take(n) {
+                *v += uu * inv;
+            }
+        }
+        let mut h = [[0.0; 3]; 3];
+        for a in 0..m {
+            for c in a..m {
+                h[a][c] = f[tri(m, a, c)];
+                h[c][a] = h[a][c];
+            }
+        }
+        for (i, &k) in self.springs.iter().enumerate() {
+            h[i][i] += 1.0 / k;
+        }
+        h[m - 1][m - 1] -= 1.0 / (self.mass.mass * lambda);
+        h
     }
 
     /// H(λ) (every term) and F′(λ) on the real axis, full m × m.
@@ -257,8 +306,12 @@ impl SpringMassScratch {
         if !(lambda > 0.0) {
             return Some(0);
         }
-        let (h, _) = self.h_real(lambda);
-        let pos = positive_eigenvalues(&h, self.m)?;
+        self.count_from(lambda, &self.h_value(lambda))
+    }
+
+    /// [`Self::count`] with H(λ) = `h` given (λ > 0).
+    fn count_from(&self, lambda: f64, h: &[[f64; 3]; 3]) -> Option<usize> {
+        let pos = positive_eigenvalues(h, self.m)?;
         let below = self.mass.mu.partition_point(|&(m, _)| m < lambda);
         (below + pos).checked_sub(self.springs.len())
     }
@@ -285,7 +338,8 @@ impl SpringMassScratch {
             x = 0.5 * (a + b);
         }
         for _ in 0..EIGEN_MAX_STEPS {
-            let exact = match self.count(x) {
+            let (g, h) = self.real_secular(x, removed);
+            let exact = match h.and_then(|h| self.count_from(x, &h)) {
                 Some(n) if n > r0 => {
                     b = x;
                     false
@@ -296,7 +350,6 @@ impl SpringMassScratch {
                 }
                 None => true,
             };
-            let g = self.secular::<f64>(Jet { v: -x, d: -1.0 }, Jet::c(1.0), Jet { v: -x, d: -1.0 }, removed);
             let newton = if exact { x } else { x - g.v / g.d };
             let inside = exact || (newton.is_finite() && newton > a && newton < b);
             let on_bracket = newton.is_finite() && newton >= a && newton <= b;
@@ -373,14 +426,16 @@ impl SpringMassScratch {
 fn determinant<T: Num>(a: &mut [[Jet<T>; MAX_ORDER]; MAX_ORDER], n: usize) -> Jet<T> {
     let mut det = Jet::c(1.0);
     for k in 0..n {
-        let piv = (k..n).max_by(|&i, &j| a[i][k].v.modulus().total_cmp(&a[j][k].v.modulus())).unwrap_or(k);
+        // pivot by |re| + |im|: any norm serves, and this one needs no hypot
+        let size = |v: T| v.to_complex().l1_norm();
+        let piv = (k..n).max_by(|&i, &j| size(a[i][k].v).total_cmp(&size(a[j][k].v))).unwrap_or(k);
         if piv != k {
             a.swap(piv, k);
             det = Jet::c(0.0).sub(det);
         }
         let pivot = a[k][k];
         det = det.mul(pivot);
-        if pivot.v.modulus() == 0.0 {
+        if size(pivot.v) == 0.0 {
             return det;
         }
         let row = a[k];
