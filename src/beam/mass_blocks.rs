@@ -76,12 +76,8 @@ use crate::beam::continuum_tail::MassTail;
 use crate::beam::element;
 use crate::beam::family::Roots;
 use crate::beam::jet::relaxation;
-use crate::beam::spring_spectrum::{Block, Jet, Num, CERTIFY_GAP};
+use crate::beam::spring_spectrum::{certified_eigenvalue, Block, Jet, Num};
 
-/// Safeguarded Newton on the real axis stops after a step ≤ EIGEN_TOL·λ
-/// (the spring path's rule).
-const EIGEN_TOL: f64 = 1e-13;
-const EIGEN_MAX_STEPS: usize = 100;
 /// The eigenvector's Rayleigh quotient a + b must be λ to this (relative), as
 /// on the spring path: its forms are sums of positive terms rounded to ~1e-13.
 const RAYLEIGH_TOL: f64 = 1e-8;
@@ -173,7 +169,7 @@ impl MassScratch {
     /// The certified eigenvalue λ_r (r = r0 + 1) and the blocks R removed
     /// for it; `None` where the path declines.
     fn eigenvalue(&self, r0: usize) -> Option<(f64, [usize; 2], usize)> {
-        let (mut a, mut b) = (if r0 == 0 { 0.0 } else { self.mu[r0 - 1].0 }, self.mu.get(r0)?.0);
+        let (a, b) = (if r0 == 0 { 0.0 } else { self.mu[r0 - 1].0 }, self.mu.get(r0)?.0);
         let mut removed = [0usize; 2];
         let mut nr = 0;
         for &(_, j) in &self.mu[r0.saturating_sub(1)..=r0] {
@@ -201,44 +197,18 @@ impl MassScratch {
             x = 0.5 * (a + b);
         }
         let removed_s = &removed[..nr];
-        for _ in 0..EIGEN_MAX_STEPS {
-            let m = Jet { v: -x, d: -1.0 };
-            let (g, h) = self.secular::<f64>(m, Jet::c(1.0), m, removed_s);
-            let exact = match self.count_with(x, h) {
-                Some(c) if c > r0 => {
-                    b = x;
-                    false
-                }
-                Some(_) => {
-                    a = x;
-                    false
-                }
-                None => true,
-            };
-            let newton = if exact { x } else { x - g.v / g.d };
-            let inside = exact || (newton.is_finite() && newton > a && newton < b);
-            let converged = inside && (newton - x).abs() <= EIGEN_TOL * newton.abs();
-            if converged || b - a <= 4.0 * f64::EPSILON * b {
-                let lambda = if converged { newton } else { 0.5 * (a + b) };
-                let below = self.count(lambda * (1.0 - CERTIFY_GAP))?;
-                let above = self.count(lambda * (1.0 + CERTIFY_GAP))?;
-                if below == r0 && above > r0 {
-                    return (lambda > 0.0).then_some((lambda, removed, nr));
-                }
-                if below > r0 {
-                    b = b.min(lambda * (1.0 - CERTIFY_GAP));
-                } else {
-                    a = a.max(lambda * (1.0 + CERTIFY_GAP));
-                }
-                if !(a < b) {
-                    return None;
-                }
-                x = 0.5 * (a + b);
-                continue;
-            }
-            x = if inside { newton } else { 0.5 * (a + b) };
-        }
-        None
+        let lambda = certified_eigenvalue(
+            r0,
+            (a, b),
+            x,
+            |x| {
+                let m = Jet { v: -x, d: -1.0 };
+                let (g, h) = self.secular::<f64>(m, Jet::c(1.0), m, removed_s);
+                (g, self.count_with(x, h))
+            },
+            |x| self.count(x),
+        )?;
+        Some((lambda, removed, nr))
     }
 
     /// The poles of families 1..=n_modes from the filled scratch into

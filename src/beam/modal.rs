@@ -468,7 +468,9 @@ impl ModalSolver {
     /// wavenumber-block path (`axial_spectrum.rs`; with [`Poles::Oscillatory`]
     /// only the oscillatory pairs, as the coupled reference does); support
     /// springs on that mesh without a point mass (with or without the force)
-    /// the secular path on the same blocks (`spring_spectrum.rs`). The
+    /// the secular path on the same blocks (`spring_spectrum.rs`), springs
+    /// and a point mass together without the force the secular determinant
+    /// of order ≤ 3 over the same blocks' spectrum (`spring_mass.rs`). The
     /// simply supported Timoshenko mesh with an axial force or damping, or
     /// with springs alone or a point mass alone, takes its continuum limit
     /// (`shear_continuum.rs`).

@@ -49,7 +49,8 @@
 //! (μ₀ = 0) and R is the terms of μ_{r−1} … μ_{r+|A|}. Safeguarded Newton
 //! on g(λ) inside the bracket that every count narrows converges to λ_r,
 //! accepted only when the count is r − 1 just below it and ≥ r just above it
-//! (a relative gap of [`CERTIFY_GAP`]); otherwise the path declines, as it
+//! (a relative gap of `spring_spectrum::CERTIFY_GAP`,
+//! `spring_spectrum::certified_eigenvalue`); otherwise the path declines, as it
 //! does when μ₁ ≤ 0 or a block's two eigenvalues nearly coincide
 //! (`spring_spectrum::RESIDUE_GAP`: the eigenvectors are then not
 //! separable).
@@ -82,12 +83,8 @@ use crate::beam::axial_spectrum::{secular_families, AxialBlocks};
 use crate::beam::family::Roots;
 use crate::beam::jet::relaxation;
 use crate::beam::mass_blocks::MassScratch;
-use crate::beam::spring_spectrum::{Jet, Num, CERTIFY_GAP, RESIDUE_GAP};
+use crate::beam::spring_spectrum::{certified_eigenvalue, Jet, Num, RESIDUE_GAP};
 
-/// Safeguarded Newton on the real axis stops after a step ≤ EIGEN_TOL·λ
-/// (the spring path's rule).
-const EIGEN_TOL: f64 = 1e-13;
-const EIGEN_MAX_STEPS: usize = 100;
 /// H(λ)z must vanish to this, relative to |H||z|, at a certified eigenvalue:
 /// H is singular there up to the rounding of its sums (~1e-13).
 const NULL_TOL: f64 = 1e-8;
@@ -111,8 +108,9 @@ pub struct SpringMassScratch {
     /// The mass path's blocks, spectrum and mass coordinates.
     mass: MassScratch,
     terms: Vec<Term>,
-    /// k̃ of the active ends (1 or 2), then the constraint count m = |A| + 1.
+    /// k̃ of the active ends (1 or 2).
     springs: Vec<f64>,
+    /// The constraint count m = |A| + 1 (the ends, then the mass).
     m: usize,
 }
 
@@ -325,8 +323,8 @@ impl SpringMassScratch {
     fn eigenvalue(&self, r0: usize) -> Option<f64> {
         let na = self.springs.len();
         let mu = &self.mass.mu;
-        let mut a = if r0 == 0 { 0.0 } else { mu.get(r0 - 1)?.0 };
-        let mut b = mu.get(r0 + na)?.0;
+        let a = if r0 == 0 { 0.0 } else { mu.get(r0 - 1)?.0 };
+        let b = mu.get(r0 + na)?.0;
         let removed = self.removed(r0);
         // first-order start: the springs raise μ_r by Σ_e k̃_e u_e², the mass
         // scales it by 1/(1 + μ̃u_m²) (u: the M̃-normalised mode's constraint values)
@@ -337,44 +335,16 @@ impl SpringMassScratch {
         if !(x > a && x < b) {
             x = 0.5 * (a + b);
         }
-        for _ in 0..EIGEN_MAX_STEPS {
-            let (g, h) = self.real_secular(x, removed);
-            let exact = match h.and_then(|h| self.count_from(x, &h)) {
-                Some(n) if n > r0 => {
-                    b = x;
-                    false
-                }
-                Some(_) => {
-                    a = x;
-                    false
-                }
-                None => true,
-            };
-            let newton = if exact { x } else { x - g.v / g.d };
-            let inside = exact || (newton.is_finite() && newton > a && newton < b);
-            let on_bracket = newton.is_finite() && newton >= a && newton <= b;
-            let converged = (inside || on_bracket) && (newton - x).abs() <= EIGEN_TOL * newton.abs();
-            if converged || b - a <= 4.0 * f64::EPSILON * b {
-                let lambda = if converged { newton } else { 0.5 * (a + b) };
-                let below = self.count(lambda * (1.0 - CERTIFY_GAP))?;
-                let above = self.count(lambda * (1.0 + CERTIFY_GAP))?;
-                if below == r0 && above > r0 {
-                    return (lambda > 0.0).then_some(lambda);
-                }
-                if below > r0 {
-                    b = b.min(lambda * (1.0 - CERTIFY_GAP));
-                } else {
-                    a = a.max(lambda * (1.0 + CERTIFY_GAP));
-                }
-                if !(a < b) {
-                    return None;
-                }
-                x = 0.5 * (a + b);
-                continue;
-            }
-            x = if inside { newton } else { 0.5 * (a + b) };
-        }
-        None
+        certified_eigenvalue(
+            r0,
+            (a, b),
+            x,
+            |x| {
+                let (g, h) = self.real_secular(x, removed);
+                (g, h.and_then(|h| self.count_from(x, &h)))
+            },
+            |x| self.count(x),
+        )
     }
 
     /// (a, b, c_x/c̃) of the one-term family of the eigenvector of λ (module doc).

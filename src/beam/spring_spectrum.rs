@@ -470,7 +470,7 @@ impl SpringScratch {
     /// for it; `None` where the path declines.
     fn eigenvalue(&self, r0: usize) -> Option<(f64, [usize; 3], usize)> {
         let na = self.ends.len();
-        let (mut a, mut b) = (self.mu.get(r0)?.0, self.mu.get(r0 + na)?.0);
+        let (a, b) = (self.mu.get(r0)?.0, self.mu.get(r0 + na)?.0);
         let mut removed = [0usize; 3];
         let mut nr = 0;
         if self.terms.is_empty() {
@@ -507,49 +507,17 @@ impl SpringScratch {
             x = 0.5 * (a + b);
         }
         let removed_s = &removed[..nr];
-        for _ in 0..EIGEN_MAX_STEPS {
-            // H(x) exactly singular: x is an eigenvalue (certified below)
-            let (g, h) = self.real_secular(x, removed_s);
-            let exact = match h.and_then(|h| self.count_from(x, h)) {
-                Some(n) if n > r0 => {
-                    b = x;
-                    false
-                }
-                Some(_) => {
-                    a = x;
-                    false
-                }
-                None => true,
-            };
-            let newton = if exact { x } else { x - g.v / g.d };
-            let inside = exact || (newton.is_finite() && newton > a && newton < b);
-            // a converged step may land on the bracket's end: the count at x
-            // itself (x at the root to rounding) may have set that end
-            let on_bracket = newton.is_finite() && newton >= a && newton <= b;
-            let converged = (inside || on_bracket) && (newton - x).abs() <= EIGEN_TOL * newton.abs();
-            if converged || b - a <= 4.0 * f64::EPSILON * b {
-                let lambda = if converged { newton } else { 0.5 * (a + b) };
-                // a root of g is λ_r only if the count says so (it may be
-                // another eigenvalue in the bracket): otherwise narrow and go on
-                let below = self.count(lambda * (1.0 - CERTIFY_GAP))?;
-                let above = self.count(lambda * (1.0 + CERTIFY_GAP))?;
-                if below == r0 && above > r0 {
-                    return (lambda > 0.0).then_some((lambda, removed, nr));
-                }
-                if below > r0 {
-                    b = b.min(lambda * (1.0 - CERTIFY_GAP));
-                } else {
-                    a = a.max(lambda * (1.0 + CERTIFY_GAP));
-                }
-                if !(a < b) {
-                    return None;
-                }
-                x = 0.5 * (a + b);
-                continue;
-            }
-            x = if inside { newton } else { 0.5 * (a + b) };
-        }
-        None
+        let lambda = certified_eigenvalue(
+            r0,
+            (a, b),
+            x,
+            |x| {
+                let (g, h) = self.real_secular(x, removed_s);
+                (g, h.and_then(|h| self.count_from(x, h)))
+            },
+            |x| self.count(x),
+        )?;
+        Some((lambda, removed, nr))
     }
 
     /// The flexibility of the ends (F₀₀, F₀L) over every block, the tail
@@ -734,6 +702,65 @@ impl AxialBlocks {
         }
         (0..n_modes).map(|r0| scratch.eigenvalue(r0).map(|e| e.0)).collect()
     }
+}
+
+/// Eigenvalue r0 + 1 of a secular path (this file's, `mass_blocks.rs`'s,
+/// `spring_mass.rs`'s), certified: safeguarded Newton on the pole-free g
+/// from `x` inside the bracket (a, b), every count narrowing the bracket, and
+/// a root accepted only when the count is r0 just below it and > r0 just
+/// above it (relative gap [`CERTIFY_GAP`]); `None` where the path declines.
+/// `eval(x)` gives g(x) with its derivative and the count at x (`None` where
+/// H is singular at x: x is then taken as the root and certified);
+/// `count(x)` the count alone.
+pub(super) fn certified_eigenvalue(
+    r0: usize,
+    (mut a, mut b): (f64, f64),
+    mut x: f64,
+    eval: impl Fn(f64) -> (Jet<f64>, Option<usize>),
+    count: impl Fn(f64) -> Option<usize>,
+) -> Option<f64> {
+    for _ in 0..EIGEN_MAX_STEPS {
+        let (g, n) = eval(x);
+        let exact = match n {
+            Some(n) if n > r0 => {
+                b = x;
+                false
+            }
+            Some(_) => {
+                a = x;
+                false
+            }
+            None => true,
+        };
+        let newton = if exact { x } else { x - g.v / g.d };
+        let inside = exact || (newton.is_finite() && newton > a && newton < b);
+        // a converged step may land on the bracket's end: the count at x
+        // itself (x at the root to rounding) may have set that end
+        let on_bracket = newton.is_finite() && newton >= a && newton <= b;
+        let converged = (inside || on_bracket) && (newton - x).abs() <= EIGEN_TOL * newton.abs();
+        if converged || b - a <= 4.0 * f64::EPSILON * b {
+            let lambda = if converged { newton } else { 0.5 * (a + b) };
+            // a root of g is λ_r only if the count says so (it may be
+            // another eigenvalue in the bracket): otherwise narrow and go on
+            let below = count(lambda * (1.0 - CERTIFY_GAP))?;
+            let above = count(lambda * (1.0 + CERTIFY_GAP))?;
+            if below == r0 && above > r0 {
+                return (lambda > 0.0).then_some(lambda);
+            }
+            if below > r0 {
+                b = b.min(lambda * (1.0 - CERTIFY_GAP));
+            } else {
+                a = a.max(lambda * (1.0 + CERTIFY_GAP));
+            }
+            if !(a < b) {
+                return None;
+            }
+            x = 0.5 * (a + b);
+            continue;
+        }
+        x = if inside { newton } else { 0.5 * (a + b) };
+    }
+    None
 }
 
 /// The spring-free spectrum of `blocks` (both eigenvalues of every 2 × 2
