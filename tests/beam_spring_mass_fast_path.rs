@@ -30,13 +30,11 @@
 mod fast_path_check;
 
 use fast_path_check::{
-    assert_agrees_with_the_coupled_reference, assert_same_bits_at_one_and_two_threads_and_after_any_history,
-    compare_observables, random_relaxations, random_springs,
+    assert_agrees_with_the_coupled_reference, assert_agrees_with_the_state_space,
+    assert_same_bits_at_one_and_two_threads_and_after_any_history, random_relaxations, random_springs,
 };
 use nanobeam::beam::spec::{Section, Tube};
-use nanobeam::beam::{
-    modal_state_space, BeamSpec, InternalVariable, ModalSolver, PointMass, ShearDeformation, Support,
-};
+use nanobeam::beam::{BeamSpec, InternalVariable, ModalSolver, PointMass, ShearDeformation, Support};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -88,24 +86,13 @@ fn random_beams_agree_with_the_coupled_reference() {
 #[test]
 fn random_beams_agree_with_the_state_space() {
     let mut rng = ChaCha8Rng::seed_from_u64(4162);
-    let mut solver = ModalSolver::new();
-    let mut worst = 0.0f64;
-    for i in 0..40 {
-        let mut b = random_beam(&mut rng);
-        b.elements = 10; // the dense solve is O(dim³)
-        let dense = modal_state_space(&b, 4).unwrap();
-        let what = format!("beam {i}: {b:?}");
-        let w = compare_observables::<4>(
-            &mut solver,
-            &b,
-            ModalSolver::last_used_spring_mass_blocks,
-            &dense,
-            STATE_SPACE_TOL,
-            &what,
-        );
-        worst = worst.max(w.unwrap_or_else(|| panic!("{what}: the fast path was not taken")));
-    }
-    eprintln!("spring + point-mass path vs state space: worst relative ω difference {worst:e}");
+    let beams: Vec<BeamSpec> = (0..40).map(|_| random_beam(&mut rng)).collect();
+    assert_agrees_with_the_state_space::<4>(
+        beams,
+        ModalSolver::last_used_spring_mass_blocks,
+        STATE_SPACE_TOL,
+        "spring + point-mass path",
+    );
 }
 
 /// The path is taken only on its hypotheses: a simply supported

@@ -1,7 +1,7 @@
 //! The checks every exact fast path of `beam` is held to, shared by
 //! `beam_axial_fast_path.rs`, `beam_spring_fast_path.rs`,
 //! `beam_mass_blocks.rs`, `beam_shear_blocks.rs` and
-//! `beam_shear_continuum.rs`: a fast result against a reference solve of the
+//! `beam_shear_continuum.rs` and `beam_spring_mass_fast_path.rs`: a fast result against a reference solve of the
 //! same beam (the coupled RQI of `ModalSolver::direct_only`, or the dense
 //! state space), ω relative and ζ absolute, within a tolerance each test
 //! derives for its path; and the same bits at any thread count and history.
@@ -116,6 +116,30 @@ pub fn compare_observables<const N: usize>(
         assert!((out[N + k] - r.zeta).abs() <= 2.0 * tol, "{what} mode {m}: ζ {} vs {}", out[N + k], r.zeta);
     }
     Some(worst)
+}
+
+/// `observables` of modes 1..=`N` of every beam (each made 10 elements: the
+/// dense solve is O(dim³)) against the dense state space (`modal_state_space`,
+/// independent of both the secular paths and the RQI), within `tol`
+/// ([`compare_observables`]); panics when the fast path is not taken, and
+/// prints and returns the worst relative ω difference.
+pub fn assert_agrees_with_the_state_space<const N: usize>(
+    beams: impl IntoIterator<Item = BeamSpec>,
+    used: fn(&ModalSolver) -> bool,
+    tol: f64,
+    label: &str,
+) -> f64 {
+    let mut solver = ModalSolver::new();
+    let mut worst = 0.0f64;
+    for (i, mut b) in beams.into_iter().enumerate() {
+        b.elements = 10;
+        let dense = nanobeam::beam::modal_state_space(&b, N).unwrap();
+        let what = format!("beam {i}: {b:?}");
+        let w = compare_observables::<N>(&mut solver, &b, used, &dense, tol, &what);
+        worst = worst.max(w.unwrap_or_else(|| panic!("{what}: the fast path was not taken")));
+    }
+    eprintln!("{label} vs state space: worst relative ω difference {worst:e}");
+    worst
 }
 
 /// The fast path is a function of its input alone: `modal` (5 modes) and
