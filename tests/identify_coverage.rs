@@ -124,11 +124,15 @@ fn seeds() -> u64 {
 fn coverage_study() {
     let n = seeds();
     let only = std::env::var("IDENTIFY_KINDS").unwrap_or_default();
-    for kind in [Kind::Complex, Kind::Magnitude, Kind::Psd, Kind::Time] {
+    for kind in [Kind::Complex, Kind::Magnitude, Kind::Psd, Kind::Time, Kind::Rician] {
         if !only.is_empty() && !only.contains(&format!("{kind:?}")) {
             continue;
         }
         for proportional in [false, true] {
+            let noise = std::env::var("IDENTIFY_NOISE").unwrap_or_default();
+            if !noise.is_empty() && noise != if proportional { "proportional" } else { "additive" } {
+                continue;
+            }
             let t = study(kind, proportional, 0..n);
             print(kind, proportional, &t);
         }

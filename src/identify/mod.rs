@@ -977,6 +977,7 @@ fn reweight(
             likelihood_ratio: 0.0,
             covariance: "model",
             breusch_pagan: 0.0,
+            samples_below_floor: 0,
         };
         return (model, fit, nm, n_identified);
     }
@@ -1007,17 +1008,7 @@ fn reweight(
             let weights = (0..n).map(|i| 1.0 / (1.0 + c * s2[i]).sqrt()).collect();
             let weighted = Model { weights: Some(weights), ..model.clone() };
             let refit = match sc.kind {
-                FitKind::Magnitude => {
-                    let mut fixed = vec![false; weighted.n_params()];
-                    for r in n_identified..weighted.n_modes {
-                        let o = PER_MODE * r;
-                        if fit.theta[o].hypot(fit.theta[o + 1]) > sc.band.1 {
-                            fixed[o] = true;
-                            fixed[o + 1] = true;
-                        }
-                    }
-                    refine::fit(&weighted, fit.theta.clone(), &fixed)
-                }
+                FitKind::Magnitude => refit_magnitude(sc, &weighted, &fit.theta, n_identified),
                 _ => refine::fit_projected(&weighted, &fit.theta),
             };
             match refit {
@@ -1038,8 +1029,20 @@ fn reweight(
     // the final weighted residuals against the signal level: variance left
     let (r, jac) = model.eval(&fit.theta, true);
     let (_, s2) = levels(&model, &fit.theta);
-    let r2w: Vec<f64> = r.iter().map(|v| v * v).collect();
-    let bp = noise::breusch_pagan(&r2w, &s2);
+    // a magnitude record's noise is Gaussian only above its floor: σ̂ and
+    // the doubt test from the samples there (see `noise::MAGNITUDE_FLOOR_SD`)
+    let mut gaussian = vec![true; r.len()];
+    if sc.kind == FitKind::Magnitude {
+        if let Some((keep, a2)) = noise::variance_above_the_floor(&r, &jac, &s2, fit.noise_var, c) {
+            fit.cov *= a2 / fit.noise_var;
+            fit.noise_var = a2;
+            gaussian = keep;
+        }
+    }
+    let samples_below_floor = gaussian.iter().filter(|&&k| !k).count();
+    let (r2w, s2w): (Vec<f64>, Vec<f64>) =
+        r.iter().zip(&s2).zip(&gaussian).filter(|(_, &k)| k).map(|((v, &s), _)| (v * v, s)).unzip();
+    let bp = noise::breusch_pagan(&r2w, &s2w);
     let critical = ChiSquared::new(1.0).map(|d| d.inverse_cdf(1.0 - noise::DOUBT_LEVEL)).unwrap_or(f64::INFINITY);
     let doubt = bp > critical || (proportional && !chose_proportional);
     let mut covariance = "model";
@@ -1057,8 +1060,23 @@ fn reweight(
         likelihood_ratio,
         covariance,
         breusch_pagan: bp,
+        samples_below_floor,
     };
     (model, fit, nm, n_identified)
+}
+
+/// A magnitude record's refit from θ, the out-of-band poles that stayed
+/// above the band fixed, as in [`best_refinement`].
+fn refit_magnitude(sc: &Scaled, model: &Model, theta: &[f64], n_identified: usize) -> Option<FitResult> {
+    let mut fixed = vec![false; model.n_params()];
+    for r in n_identified..model.n_modes {
+        let o = PER_MODE * r;
+        if theta[o].hypot(theta[o + 1]) > sc.band.1 {
+            fixed[o] = true;
+            fixed[o + 1] = true;
+        }
+    }
+    refine::fit(model, theta.to_vec(), &fixed)
 }
 
 /// A free decay's weighted refit (`weighted`, result `grown`) that turned

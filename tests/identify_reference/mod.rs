@@ -187,6 +187,11 @@ pub enum Kind {
     Magnitude,
     Psd,
     Time,
+    /// A magnitude record made as a lock-in's R channel makes it: the
+    /// magnitude of the complex sweep's noisy response, |H + ε| (Rician),
+    /// with ε as in [`Kind::Complex`]. [`Kind::Magnitude`] adds real noise
+    /// to |H| and folds it at zero, |(|H| + e)|.
+    Rician,
 }
 
 /// A generated record and what it holds.
@@ -233,7 +238,7 @@ pub fn record_with(
     let lo = 0.5 * beam.modes[0].omega;
     let hi = 1.15 * top;
     match kind {
-        Kind::Complex | Kind::Magnitude | Kind::Psd => {
+        Kind::Complex | Kind::Magnitude | Kind::Psd | Kind::Rician => {
             let w = log_grid(lo, hi, points);
             let h: Vec<Complex64> = w.iter().map(|&w| beam.h(w)).collect();
             let peak = h.iter().map(|v| v.norm()).fold(0.0, f64::max);
@@ -255,6 +260,16 @@ pub fn record_with(
                 }
                 Kind::Magnitude => {
                     let y = h.iter().map(|v| (v.norm() + noise.sd(v.norm(), peak) * normal()).abs()).collect();
+                    Measurement::Magnitude { omega_rad_s: w.clone(), h_abs_m_per_n: y }
+                }
+                Kind::Rician => {
+                    let y = h
+                        .iter()
+                        .map(|v| {
+                            let sd = noise.sd(v.norm(), peak);
+                            (v + Complex64::new(sd * normal(), sd * normal())).norm()
+                        })
+                        .collect();
                     Measurement::Magnitude { omega_rad_s: w.clone(), h_abs_m_per_n: y }
                 }
                 _ => {
