@@ -208,6 +208,27 @@ fn samples_out_of_range_is_blamed_on_the_flag() {
     }
 }
 
+/// `--max-causes` outside 1..=3: exit 2, one line naming the flag, the
+/// value and the range, before anything runs.
+#[test]
+fn max_causes_out_of_range_is_blamed_on_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("m.yaml");
+    std::fs::write(&input, yaml_with(&format!("{M1}{M2}{M3}"))).unwrap();
+    for bad in ["0", "4"] {
+        let o = Command::new(env!("CARGO_BIN_EXE_nanobeam"))
+            .arg("diagnose")
+            .arg(&input)
+            .args(["--max-causes", bad])
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.starts_with(&format!("invalid --max-causes = {bad}: allowed 1..=3")), "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+    }
+}
+
 /// `--quick` (the default) and `--thorough` contradict each other: exit 2,
 /// one line naming both flags, before anything runs.
 #[test]

@@ -291,6 +291,7 @@ def diagnose(
     *,
     samples: Optional[int] = None,
     thorough: bool = False,
+    max_causes: Optional[int] = None,
     progress: ProgressArg = None,
 ) -> Dict[str, Any]:
     """Model diagnosis: misfit checks, candidate causes by evidence, gain (``nanobeam diagnose --json``).
@@ -304,6 +305,8 @@ def diagnose(
         TMCMC samples per stage per model (default 400, or 1000 with ``thorough``).
     thorough : bool
         The library's longer default runs instead of the validated quick settings.
+    max_causes : int, optional
+        The most causes one model combines, 1 to 3 (default 2; ``--max-causes``).
     progress : bool, callable or None
         As for :func:`calibrate`; the unit is ``"models"``: the models whose
         evidence is done (the base, the beta baseline, every candidate).
@@ -321,7 +324,14 @@ def diagnose(
     path, text = _source(measured, "measured")
     callback, close = _progress(progress)
     try:
-        text = _nanobeam.diagnose_json(path, text, None if samples is None else int(samples), bool(thorough), callback)
+        text = _nanobeam.diagnose_json(
+            path,
+            text,
+            None if samples is None else int(samples),
+            bool(thorough),
+            None if max_causes is None else int(max_causes),
+            callback,
+        )
     finally:
         close()
     return json.loads(text)

@@ -56,6 +56,7 @@ def diagnose(
     *,
     samples: Optional[int] = ...,
     thorough: bool = ...,
+    max_causes: Optional[int] = ...,
     progress: ProgressArg = ...,
 ) -> Dict[str, Any]:
     """The structure ``nanobeam diagnose --json`` prints."""

@@ -31,6 +31,7 @@ def diagnose_json(
     measured_text: Optional[str],
     samples: Optional[int],
     thorough: bool,
+    max_causes: Optional[int],
     progress: ProgressCallback,
 ) -> str: ...
 def identify_json(

@@ -348,15 +348,16 @@ fn calibrate_groups(
     Ok((summary, groups, idata.attributes))
 }
 
-/// `nanobeam diagnose MEASURED.yaml --json [--samples N] [--thorough]`: the JSON text.
+/// `nanobeam diagnose MEASURED.yaml --json [--samples N] [--thorough] [--max-causes K]`: the JSON text.
 #[pyfunction]
-#[pyo3(signature = (measured_path, measured_text, samples, thorough, progress))]
+#[pyo3(signature = (measured_path, measured_text, samples, thorough, max_causes, progress))]
 fn diagnose_json(
     py: Python<'_>,
     measured_path: Option<String>,
     measured_text: Option<String>,
     samples: Option<usize>,
     thorough: bool,
+    max_causes: Option<usize>,
     progress: Option<PyObject>,
 ) -> PyResult<String> {
     let source = Source::new(measured_path, measured_text, "measured")?;
@@ -368,6 +369,7 @@ fn diagnose_json(
             samples,
             thorough,
             quick: false,
+            max_causes,
         };
         // the CLI's order: the settings, then the file
         let mut settings = cli::diagnose::settings(&args);

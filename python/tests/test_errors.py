@@ -83,6 +83,11 @@ def test_sampler_and_diagnose_settings_errors(tmp_path):
     with pytest.raises(ValueError) as e:
         nanobeam.diagnose(path, samples=3)
     assert str(e.value) == line
+    line = cli_error("diagnose", path, "--max-causes", "4", code=2)
+    assert "--max-causes" in line
+    with pytest.raises(ValueError) as e:
+        nanobeam.diagnose(path, max_causes=4)
+    assert str(e.value) == line
 
 
 def test_numerical_failure_is_numerical_error(tmp_path):

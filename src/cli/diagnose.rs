@@ -1,4 +1,4 @@
-//! `nanobeam diagnose MEASURED.yaml [--out DIR] [--json] [--samples N] [--thorough]`:
+//! `nanobeam diagnose MEASURED.yaml [--out DIR] [--json] [--samples N] [--thorough] [--max-causes K]`:
 //! misfit, causes, extension and gain (see `crate::diagnose`).
 
 use std::path::PathBuf;
@@ -30,6 +30,11 @@ pub struct DiagnoseArgs {
     /// written when they were not the default.
     #[arg(long)]
     pub quick: bool,
+    /// The most causes one model combines, 1..=3 [default: 2]. Three suit records of many modes
+    /// (a molecular-dynamics tube's 10 or more), where a third cause still leaves degrees of
+    /// freedom to judge the fit by; the three-cause layer is screened like the pairs.
+    #[arg(long)]
+    pub max_causes: Option<usize>,
 }
 
 /// The settings the flags select: `DiagnoseSettings::quick()`, the settings
@@ -48,6 +53,9 @@ pub fn settings(args: &DiagnoseArgs) -> DiagnoseSettings {
     let mut settings = if args.thorough { DiagnoseSettings::default() } else { DiagnoseSettings::quick() };
     if let Some(samples) = args.samples {
         settings.samples = samples;
+    }
+    if let Some(k) = args.max_causes {
+        settings.max_causes = k;
     }
     settings
 }
@@ -100,7 +108,7 @@ mod tests {
     use super::*;
 
     fn args(thorough: bool, quick: bool, samples: Option<usize>) -> DiagnoseArgs {
-        DiagnoseArgs { measured: "m.yaml".into(), out: None, json: false, samples, thorough, quick }
+        DiagnoseArgs { measured: "m.yaml".into(), out: None, json: false, samples, thorough, quick, max_causes: None }
     }
 
     /// No flag and `--quick` give the validated settings, `--thorough` the

@@ -28,6 +28,8 @@
 //!    as well (parsimony), and a selection that misfits yields to the most
 //!    probable selectable model within
 //!    [`DiagnoseSettings::alternative_margin`] of it that fits ([`search::search`]).
+//!    On records of many modes a selected pair is extended by one cause more
+//!    (`search::extension`), and the selection made again.
 //!    Every model and not a greedy path: a pair whose causes are each masked
 //!    alone is never reached by extending the leading singles.
 //!    The β-inflated base of eq. (41) is computed beside it as a baseline.

@@ -228,9 +228,10 @@ pub(super) struct Screened {
 /// ([`screen`]): those whose evidence bound reaches the best evidence of
 /// fewer causes less the margin are computed, the selection is made, and
 /// every screened model that the rule of `screen` cannot rule out at that
-/// selection is computed too, until none is left.
+/// selection is computed too, until none is left. On records of many modes a
+/// selection of `max_causes` causes is then extended by one more
+/// ([`extension`]), screened the same way, and the selection made again.
 pub(super) fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Search, DiagnoseError> {
-    let margin = problem.settings.alternative_margin;
     let max_causes = problem.settings.max_causes;
     let models = Model::candidates(max_causes, problem.data.beam.support, &problem.data.parameters);
     let layer = |k: usize| -> Vec<Model> { models.iter().filter(|m| m.causes().len() == k).cloned().collect() };
@@ -244,35 +245,25 @@ pub(super) fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Sear
     let mut screened: Vec<screen::Bound> = vec![];
     let mut checks: Vec<screen::Check> = vec![];
     if max_causes >= 2 {
-        let bounds = problem.bounds(&top, runs)?;
-        let best = best_evidence(runs);
-        let (first, rest): (Vec<_>, Vec<_>) = bounds.into_iter().partition(|b| b.log_evidence_bound() >= best - margin);
-        screened = rest;
-        let mut batch: Vec<screen::Bound> = first;
-        loop {
-            let (done, check) = problem.run_screened(batch, runs)?;
-            runs.extend(done);
-            checks.extend(check);
-            let visited = computed(&models, runs);
-            let selection = select(problem, runs, &visited);
-            let reach = |b: &screen::Bound| selection.reach(problem, runs, &b.model);
-            let (reopen, keep): (Vec<_>, Vec<_>) =
-                screened.into_iter().partition(|b| !reach(b).harmless(b.log_evidence_bound()));
-            screened = keep;
-            if reopen.is_empty() {
-                break;
-            }
-            batch = reopen;
-        }
-        // the screened models count as done for the progress
-        problem.settings.control.advance(screened.len() as u64);
+        (screened, checks) = screened_layer(problem, runs, &models, max_causes, top)?;
     } else {
         let done = problem.run(top, runs)?;
         runs.extend(done);
     }
+    let mut layers = max_causes;
+    let mut models = models;
+    let selected = select(problem, runs, &computed(&models, runs), layers).selected;
+    if let Some(extension) = extension(problem, &selected) {
+        // the layer above, only the models that hold the selection (see `extension`)
+        layers += 1;
+        models = Model::candidates(layers, problem.data.beam.support, &problem.data.parameters);
+        let (more, more_checks) = screened_layer(problem, runs, &models, layers, extension)?;
+        screened.extend(more);
+        checks.extend(more_checks);
+    }
     let runs: &[ModelRun] = runs;
     let visited = computed(&models, runs);
-    let selection = select(problem, runs, &visited);
+    let selection = select(problem, runs, &visited, layers);
     let screened = screened
         .into_iter()
         .map(|b| {
@@ -298,6 +289,82 @@ pub(super) fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Sear
     Ok(Search { path, visited, screened, checks })
 }
 
+/// The top layer `top` (models of `layers` causes) screened by its evidence
+/// bounds (`screen`): those whose bound reaches the best evidence of fewer
+/// causes less the margin are computed, the selection is made, and every
+/// screened model that the rule of `screen` cannot rule out at that
+/// selection is computed too, until none is left. Returns the models that
+/// stay screened and the checks of the computed ones.
+fn screened_layer(
+    problem: &Problem,
+    runs: &mut Vec<ModelRun>,
+    models: &[Model],
+    layers: usize,
+    top: Vec<Model>,
+) -> Result<(Vec<screen::Bound>, Vec<screen::Check>), DiagnoseError> {
+    let margin = problem.settings.alternative_margin;
+    let bounds = problem.bounds(&top, runs)?;
+    let best = best_evidence(runs);
+    let (first, mut screened): (Vec<_>, Vec<_>) =
+        bounds.into_iter().partition(|b| b.log_evidence_bound() >= best - margin);
+    let mut checks = vec![];
+    let mut batch: Vec<screen::Bound> = first;
+    loop {
+        let (done, check) = problem.run_screened(batch, runs)?;
+        runs.extend(done);
+        checks.extend(check);
+        let visited = computed(models, runs);
+        let selection = select(problem, runs, &visited, layers);
+        let reach = |b: &screen::Bound| selection.reach(problem, runs, &b.model);
+        let (reopen, keep): (Vec<_>, Vec<_>) =
+            screened.into_iter().partition(|b| !reach(b).harmless(b.log_evidence_bound()));
+        screened = keep;
+        if reopen.is_empty() {
+            break;
+        }
+        batch = reopen;
+    }
+    // the screened models count as done for the progress
+    problem.settings.control.advance(screened.len() as u64);
+    Ok((screened, checks))
+}
+
+/// Fitted observables from which a selection of
+/// [`DiagnoseSettings::max_causes`] causes is extended by one more
+/// ([`extension`]): 12, six modes' ω and ζ. The largest model of three
+/// causes (the base's 3 parameters, a point mass's 2, a second
+/// relaxation's 2, one more) then keeps 4 degrees of freedom, one more than
+/// the largest pair keeps on the 10 observables of a 5-mode record, so
+/// "explained" still means a fit and not a count of parameters.
+pub const EXTENSION_OBSERVABLES: usize = 12;
+
+/// The models of one cause more that hold `selected`, when `selected`
+/// combines [`DiagnoseSettings::max_causes`] causes, one more stays within
+/// [`DiagnoseSettings::MAX_CAUSES`], and the data hold at least
+/// [`EXTENSION_OBSERVABLES`] fitted observables; `None` otherwise.
+///
+/// Why: records of many modes (a molecular-dynamics tube's six or more) can
+/// hold three effects at once (shear, the bath's viscous damping and the
+/// section convention on the (5,5) tubes of `data/md`), and a search of
+/// pairs then names the best pair without the third (`tests/identify_md.md`).
+/// Why only the models that hold the selection, and not the whole layer:
+/// the whole layer of three causes costs several times the pairs
+/// (`--max-causes 3`, 35 models); one cause more on the selected pair costs
+/// at most 5, each screened by its evidence bound. What it cannot find: a
+/// triple none of whose pairs is selected; `--max-causes 3` searches them all.
+fn extension(problem: &Problem, selected: &Model) -> Option<Vec<Model>> {
+    let k = problem.settings.max_causes;
+    let applies = selected.causes().len() == k
+        && k < DiagnoseSettings::MAX_CAUSES
+        && problem.data.fitted_observables().len() >= EXTENSION_OBSERVABLES;
+    applies.then(|| {
+        Model::candidates(k + 1, problem.data.beam.support, &problem.data.parameters)
+            .into_iter()
+            .filter(|m| m.causes().len() == k + 1 && selected.causes().iter().all(|c| m.causes().contains(c)))
+            .collect()
+    })
+}
+
 /// The models of `models` (in their order) whose evidence is among `runs`.
 fn computed(models: &[Model], runs: &[ModelRun]) -> Vec<Model> {
     models.iter().filter(|m| runs.iter().any(|r| &r.model == *m)).cloned().collect()
@@ -308,7 +375,8 @@ fn best_evidence(runs: &[ModelRun]) -> f64 {
     runs.iter().filter(|r| r.model != Model::Baseline).map(|r| r.log_evidence).fold(f64::NEG_INFINITY, f64::max)
 }
 
-/// The selection (rules 1–3 of [`search`]) among `visited`, and the
+/// The selection (rules 1–3 of [`search`]) among `visited`, of models of at
+/// most `max_causes` causes (the top layer's), and the
 /// evidences it passed through, which a screened model is judged against
 /// ([`Selection::reach`]).
 struct Selection {
@@ -319,10 +387,9 @@ struct Selection {
     z_rule2: f64,
 }
 
-fn select(problem: &Problem, runs: &[ModelRun], visited: &[Model]) -> Selection {
+fn select(problem: &Problem, runs: &[ModelRun], visited: &[Model], max_causes: usize) -> Selection {
     let threshold = problem.settings.log_bayes_factor_threshold;
     let margin = problem.settings.alternative_margin;
-    let max_causes = problem.settings.max_causes;
     let z = |m: &Model| log_evidence_of(runs, m);
     let selectable = |m: &&Model| m.causes().iter().all(|&c| z(m) - z(&m.without(c)) >= threshold);
     let most_probable = |a: &&Model, b: &&Model| z(a).total_cmp(&z(b));

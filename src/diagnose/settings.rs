@@ -20,9 +20,12 @@ pub struct DiagnoseSettings {
     /// A model within this many nats of the selected one is an alternative (default 3:
     /// the data do not prefer either "strongly").
     pub alternative_margin: f64,
-    /// Most causes the search adds (default 2: with 8–12 observables and the
-    /// base's 3 parameters, a third cause leaves ≤ 3 degrees of freedom, where
-    /// any flexible enough combination fits and "explained" stops meaning much).
+    /// Most causes of every model the search compares (default 2: with 8–10
+    /// observables and the base's 3 parameters, a third cause leaves ≤ 3
+    /// degrees of freedom, where any flexible enough combination fits and
+    /// "explained" stops meaning much). On records of at least
+    /// `search::EXTENSION_OBSERVABLES` observables a selected pair is also
+    /// extended by one cause (`search::extension`).
     pub max_causes: usize,
     /// Nelder–Mead iterations for the MAP (default 400).
     pub map_iters: u64,
@@ -55,6 +58,10 @@ impl DiagnoseSettings {
     pub const MAX_SAMPLES: usize = 100_000;
     /// Lower bound: the stage covariance of a 5-parameter model needs ≫ 5 samples.
     pub const MIN_SAMPLES: usize = 50;
+    /// Upper bound of `max_causes`: 3 makes 35 triples of the 7 causes, each
+    /// screened by its evidence bound; a fourth cause would leave a 5-mode
+    /// record no degrees of freedom.
+    pub const MAX_CAUSES: usize = 3;
 
     /// The settings the hidden-effect suite validates its accuracy targets
     /// at, and `nanobeam diagnose`'s default: 400 samples, 3 steps, 250 MAP
@@ -71,6 +78,9 @@ impl DiagnoseSettings {
                 self.samples,
                 format!("{}..={}", Self::MIN_SAMPLES, Self::MAX_SAMPLES),
             ));
+        }
+        if !(1..=Self::MAX_CAUSES).contains(&self.max_causes) {
+            return Err(InputError::new("--max-causes", self.max_causes, format!("1..={}", Self::MAX_CAUSES)));
         }
         if !(1..=100).contains(&self.mh_steps) {
             return Err(InputError::new("mh_steps", self.mh_steps, "1..=100"));
