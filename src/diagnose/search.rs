@@ -10,7 +10,8 @@ use rayon::prelude::*;
 
 use crate::bayes::rng::{child_seed, Purpose};
 use crate::bayes::{BayesError, Posterior};
-use crate::calibration::MeasuredData;
+use crate::beam::Support;
+use crate::calibration::{MeasuredData, ParameterSet};
 
 use super::classes::{model_posterior, ClassPosterior, Model, ModelClass, NominalScales};
 use super::evidence::{self, ModelRun};
@@ -353,12 +354,24 @@ pub const EXTENSION_OBSERVABLES: usize = 12;
 /// at most 5, each screened by its evidence bound. What it cannot find: a
 /// triple none of whose pairs is selected; `--max-causes 3` searches them all.
 fn extension(problem: &Problem, selected: &Model) -> Option<Vec<Model>> {
-    let k = problem.settings.max_causes;
-    let applies = selected.causes().len() == k
-        && k < DiagnoseSettings::MAX_CAUSES
-        && problem.data.fitted_observables().len() >= EXTENSION_OBSERVABLES;
+    let d = problem.data;
+    extension_of(selected, problem.settings.max_causes, d.fitted_observables().len(), d.beam.support, &d.parameters)
+}
+
+/// [`extension`] for a selection `selected` of a search of `k` causes on
+/// `observables` fitted observables, a beam on `support`, the file's `base`
+/// parameters.
+fn extension_of(
+    selected: &Model,
+    k: usize,
+    observables: usize,
+    support: Support,
+    base: &ParameterSet,
+) -> Option<Vec<Model>> {
+    let applies =
+        selected.causes().len() == k && k < DiagnoseSettings::MAX_CAUSES && observables >= EXTENSION_OBSERVABLES;
     applies.then(|| {
-        Model::candidates(k + 1, problem.data.beam.support, &problem.data.parameters)
+        Model::candidates(k + 1, support, base)
             .into_iter()
             .filter(|m| m.causes().len() == k + 1 && selected.causes().iter().all(|c| m.causes().contains(c)))
             .collect()
@@ -467,5 +480,32 @@ impl Model {
             .filter(|c| self.causes().contains(c))
             .map(|c| c.name().to_string())
             .collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The extension applies to a selected pair on 12 or more observables
+    /// and gives the models of one cause more that hold the pair: 5 on a
+    /// simply supported beam (the 7 causes less the pair's 2), 4 on a
+    /// clamped–clamped one (no rotation left for a support spring); never to
+    /// a single, to 10 observables, or above the cap of 3 causes.
+    #[test]
+    fn the_extension_adds_one_cause_to_a_selected_pair_of_a_long_record() {
+        let base = ParameterSet::paper_n1();
+        let pair = Model::with(&[ModelClass::ShearDeformation, ModelClass::SectionMismatch]);
+        let ss = extension_of(&pair, 2, 12, Support::SimplySupported, &base).expect("applies");
+        assert_eq!(ss.len(), 5);
+        assert!(ss.iter().all(|m| m.causes().len() == 3 && pair.causes().iter().all(|c| m.causes().contains(c))));
+        let cc = extension_of(&pair, 2, 22, Support::ClampedClamped, &base).expect("applies");
+        assert_eq!(cc.len(), 4);
+        assert!(cc.iter().all(|m| !m.causes().contains(&ModelClass::SupportRotationalStiffness)));
+        assert!(extension_of(&pair, 2, 11, Support::SimplySupported, &base).is_none());
+        let single = Model::with(&[ModelClass::ShearDeformation]);
+        assert!(extension_of(&single, 2, 22, Support::SimplySupported, &base).is_none());
+        let triple = Model::with(&[ModelClass::ShearDeformation, ModelClass::SectionMismatch, ModelClass::AxialForce]);
+        assert!(extension_of(&triple, 3, 22, Support::SimplySupported, &base).is_none());
     }
 }
