@@ -152,9 +152,65 @@ fn identify_on_the_cc7_md_record_finds_six_modes_numbered_1_to_6() {
     assert_numbered_at_the_peaks(&modes, &peaks_ghz);
 }
 
+/// identify → diagnose on the committed cc7 record, untouched, defaults
+/// (issue 43 item 4). The data are LAMMPS's (`data/md/README.md`); the
+/// truth is the record's provenance: a Langevin bath, which is exactly
+/// viscous damping with c = (mass per length)/τ = 3.20477e-4 kg/(m·s)
+/// (`data/md/cc7.langevin.provenance.yaml`), shear deformation (a tube's
+/// short half-wavelengths), and no point mass, spring, axial force of
+/// consequence (the clamps measure −0.84 nN, about 2 % of the clamped
+/// Euler load 4π²EI/L² = 38 nN at the nominal section) or
+/// second relaxation. Expected: shear deformation and viscous damping
+/// decided, none of the others decided, and the bath's c inside the
+/// selected model's 95 % interval. About 4 min of CPU in the release build
+/// (the pairs, then the selected pair's extensions by a third cause,
+/// `diagnose::search`), hence ignored in CI; the measured run is in
+/// `tests/identify_md.md`, round 5.
+#[test]
+#[ignore = "about 4 min in the release build: run with --release --ignored"]
+fn identify_then_diagnose_on_the_cc7_md_record_names_shear_and_the_bath() {
+    let dir = tempfile::tempdir().unwrap();
+    let measured = dir.path().join("measured.yaml");
+    std::fs::write(&measured, identified_file("cc7")).unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_nanobeam"))
+        .arg("diagnose")
+        .arg(&measured)
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let d: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(d["cause"], "multiple", "{}", d["causes"]);
+    assert_eq!(d["explained"], true);
+    let decided: Vec<&str> = d["decided_causes"].as_array().unwrap().iter().map(|c| c.as_str().unwrap()).collect();
+    for cause in ["shear-deformation", "viscous-damping"] {
+        assert!(decided.contains(&cause), "{decided:?}");
+    }
+    for cause in ["attached-mass", "support-rotational-stiffness", "extra-relaxation", "axial-force"] {
+        assert!(!decided.contains(&cause), "{decided:?}");
+    }
+    let selected = d["candidates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .max_by(|a, b| a["probability"].as_f64().unwrap().total_cmp(&b["probability"].as_f64().unwrap()))
+        .unwrap();
+    let ci = selected["posterior"]["viscous_damping_n_s_m2"]["ci95"].as_array().unwrap();
+    let (lo, hi) = (ci[0].as_f64().unwrap(), ci[1].as_f64().unwrap());
+    let bath = 3.20477e-4;
+    assert!(lo <= bath && bath <= hi, "the bath's c {bath} outside [{lo}, {hi}]");
+}
+
 /// `nanobeam identify --beam data/md/tube-NAME.yaml` on the committed
 /// record `data/md/NAME.langevin.csv.gz`, untouched: the reported modes.
 fn identify_md_record(name: &str) -> Vec<serde_yaml::Value> {
+    let yaml: serde_yaml::Value = serde_yaml::from_str(&identified_file(name)).unwrap();
+    yaml["modes"].as_sequence().unwrap().clone()
+}
+
+/// The measured-data file `nanobeam identify --beam data/md/tube-NAME.yaml`
+/// writes for the committed record `data/md/NAME.langevin.csv.gz`.
+fn identified_file(name: &str) -> String {
     let root = env!("CARGO_MANIFEST_DIR");
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join(format!("{name}.csv"));
@@ -171,8 +227,7 @@ fn identify_md_record(name: &str) -> Vec<serde_yaml::Value> {
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{stderr}");
-    let yaml: serde_yaml::Value = serde_yaml::from_slice(&out.stdout).unwrap();
-    yaml["modes"].as_sequence().unwrap().clone()
+    String::from_utf8(out.stdout).unwrap()
 }
 
 /// The first `peaks_ghz.len()` modes are numbered 1, 2, … and each lies
