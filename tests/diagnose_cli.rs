@@ -190,41 +190,28 @@ fn report_directory_is_written_and_json_is_shaped() {
     assert!(residuals.contains("A2@5.60"), "the scan point's residual label");
 }
 
+/// `--samples` outside 50..=100000 and `--max-causes` outside 1..=3: exit 2,
+/// one line naming the flag, the value and the range, before anything runs.
 #[test]
-fn samples_out_of_range_is_blamed_on_the_flag() {
+fn settings_out_of_range_are_blamed_on_the_flag() {
     let dir = tempfile::tempdir().unwrap();
     let input = dir.path().join("m.yaml");
     std::fs::write(&input, yaml_with(&format!("{M1}{M2}{M3}"))).unwrap();
-    for bad in ["0", "10000000"] {
+    for (flag, bad, allowed) in [
+        ("--samples", "0", "50..=100000"),
+        ("--samples", "10000000", "50..=100000"),
+        ("--max-causes", "0", "1..=3"),
+        ("--max-causes", "4", "1..=3"),
+    ] {
         let o = Command::new(env!("CARGO_BIN_EXE_nanobeam"))
             .arg("diagnose")
             .arg(&input)
-            .args(["--samples", bad])
+            .args([flag, bad])
             .output()
             .unwrap();
         assert_eq!(o.status.code(), Some(2));
         let err = String::from_utf8_lossy(&o.stderr);
-        assert!(err.starts_with(&format!("invalid --samples = {bad}: allowed 50..=100000")), "{err}");
-    }
-}
-
-/// `--max-causes` outside 1..=3: exit 2, one line naming the flag, the
-/// value and the range, before anything runs.
-#[test]
-fn max_causes_out_of_range_is_blamed_on_the_flag() {
-    let dir = tempfile::tempdir().unwrap();
-    let input = dir.path().join("m.yaml");
-    std::fs::write(&input, yaml_with(&format!("{M1}{M2}{M3}"))).unwrap();
-    for bad in ["0", "4"] {
-        let o = Command::new(env!("CARGO_BIN_EXE_nanobeam"))
-            .arg("diagnose")
-            .arg(&input)
-            .args(["--max-causes", bad])
-            .output()
-            .unwrap();
-        assert_eq!(o.status.code(), Some(2));
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert!(err.starts_with(&format!("invalid --max-causes = {bad}: allowed 1..=3")), "{err}");
+        assert!(err.starts_with(&format!("invalid {flag} = {bad}: allowed {allowed}")), "{err}");
         assert_eq!(err.lines().count(), 1, "{err}");
     }
 }
