@@ -30,9 +30,9 @@ pub struct DiagnoseArgs {
     /// written when they were not the default.
     #[arg(long)]
     pub quick: bool,
-    /// The most causes one model combines, 1..=3 [default: 2]. Three suit records of many modes
-    /// (a molecular-dynamics tube's 10 or more), where a third cause still leaves degrees of
-    /// freedom to judge the fit by; the three-cause layer is screened like the pairs.
+    /// The most causes of every model compared, 1..=3 [default: 2]. On records of six or more
+    /// modes a selected model of that many causes is also extended by one more; 3 compares
+    /// every model of three causes, screened like the pairs.
     #[arg(long)]
     pub max_causes: Option<usize>,
 }

@@ -29,7 +29,7 @@
 //! depart from N(|H|, σ²) where |H| is within a few σ of zero, near an
 //! antiresonance or a node: at |H| = 0 the Rician law has mean 1.25σ and sd
 //! 0.66σ, the folded law mean 0.80σ and sd 0.60σ. Such samples bias the
-//! fitted background, and their variance, smaller than σ², trends with |ŷ|
+//! fitted background, and their scatter, other than σ, trends with |ŷ|
 //! and fires the Breusch–Pagan test on an additive record (60 of 100 folded
 //! records, against 5 of 100 of their unfolded twins; tests/identify_coverage.md).
 //! The fit keeps every sample (near zero their laws differ, and either
@@ -45,7 +45,8 @@ use serde::Serialize;
 pub const DOUBT_LEVEL: f64 = 0.01;
 
 /// How many noise sd a magnitude sample's fitted |ŷ| must stand above zero
-/// to be fitted (see the module doc). Above K = 3 the two laws are Gaussian
+/// to count in the noise variance and the doubt test (see the module doc;
+/// every sample is fitted). Above K = 3 the two laws are Gaussian
 /// but for terms the least squares can carry:
 /// - folded: |A + e| differs from A + e only when e < −A, with probability
 ///   Φ(−K) = 1.3e-3 at the threshold, less above it;
