@@ -12,14 +12,16 @@
 //! Welch's method: Hann window, 50 % overlap, mean removed per segment; the
 //! PSD is per rad/s and one-sided, so its integral over ω ≥ 0 is the
 //! variance. The segment length is chosen from the lines themselves: the
-//! narrowest clear line, measured at the finest resolution that still averages
-//! [`MIN_AVERAGES`] segments, must span at least [`MIN_LINE_BINS`] bins at
-//! half power; the shortest power-of-two segment that keeps it so is used
-//! (the most averages, the least variance). A record whose narrowest line
-//! spans fewer bins even then is refused, naming the record length that
-//! would resolve it. The PSD handed on stops where the floor under the lines
-//! stops falling (`flexural_band`): the beam's lines sit in the lowest few
-//! per cent of a molecular-dynamics record's Welch band.
+//! narrowest clear line is measured at the finest resolution that still
+//! averages [`MIN_AVERAGES`] segments, and the shortest power-of-two segment
+//! that keeps it at [`MIN_LINE_BINS`] bins or more at half power is used (the
+//! most averages, the least variance). A record whose narrowest line measures
+//! no wider than a line of half a bin ([`UNRESOLVED_LINE_BINS`]) even then
+//! is refused, naming the record length that would resolve it; lines between
+//! that and three bins are judged after the fit, on their fitted widths.
+//! The PSD handed on stops where the floor under the lines stops falling
+//! (`flexural_band`): the beam's lines sit in the lowest few per cent of a
+//! molecular-dynamics record's Welch band.
 
 use std::f64::consts::PI;
 
@@ -29,12 +31,30 @@ use crate::error::InputError;
 /// 8 averages the PSD's relative standard deviation is ≈ 1/√8 ≈ 0.35.
 pub const MIN_AVERAGES: usize = 8;
 
-/// Fewest bins a line must span at half power: identification needs ≥ 3
-/// samples in each half-power band (an interval of w bins holds ⌊w⌋ of
-/// them), and the width measured on a noisy estimate (here from the line's
-/// top) is itself uncertain, hence one bin of margin. A Hann window's own
-/// half-power width is 1.44 bins: a line that narrow is unresolved.
+/// Bins a line should span at half power, as measured by the narrowest-line
+/// estimate, before the segment is halved for more averages, and the
+/// resolution a refusal's advice aims at: identification needs ≥ 3 samples in
+/// each half-power band (an interval of w bins holds ⌊w⌋ of them), and one
+/// bin of margin for the estimate's scatter.
 pub const MIN_LINE_BINS: f64 = 4.0;
+
+/// A record is refused before any fit when its narrowest clear line measures
+/// fewer bins than this: the estimate's width (half power of the three-bin
+/// average, see `narrowest_line`) of a line of true half-power width w bins,
+/// computed on the noise-free Welch expectation (Lorentzian ⊛ the Hann
+/// window's power kernel, then the three-bin average), is 3.00–3.05 for a
+/// pure tone, 3.13–3.26 for w = 0.5 (by the line's offset from a bin centre),
+/// 3.32 for w = 1, 4.56 for w = 3 and 6.24 for w = 5.2, so a line measured
+/// under 3.2 is about half a bin wide or less. Refusing at
+/// [`MIN_LINE_BINS`] instead refused most resolved records: on a noisy
+/// estimate the narrowest of ten lines measures low (the maximum bin sits
+/// above the line's top). Records of the independent Langevin generator of
+/// `tests/identify_thermal.rs` (lines of 5.2 bins, 12 averages of 6 columns
+/// that see the same modes) measured 3.43 at the least of 60 and under 4 in 37 of them (a numpy port of the check).
+/// Lines between half a bin and three bins pass here; `identify` refuses them after
+/// the fit, when their fitted half-power band holds fewer than
+/// `MIN_POINTS_PER_RESONANCE` bins.
+pub const UNRESOLVED_LINE_BINS: f64 = 3.2;
 
 /// Shortest segment considered, in samples.
 const MIN_SEGMENT: usize = 64;
@@ -73,15 +93,15 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
     let psd = welch(columns, finest);
     let narrowest = narrowest_line(&psd);
     let chosen = match narrowest {
-        Some((bin, width)) if width < MIN_LINE_BINS => {
+        Some((bin, width)) if width < UNRESOLVED_LINE_BINS => {
             let f_hz = bin as f64 / (finest as f64 * dt);
             return Err(InputError::new(
                 "time_s",
                 format!("a record of {record_s:.3e} s"),
                 format!(
                     "a record that resolves its lines: the line at {:.4e} Hz spans {width:.1} bins of {:.3e} Hz \
-                     (segments of {:.3e} s, {} averages), fewer than {MIN_LINE_BINS}; a record of \
-                     at least {:.3e} s ({:.1}x longer) gives segments fine enough",
+                     (segments of {:.3e} s, {} averages), fewer than {UNRESOLVED_LINE_BINS} (half a bin wide \
+                     or less); a record of at least {:.3e} s ({:.1}x longer) gives segments fine enough",
                     f_hz,
                     1.0 / (finest as f64 * dt),
                     finest as f64 * dt,
