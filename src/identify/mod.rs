@@ -110,6 +110,12 @@ pub const MIN_RELATIVE_AMPLITUDE: f64 = 1e-4;
 /// it is background (a real pole of the noise fitted as an oscillatory one
 /// with ζ → 1 passed the residue test: tests/identify_coverage.md).
 pub const MAX_MODE_ZETA: f64 = std::f64::consts::FRAC_1_SQRT_2;
+/// Largest sd of ζ of a reported mode (without `modes = K`): ±2 sd of
+/// more than this spans every ζ a resonance can have (0 … [`MAX_MODE_ZETA`]),
+/// so the record does not hold the mode's damping, and a measured-data file
+/// takes no ζ sd above 1. A mode the bath of an MD record nearly overdamps
+/// is such a case (`tests/identify_md.md`, round 6).
+pub const MAX_MODE_ZETA_SD: f64 = 0.5 * MAX_MODE_ZETA;
 /// Largest pencil parameter L of the matrix pencil (Hankel columns − 1):
 /// with L = 50 the 10-ms ring-down of a 10 kHz mode sampled at 200 kHz
 /// (N = 2000) spans only 2.5 periods per row and the pole wanders across
@@ -1328,6 +1334,7 @@ fn assemble(
             && all[r].peak_snr >= threshold
             && resolved(r)
             && all[r].zeta < MAX_MODE_ZETA
+            && all[r].zeta_sd <= MAX_MODE_ZETA_SD
             && above_range(r)
     };
     let mut by_peak: Vec<usize> = (0..all.len())
