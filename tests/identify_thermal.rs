@@ -211,16 +211,41 @@ fn identify_on_the_cc7_md_record_finds_six_modes_numbered_1_to_6() {
 /// Euler load 4π²EI/L² = 38 nN at the nominal section) or
 /// second relaxation. Expected: shear deformation and viscous damping
 /// decided, none of the others decided, and the bath's c inside the
-/// selected model's 95 % interval. About 4 min of CPU in the release build
+/// selected model's 95 % interval. About 3 min of CPU in the release build
 /// (the pairs, then the selected pair's extensions by a third cause,
-/// `diagnose::search`), hence ignored in CI; the measured run is in
-/// `tests/identify_md.md`, round 5.
+/// `diagnose::search`), hence ignored in CI; the measured runs are in
+/// `tests/identify_md.md`, rounds 5 and 6.
 #[test]
-#[ignore = "about 4 min in the release build: run with --release --ignored"]
+#[ignore = "about 3 min in the release build: run with --release --ignored"]
 fn identify_then_diagnose_on_the_cc7_md_record_names_shear_and_the_bath() {
+    let selected = diagnose_md_record("cc7");
+    let ci = selected["posterior"]["viscous_damping_n_s_m2"]["ci95"].as_array().unwrap();
+    let (lo, hi) = (ci[0].as_f64().unwrap(), ci[1].as_f64().unwrap());
+    let bath = 3.20477e-4;
+    assert!(lo <= bath && bath <= hi, "the bath's c {bath} outside [{lo}, {hi}]");
+}
+
+/// The same on the 11.4-nm tube (`cc11.langevin.csv.gz`, eleven modes):
+/// shear deformation and viscous damping decided, no point mass, spring,
+/// axial force or second relaxation. The bath's c is not asserted inside
+/// the interval: measured (`tests/identify_md.md`, round 6), the interval
+/// ends 5 % below it. Before the Welch sandwich of
+/// `identify::refine::psd_covariance` this record was `unexplained` on ζ₅.
+#[test]
+#[ignore = "about 5 min in the release build: run with --release --ignored"]
+fn identify_then_diagnose_on_the_cc11_md_record_names_shear_and_the_bath() {
+    diagnose_md_record("cc11");
+}
+
+/// `identify` then `diagnose --json` on the committed MD record `name`,
+/// untouched: asserts the verdict shared by the MD tubes (several causes,
+/// explained, shear deformation and viscous damping decided, no point mass,
+/// spring, relaxation or axial force decided) and returns the selected
+/// model's candidate entry.
+fn diagnose_md_record(name: &str) -> serde_json::Value {
     let dir = tempfile::tempdir().unwrap();
     let measured = dir.path().join("measured.yaml");
-    std::fs::write(&measured, identified_file("cc7")).unwrap();
+    std::fs::write(&measured, identified_file(name)).unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_nanobeam"))
         .arg("diagnose")
         .arg(&measured)
@@ -238,16 +263,13 @@ fn identify_then_diagnose_on_the_cc7_md_record_names_shear_and_the_bath() {
     for cause in ["attached-mass", "support-rotational-stiffness", "extra-relaxation", "axial-force"] {
         assert!(!decided.contains(&cause), "{decided:?}");
     }
-    let selected = d["candidates"]
+    d["candidates"]
         .as_array()
         .unwrap()
         .iter()
         .max_by(|a, b| a["probability"].as_f64().unwrap().total_cmp(&b["probability"].as_f64().unwrap()))
-        .unwrap();
-    let ci = selected["posterior"]["viscous_damping_n_s_m2"]["ci95"].as_array().unwrap();
-    let (lo, hi) = (ci[0].as_f64().unwrap(), ci[1].as_f64().unwrap());
-    let bath = 3.20477e-4;
-    assert!(lo <= bath && bath <= hi, "the bath's c {bath} outside [{lo}, {hi}]");
+        .unwrap()
+        .clone()
 }
 
 /// `nanobeam identify --beam data/md/tube-NAME.yaml` on the committed
