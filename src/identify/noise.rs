@@ -108,8 +108,7 @@ pub fn variance_above_the_floor(
     a2: f64,
     c: f64,
 ) -> Option<(Vec<bool>, f64)> {
-    let bread = crate::identify::refine::pseudo_inverse_sym(&(j.transpose() * j))?;
-    let leverage: Vec<f64> = j.row_iter().map(|row| (row * &bread * row.transpose())[(0, 0)]).collect();
+    let (_, leverage) = crate::identify::refine::leverages(j)?;
     let variance = |keep: &[bool]| -> Option<f64> {
         let (mut rss, mut dof) = (0.0, 0.0);
         for (i, _) in keep.iter().enumerate().filter(|(_, &k)| k) {

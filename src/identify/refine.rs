@@ -555,17 +555,16 @@ pub const PSD_CORRELATION_LAGS: usize = 2;
 /// reduce to the inverse Fisher information up to their scatter. None when
 /// A is singular.
 pub fn psd_covariance(g: &DMatrix<f64>, x: &[f64]) -> Option<DMatrix<f64>> {
-    let a_inv = pseudo_inverse_sym(&(g.transpose() * g))?;
+    let (a_inv, leverage) = leverages(g)?;
     let m = g.nrows();
+    let sum_sq: f64 = x.iter().map(|v| v * v).sum();
     let (mut num, mut den) = (0.0, 0.0);
-    for (i, xi) in x.iter().enumerate() {
-        let gi = g.row(i);
-        let h = (gi * &a_inv * gi.transpose())[(0, 0)].clamp(0.0, 1.0);
+    for (xi, h) in x.iter().zip(&leverage) {
+        let h = h.clamp(0.0, 1.0);
         num += h * xi * xi;
         den += h * (1.0 - h);
     }
-    let inv_nu = if den > 0.0 { num / den } else { x.iter().map(|v| v * v).sum::<f64>() / m.max(1) as f64 };
-    let sum_sq: f64 = x.iter().map(|v| v * v).sum();
+    let inv_nu = if den > 0.0 { num / den } else { sum_sq / m.max(1) as f64 };
     let lags = PSD_CORRELATION_LAGS.min(m.saturating_sub(1));
     let rho: Vec<f64> = (1..=lags)
         .map(|lag| if sum_sq > 0.0 { x.iter().zip(&x[lag..]).map(|(a, b)| a * b).sum::<f64>() / sum_sq } else { 0.0 })
@@ -582,6 +581,18 @@ pub fn psd_covariance(g: &DMatrix<f64>, x: &[f64]) -> Option<DMatrix<f64>> {
     let cov = &a_inv * b * &a_inv * inv_nu;
     cov.iter().all(|v| v.is_finite()).then_some(cov)
 }
+
+/// (JᵀJ)⁺ and the leverages h_i = j_iᵀ(JᵀJ)⁺j_i (the hat matrix's diagonal)
+/// of a Jacobian `j`; None when JᵀJ has no pseudo-inverse.
+pub(crate) fn leverages(j: &DMatrix<f64>) -> Option<(DMatrix<f64>, Vec<f64>)> {
+    let a_inv = pseudo_inverse_sym(&(j.transpose() * j))?;
+    let ja = j * &a_inv;
+    let h = (0..j.nrows()).map(|i| ja.row(i).dot(&j.row(i))).collect();
+    Some((a_inv, h))
+}
+
+// `positive_correlation_factor` is written for two lags.
+const _: () = assert!(PSD_CORRELATION_LAGS == 2);
 
 /// The factor t ≤ 1 by which the estimated bin correlations ρ₁, ρ₂ must be
 /// shrunk so that the banded Toeplitz R they define stays positive

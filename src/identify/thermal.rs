@@ -48,12 +48,11 @@ pub const MIN_LINE_BINS: f64 = 4.0;
 /// under 3.2 is about half a bin wide or less. Refusing at
 /// [`MIN_LINE_BINS`] instead refused most resolved records: on a noisy
 /// estimate the narrowest of ten lines measures low (the maximum bin sits
-/// above the line's top). Records of the independent Langevin generator of
-/// `tests/identify_thermal.rs` (lines of 5.2 bins, 12 averages of 6 columns
-/// that see the same modes) measured 3.43 at the least of 60 and under 4 in 37 of them (a numpy port of the check).
-/// Lines between half a bin and three bins pass here; `identify` refuses them after
-/// the fit, when their fitted half-power band holds fewer than
-/// `MIN_POINTS_PER_RESONANCE` bins.
+/// above the line's top), as Langevin records whose every line spans 5.2
+/// bins showed (`tests/identify_md.md`, round 6). Lines between half a bin
+/// and three bins pass here; `identify` refuses them after the fit, when
+/// their fitted half-power band holds fewer than `MIN_POINTS_PER_RESONANCE`
+/// bins.
 pub const UNRESOLVED_LINE_BINS: f64 = 3.2;
 
 /// Shortest segment considered, in samples.
