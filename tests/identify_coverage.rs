@@ -453,7 +453,8 @@ struct RingDownOracle {
 }
 
 fn ring_down_oracle_fit(rec: &Record, noise: Noise) -> Option<RingDownOracle> {
-    use nanobeam::identify::refine::{fit_projected, FitKind, Model, PER_MODE};
+    use nanobeam::identify::projected::fit_projected;
+    use nanobeam::identify::refine::{FitKind, Model, PER_MODE};
     use nanobeam::identify::{Measurement, Stop};
     use num_complex::Complex64;
     let Measurement::Time { time_s, displacement_m } = &rec.data else { return None };
@@ -657,7 +658,8 @@ fn a_mode_the_initial_poles_miss_is_found_in_the_residuals() {
 /// beam's order; `None` when the record is a ring-down or the PSD, or the
 /// fit fails.
 fn frequency_oracle(rec: &Record) -> Option<Vec<[f64; 4]>> {
-    use nanobeam::identify::refine::{fit, fit_projected, FitKind, Model, PER_MODE};
+    use nanobeam::identify::projected::fit_projected;
+    use nanobeam::identify::refine::{fit, FitKind, Model, PER_MODE};
     use nanobeam::identify::{Measurement, Stop};
     use num_complex::Complex64;
     let (kind, w, y): (FitKind, &Vec<f64>, Vec<Complex64>) = match &rec.data {
@@ -850,7 +852,8 @@ fn frequency_breakdown() {
 #[test]
 #[ignore = "diagnostic printout"]
 fn complex_real_pole_candidates() {
-    use nanobeam::identify::refine::{fit_projected, mode_estimate, FitKind, Model, PER_MODE};
+    use nanobeam::identify::projected::fit_projected;
+    use nanobeam::identify::refine::{mode_estimate, FitKind, Model, PER_MODE};
     use nanobeam::identify::{Measurement, Stop};
     use num_complex::Complex64;
     let kind = Kind::Complex;

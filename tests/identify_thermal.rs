@@ -230,7 +230,7 @@ fn identify_then_diagnose_on_the_cc7_md_record_names_shear_and_the_bath() {
 /// axial force or second relaxation. The bath's c is not asserted inside
 /// the interval: measured (`tests/identify_md.md`, round 6), the interval
 /// ends 5 % below it. Before the Welch sandwich of
-/// `identify::refine::psd_covariance` this record was `unexplained` on ζ₅.
+/// `identify::covariance::psd_covariance` this record was `unexplained` on ζ₅.
 #[test]
 #[ignore = "about 5 min in the release build: run with --release --ignored"]
 fn identify_then_diagnose_on_the_cc11_md_record_names_shear_and_the_bath() {

@@ -108,7 +108,7 @@ pub fn variance_above_the_floor(
     a2: f64,
     c: f64,
 ) -> Option<(Vec<bool>, f64)> {
-    let (_, leverage) = crate::identify::refine::leverages(j)?;
+    let (_, leverage) = crate::identify::covariance::leverages(j)?;
     let variance = |keep: &[bool]| -> Option<f64> {
         let (mut rss, mut dof) = (0.0, 0.0);
         for (i, _) in keep.iter().enumerate().filter(|(_, &k)| k) {

@@ -45,6 +45,8 @@ use nalgebra::storage::Owned;
 use nalgebra::{DMatrix, DVector, Dyn};
 use num_complex::Complex64;
 
+use super::covariance::{psd_covariance, pseudo_inverse_sym, MAX_SWEEPS};
+
 /// What the residuals compare.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FitKind {
@@ -176,7 +178,7 @@ impl Model {
     }
 
     /// Residuals and the Jacobian's columns `cols` (in that order) at θ.
-    fn eval_columns(&self, theta: &[f64], cols: &[usize]) -> (DVector<f64>, DMatrix<f64>) {
+    pub(super) fn eval_columns(&self, theta: &[f64], cols: &[usize]) -> (DVector<f64>, DMatrix<f64>) {
         let n = self.x.len();
         let p = self.n_params();
         let m = self.n_residuals();
@@ -260,12 +262,12 @@ impl Model {
     }
 
     /// Indices of the poles (σ_r, ω_d,r, γ_k): the complement of the residues.
-    fn nonlinear_indices(&self) -> Vec<usize> {
+    pub(super) fn nonlinear_indices(&self) -> Vec<usize> {
         let linear = self.linear_indices();
         (0..self.n_params()).filter(|j| !linear.contains(j)).collect()
     }
 
-    fn linear_indices(&self) -> Vec<usize> {
+    pub(super) fn linear_indices(&self) -> Vec<usize> {
         let mut v = Vec::new();
         for r in 0..self.n_modes {
             v.extend([PER_MODE * r + 2, PER_MODE * r + 3]);
@@ -296,7 +298,7 @@ fn deviance(x: f64) -> (f64, f64) {
 
 /// The joint LM problem: the model and the current parameters. The decay
 /// rates σ_r of the oscillatory poles are optimised as their logarithms (as
-/// in [`fit_projected`]): |H| and |H|² are unchanged when a pole is reflected
+/// in [`fit_projected`](super::projected::fit_projected)): |H| and |H|² are unchanged when a pole is reflected
 /// across the imaginary axis (an all-pass factor), so on magnitude and PSD
 /// records σ = 0 is a singular point the linear parametrisation could cross
 /// into the mirror solution; in ln σ it is infinitely far. The real poles'
@@ -457,7 +459,7 @@ pub struct FitResult {
 pub const PATIENCE: usize = 20;
 
 /// Relative-reduction tolerance (MINPACK's ftol) of the joint LM. By the
-/// argument of [`VARPRO_FTOL`], stopping at ftol leaves a parameter at most
+/// argument of [`VARPRO_FTOL`](super::projected::VARPRO_FTOL), stopping at ftol leaves a parameter at most
 /// √(ftol·(m − p)) sd from the optimum: 1e-8 with m − p ≤ 10⁵ residuals gives
 /// ≤ 0.03 sd (≤ 0.004 sd on a 1 500-bin PSD), invisible in a reported interval.
 /// VARPRO's 1e-10 is kept for the projected fits that must reach 10⁻⁶ on
@@ -471,7 +473,7 @@ pub const JOINT_FTOL: f64 = 1e-8;
 /// not linear in the residues: magnitude, PSD); `None` when the fit fails
 /// numerically or a σ_r, γ_k of `theta0` is not positive. Fixed entries stay
 /// at their start (the covariance still covers them). Stopping rule: MINPACK's ftol at
-/// [`JOINT_FTOL`], by the derivation of [`VARPRO_FTOL`], which holds here too (PSD: RSS of the deviance
+/// [`JOINT_FTOL`], by the derivation of [`VARPRO_FTOL`](super::projected::VARPRO_FTOL), which holds here too (PSD: RSS of the deviance
 /// residuals ≈ (m − p)/ν, a parameter t sd off raises it by t²/ν, the same
 /// relative t²/(m − p)).
 pub fn fit(model: &Model, theta0: Vec<f64>, fixed: &[bool]) -> Option<FitResult> {
@@ -489,7 +491,13 @@ pub fn fit(model: &Model, theta0: Vec<f64>, fixed: &[bool]) -> Option<FitResult>
 }
 
 /// Noise variance and covariance at the optimum θ (see the module doc).
-fn finish(model: &Model, theta: Vec<f64>, evaluations: usize, converged: bool, fixed: &[bool]) -> Option<FitResult> {
+pub(super) fn finish(
+    model: &Model,
+    theta: Vec<f64>,
+    evaluations: usize,
+    converged: bool,
+    fixed: &[bool],
+) -> Option<FitResult> {
     let free: Vec<usize> = (0..model.n_params()).filter(|&j| !fixed.get(j).copied().unwrap_or(false)).collect();
     let (r, jac) = model.eval_columns(&theta, &free);
     if !r.iter().chain(jac.iter()).all(|v| v.is_finite()) {
@@ -524,400 +532,6 @@ fn finish(model: &Model, theta: Vec<f64>, evaluations: usize, converged: bool, f
     Some(FitResult { theta, rss, noise_var, cov, evaluations, converged })
 }
 
-/// Lags of the bins' correlation that [`psd_covariance`] estimates. A Hann
-/// window's DFT at bin k is ½Y_k − ¼(Y_{k−1} + Y_{k+1}) of the unwindowed
-/// one, so over a locally flat spectrum neighbouring bins correlate in
-/// amplitude by −2/3 and in power by 4/9 (lag 1), 1/36 (lag 2) and 0 beyond;
-/// other tapers of Welch estimates reach no further in practice.
-pub const PSD_CORRELATION_LAGS: usize = 2;
-
-/// Covariance of the parameters of a PSD (Whittle) fit whose rows of
-/// G = ∂ln S/∂θ are `g` and whose Pearson residuals are x_i = u_i − 1.
-///
-/// The estimate solves the Whittle score equations Σ_i g_i x_i = 0, so (the
-/// usual M-estimator sandwich) Cov(θ̂) = A⁺ Var(Σ g_i x_i) A⁺ with A = GᵀG,
-/// and Var(Σ g_i x_i) = Σ_ij g_i g_jᵀ Cov(x_i, x_j). With independent bins of
-/// ν averages that is A/ν, the inverse Fisher information. A Welch estimate
-/// (the thermal records, and most PSDs a user brings) breaks both halves:
-/// - its window correlates neighbouring bins (4/9 at lag 1 for Hann, see
-///   [`PSD_CORRELATION_LAGS`]), so Var(Σ g_i x_i) ≈ (1/ν)GᵀRG with
-///   R_ij = ρ_|i−j|; for a parameter that moves S smoothly over a line's bins
-///   that is (1 + 2Σρ_l) ≈ 1.94 times A/ν for Hann, sd 1.39× wider;
-/// - its ν varies along the band: columns that see the same modes (the slices
-///   of one tube) average as one at a line, where their shapes make the PSD,
-///   and as several between lines, where the other modes' tails mix
-///   differently in each.
-///
-/// Both are estimated from the residuals: ρ̂_l = Σ x_i x_{i+l}/Σ x_i², and
-/// 1/ν̂_h = Σ h_i x_i²/Σ h_i(1 − h_i), the Pearson estimate weighted by the
-/// leverages h_i = g_iᵀA⁺g_i (the bins that decide the parameters; E x_i² =
-/// (1 − h_i)/ν for a linearised fit). On independent bins of one ν both
-/// reduce to the inverse Fisher information up to their scatter. None when
-/// A is singular.
-pub fn psd_covariance(g: &DMatrix<f64>, x: &[f64]) -> Option<DMatrix<f64>> {
-    let (a_inv, leverage) = leverages(g)?;
-    let m = g.nrows();
-    let sum_sq: f64 = x.iter().map(|v| v * v).sum();
-    let (mut num, mut den) = (0.0, 0.0);
-    for (xi, h) in x.iter().zip(&leverage) {
-        let h = h.clamp(0.0, 1.0);
-        num += h * xi * xi;
-        den += h * (1.0 - h);
-    }
-    let inv_nu = if den > 0.0 { num / den } else { sum_sq / m.max(1) as f64 };
-    let lags = PSD_CORRELATION_LAGS.min(m.saturating_sub(1));
-    let rho: Vec<f64> = (1..=lags)
-        .map(|lag| if sum_sq > 0.0 { x.iter().zip(&x[lag..]).map(|(a, b)| a * b).sum::<f64>() / sum_sq } else { 0.0 })
-        .collect();
-    let shrink = positive_correlation_factor(&rho);
-    let mut b = g.transpose() * g;
-    for (l, r) in rho.iter().enumerate() {
-        let lag = l + 1;
-        let upper = g.rows(0, m - lag);
-        let lower = g.rows(lag, m - lag);
-        let cross = upper.transpose() * lower;
-        b += (&cross + cross.transpose()) * (r * shrink);
-    }
-    let cov = &a_inv * b * &a_inv * inv_nu;
-    cov.iter().all(|v| v.is_finite()).then_some(cov)
-}
-
-/// (JᵀJ)⁺ and the leverages h_i = j_iᵀ(JᵀJ)⁺j_i (the hat matrix's diagonal)
-/// of a Jacobian `j`; None when JᵀJ has no pseudo-inverse.
-pub(crate) fn leverages(j: &DMatrix<f64>) -> Option<(DMatrix<f64>, Vec<f64>)> {
-    let a_inv = pseudo_inverse_sym(&(j.transpose() * j))?;
-    let ja = j * &a_inv;
-    let h = (0..j.nrows()).map(|i| ja.row(i).dot(&j.row(i))).collect();
-    Some((a_inv, h))
-}
-
-// `positive_correlation_factor` is written for two lags.
-const _: () = assert!(PSD_CORRELATION_LAGS == 2);
-
-/// The factor t ≤ 1 by which the estimated bin correlations ρ₁, ρ₂ must be
-/// shrunk so that the banded Toeplitz R they define stays positive
-/// semidefinite (otherwise GᵀRG could give a parameter a negative variance).
-/// R is PSD when its symbol f(θ) = 1 + 2ρ₁cos θ + 2ρ₂cos 2θ is ≥ 0 on
-/// [0, π]; with c = cos θ, f = 1 − 2ρ₂ + 2ρ₁c + 4ρ₂c², a quadratic on
-/// [−1, 1] whose minimum lies at an end or, for ρ₂ > 0, at c = −ρ₁/(4ρ₂).
-/// Shrinking all ρ by t maps f to 1 + t(f − 1), so t = 1/(1 − f_min) when
-/// f_min < 0 (R then singular in one direction, never indefinite).
-fn positive_correlation_factor(rho: &[f64]) -> f64 {
-    let (r1, r2) = (rho.first().copied().unwrap_or(0.0), rho.get(1).copied().unwrap_or(0.0));
-    let f = |c: f64| 1.0 - 2.0 * r2 + 2.0 * r1 * c + 4.0 * r2 * c * c;
-    let mut f_min = f(-1.0).min(f(1.0));
-    if r2 > 0.0 {
-        let c = -r1 / (4.0 * r2);
-        if (-1.0..=1.0).contains(&c) {
-            f_min = f_min.min(f(c));
-        }
-    }
-    if f_min < 0.0 {
-        1.0 / (1.0 - f_min)
-    } else {
-        1.0
-    }
-}
-
-/// LM evaluation budget of the projected problem, VARPRO_PATIENCE·(q + 1)
-/// for q poles: a safety net for a candidate whose surplus background
-/// pole crawls along a flat valley (measured, paper's beam, 4 000 points,
-/// 5 modes: the 0-real-pole candidate stops here, 120 evaluations, its
-/// out-of-band pole collapsing onto the real axis to imitate the relaxation;
-/// with γ = e^η the 1–3-pole candidates converged by [`VARPRO_FTOL`] in
-/// 25–131 evaluations, except the 3-pole candidate of one noisy sweep, which
-/// reached its budget of 144 — a candidate the BIC forward selection does
-/// not fit on that record).
-pub const VARPRO_PATIENCE: usize = 8;
-
-/// Relative-reduction tolerance of the projected LM (MINPACK's ftol: stop
-/// when the actual and the predicted relative reductions of ‖r‖² are both
-/// ≤ ftol). Near the optimum the Gauss–Newton prediction is the whole
-/// remaining reduction, and a parameter t standard deviations from the
-/// optimum raises RSS = σ̂²(m − p) by t²σ̂², a relative t²/(m − p); stopping at
-/// ftol therefore leaves t ≤ √(ftol·(m − p)) sd: 1e-10 with m − p ≤ 10⁵
-/// residuals gives t ≤ 3·10⁻³ sd, invisible in any reported interval, and
-/// for a noise-free record (σ̂ ≈ 10⁻⁹ of ω, the truncation of the background
-/// model) an error of ~10⁻¹² relative, far below the 10⁻⁶ target.
-pub const VARPRO_FTOL: f64 = 1e-10;
-
-/// Variable projection (Golub & Pereyra, "The differentiation of
-/// pseudo-inverses and nonlinear least squares problems whose variables
-/// separate", SIAM J. Numer. Anal. 10, 1973) for the kinds linear in the
-/// residues (complex, time): Levenberg–Marquardt over the poles α only, the
-/// residues c(α) = Φ(α)⁺y solved at every step, residual r(α) = Φc(α) − y and
-/// Kaufman's Jacobian J = P⊥ ∂(Φc)/∂α with P⊥ = I − QQᵀ, Q an orthonormal basis
-/// of range Φ (L. Kaufman, BIT 15, 1975). Eliminating the residues removes the
-/// long, ill-conditioned valleys of the joint problem, so the background
-/// poles converge instead of crawling. The covariance is that of the joint
-/// problem at the optimum ([`finish`]): the two coincide there.
-///
-/// The decay rates γ_k of the real poles are optimised as η_k = ln γ_k
-/// (γ > 0: the relaxation poles of a passive beam are stable; a surplus
-/// pole that is not needed drifts towards 0 or ∞ along η, where its column
-/// of Φ becomes dependent and the rank cut drops it, instead of crossing to
-/// an unstable pole). `theta0` must have γ_k > 0.
-pub fn fit_projected(model: &Model, theta0: &[f64]) -> Option<FitResult> {
-    let problem = Projected::new(model, theta0)?;
-    let (problem, report) = LevenbergMarquardt::new()
-        .with_ftol(VARPRO_FTOL)
-        .with_xtol(1e-14)
-        .with_patience(VARPRO_PATIENCE)
-        .minimize(problem);
-    if !report.termination.was_successful() && report.number_of_evaluations == 0 {
-        return None;
-    }
-    let theta = problem.theta()?;
-    let converged = matches!(report.termination, TerminationReason::Converged { .. } | TerminationReason::Orthogonal);
-    finish(model, theta, report.number_of_evaluations, converged, &[])
-}
-
-/// Iteration cap of the small dense decompositions (QR-sweeps of an SVD or
-/// symmetric eigensolver converge in a few per singular value; 10 000 is
-/// only reached when the iteration cycles).
-const MAX_SWEEPS: usize = 10_000;
-
-/// The reduced problem of [`fit_projected`], handed to the LM crate in
-/// compressed form (see [`Projected::compressed`]).
-struct Projected<'a> {
-    model: &'a Model,
-    nonlinear: Vec<usize>,
-    linear: Vec<usize>,
-    /// θ with the current poles (residues overwritten at each projection).
-    template: Vec<f64>,
-    /// The poles as optimised: θ_j, or ln θ_j where `log` is set (γ_k).
-    alpha: DVector<f64>,
-    log: Vec<bool>,
-    /// The factorisation of the last [`Projected::residual_norm`], keyed by
-    /// its poles: the crate asks for the Jacobian at the point whose
-    /// residuals it has just accepted, so the QR of Φ is reused once.
-    /// (A function of α alone: reuse changes speed, never values.)
-    cache: std::cell::RefCell<Option<(DVector<f64>, Factored)>>,
-}
-
-/// Rank cut of Φ: singular values of R (Φ = QR) at or below this fraction
-/// of the largest mean numerically dependent columns (a runaway background
-/// pole), whose directions are left out of range Φ.
-const RANK_CUT: f64 = 1e-13;
-
-/// Φ = QR at the current poles (Householder: Q is kept as reflectors, never
-/// formed), R = U S Vᵀ, the data rotated, z = Qᵀy, and the residues.
-struct Factored {
-    qr: nalgebra::QR<f64, Dyn, Dyn>,
-    /// U's columns with S > [`RANK_CUT`]·S_max: range Φ is Q₁U_keep.
-    u_keep: DMatrix<f64>,
-    /// Qᵀy.
-    qty: DVector<f64>,
-    /// c = V_keep S_keep⁻¹ U_keepᵀ(Qᵀy)₁…ₙ (minimum-norm least squares).
-    c: DVector<f64>,
-}
-
-impl Factored {
-    /// Qᵀ P⊥ v given w = Qᵀv: P⊥ = I − Q₁U_keepU_keepᵀQ₁ᵀ leaves the rows
-    /// n… alone and removes range U_keep from the rows 0…n.
-    fn project_rotated(&self, w: &mut DMatrix<f64>) {
-        let n = self.u_keep.nrows();
-        let top = w.rows(0, n).into_owned();
-        let along = &self.u_keep * (self.u_keep.transpose() * &top);
-        w.rows_mut(0, n).copy_from(&(top - along));
-    }
-}
-
-impl<'a> Projected<'a> {
-    /// The reduced problem at the poles of `theta0` (γ_k > 0 required).
-    fn new(model: &'a Model, theta0: &[f64]) -> Option<Self> {
-        let nonlinear = model.nonlinear_indices();
-        let o = PER_MODE * model.n_modes;
-        let log: Vec<bool> = nonlinear.iter().map(|&j| j >= o).collect();
-        if nonlinear.iter().zip(&log).any(|(&j, &l)| l && !(theta0[j] > 0.0)) {
-            return None;
-        }
-        let alpha = DVector::from_iterator(
-            nonlinear.len(),
-            nonlinear.iter().zip(&log).map(|(&j, &l)| if l { theta0[j].ln() } else { theta0[j] }),
-        );
-        let linear = model.linear_indices();
-        Some(Projected { model, nonlinear, linear, template: theta0.to_vec(), alpha, log, cache: Default::default() })
-    }
-
-    /// θ_j of the k-th pole parameter.
-    fn pole(&self, k: usize) -> f64 {
-        if self.log[k] {
-            // |η| ≤ 700 keeps γ finite and nonzero (e^709 overflows): a trial
-            // step beyond is a pole at 10^±304, whose column the rank cut drops,
-            // so the LM sees a finite residual and shortens its step
-            self.alpha[k].clamp(-700.0, 700.0).exp()
-        } else {
-            self.alpha[k]
-        }
-    }
-
-    /// θ with the current poles and zero residues.
-    fn poles_only(&self) -> Vec<f64> {
-        let mut theta = self.template.clone();
-        for (k, &j) in self.nonlinear.iter().enumerate() {
-            theta[j] = self.pole(k);
-        }
-        for &j in &self.linear {
-            theta[j] = 0.0;
-        }
-        theta
-    }
-
-    /// θ with the current poles and the residues `c`.
-    fn with_residues(&self, c: &DVector<f64>) -> Vec<f64> {
-        let mut theta = self.poles_only();
-        for (k, &j) in self.linear.iter().enumerate() {
-            theta[j] = c[k];
-        }
-        theta
-    }
-
-    /// Householder QR of Φ (O(m n²)), then the small R = U S Vᵀ (cheaper
-    /// than an SVD of the tall Φ), z = Qᵀy by the reflectors and the residues.
-    fn factor(&self) -> Option<Factored> {
-        let theta = self.poles_only();
-        let (r0, phi) = self.model.eval_columns(&theta, &self.linear);
-        // (nalgebra's SVD does not terminate on non-finite input)
-        if !r0.iter().chain(phi.iter()).all(|v| v.is_finite()) {
-            return None;
-        }
-        let qr = phi.qr();
-        // bounded iterations: nalgebra's unbounded SVD can cycle on a
-        // degenerate R (a runaway background pole); `None` ends this candidate
-        let svd = qr.r().try_svd(true, true, f64::EPSILON, MAX_SWEEPS)?;
-        let (u, vt) = (svd.u.as_ref()?, svd.v_t.as_ref()?);
-        let sv = &svd.singular_values;
-        let smax = sv.iter().copied().fold(0.0, f64::max);
-        if !(smax > 0.0 && smax.is_finite()) {
-            return None;
-        }
-        let keep: Vec<usize> = (0..sv.len()).filter(|&i| sv[i] > RANK_CUT * smax).collect();
-        let u_keep = u.select_columns(&keep);
-        // r₀ = model(θ with zero residues) − y = −y
-        let mut qty = -r0;
-        qr.q_tr_mul(&mut qty);
-        let coef = u_keep.transpose() * qty.rows(0, self.linear.len());
-        let mut c = DVector::zeros(self.linear.len());
-        for (k, &i) in keep.iter().enumerate() {
-            c += vt.row(i).transpose() * (coef[k] / sv[i]);
-        }
-        Some(Factored { qr, u_keep, qty, c })
-    }
-
-    /// θ(α) = (α, c(α)).
-    fn theta(&self) -> Option<Vec<f64>> {
-        Some(self.with_residues(&self.factor()?.c))
-    }
-
-    /// Qᵀ P⊥ y = −Qᵀr, the residual in rotated coordinates.
-    fn rotated_residual(f: &Factored) -> DMatrix<f64> {
-        let mut w = DMatrix::from_column_slice(f.qty.nrows(), 1, f.qty.as_slice());
-        f.project_rotated(&mut w);
-        w
-    }
-
-    /// The residual and Kaufman's Jacobian compressed to q + 1 rows
-    /// (q poles): with U an orthonormal basis of span[r, J] (J = P⊥∂(Φc)/∂α
-    /// and r = −P⊥y), the LM subproblem min‖Jp − r‖² + λ‖Dp‖² equals
-    /// min‖UᵀJp − Uᵀr‖² + λ‖Dp‖², and the column norms (the LM's scaling D)
-    /// are the same. With the QR [QᵀP⊥y, QᵀP⊥J] = V R₂ (Q orthogonal, so
-    /// this is the QR of [P⊥y, P⊥J] rotated), Uᵀr = ‖r‖e₁ (row 0 sign-fixed)
-    /// and UᵀJ = R₂'s last q columns: the crate's pivoted QR then works on a
-    /// (q+1)×q matrix instead of m×q, and [`Self::residual_norm`] needs no
-    /// Jacobian. The trust-region steps are those of the uncompressed
-    /// problem up to round-off.
-    fn compressed(&self) -> Option<DMatrix<f64>> {
-        let q = self.nonlinear.len();
-        let cached = self.cache.borrow_mut().take().filter(|(a, _)| *a == self.alpha).map(|(_, f)| f);
-        let f = match cached {
-            Some(f) => f,
-            None => self.factor()?,
-        };
-        let (_, mut ja) = self.model.eval_columns(&self.with_residues(&f.c), &self.nonlinear);
-        // chain rule for η = ln γ: ∂/∂η = γ·∂/∂γ
-        for k in 0..q {
-            if self.log[k] {
-                let g = self.pole(k);
-                ja.column_mut(k).scale_mut(g);
-            }
-        }
-        if !ja.iter().all(|v| v.is_finite()) {
-            return None;
-        }
-        f.qr.q_tr_mul(&mut ja);
-        f.project_rotated(&mut ja);
-        let mut w = DMatrix::zeros(ja.nrows(), q + 1);
-        w.set_column(0, &Self::rotated_residual(&f).column(0));
-        w.columns_mut(1, q).copy_from(&ja);
-        let r2 = w.qr().r();
-        // Vᵀ(−r) = R₂[0,0]e₁: flip row 0 so that the residual is +‖r‖e₁
-        let sign = if r2[(0, 0)] > 0.0 { -1.0 } else { 1.0 };
-        let mut j = r2.columns(1, q).into_owned();
-        j.row_mut(0).scale_mut(sign);
-        Some(j)
-    }
-
-    /// ‖r(α)‖ = ‖QᵀP⊥y‖; keeps the factorisation for the Jacobian.
-    fn residual_norm(&self) -> Option<f64> {
-        let f = self.factor()?;
-        let norm = Self::rotated_residual(&f).norm();
-        *self.cache.borrow_mut() = Some((self.alpha.clone(), f));
-        Some(norm)
-    }
-}
-
-impl LeastSquaresProblem<f64, Dyn, Dyn> for Projected<'_> {
-    type ResidualStorage = Owned<f64, Dyn>;
-    type JacobianStorage = Owned<f64, Dyn, Dyn>;
-    type ParameterStorage = Owned<f64, Dyn>;
-
-    fn set_params(&mut self, x: &DVector<f64>) {
-        self.alpha.copy_from(x);
-    }
-
-    fn params(&self) -> DVector<f64> {
-        self.alpha.clone()
-    }
-
-    /// ‖r‖e₁ (q + 1 rows; see [`Projected::compressed`]).
-    fn residuals(&self) -> Option<DVector<f64>> {
-        if self.model.stop.requested() {
-            return None;
-        }
-        let norm = self.residual_norm()?;
-        let mut r = DVector::zeros(self.nonlinear.len() + 1);
-        r[0] = norm;
-        norm.is_finite().then_some(r)
-    }
-
-    fn jacobian(&self) -> Option<DMatrix<f64>> {
-        let j = self.compressed()?;
-        j.iter().all(|v| v.is_finite()).then_some(j)
-    }
-}
-
-/// Pseudo-inverse of a symmetric positive semi-definite matrix, after
-/// Jacobi scaling (D⁻¹AD⁻¹, D = sqrt diag A: makes the result independent
-/// of parameter units), dropping eigenvalues below 1e-12·max: beyond that
-/// condition number the double-precision Gram matrix (relative error ~1e-16
-/// times the condition number) no longer determines the direction.
-pub(crate) fn pseudo_inverse_sym(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
-    let d: Vec<f64> = (0..a.nrows()).map(|i| a[(i, i)].max(f64::MIN_POSITIVE).sqrt()).collect();
-    let scaled = DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| a[(i, j)] / (d[i] * d[j]));
-    let eig = scaled.try_symmetric_eigen(f64::EPSILON, MAX_SWEEPS)?;
-    let max = eig.eigenvalues.iter().copied().fold(0.0, f64::max);
-    if !(max > 0.0 && max.is_finite()) {
-        return None;
-    }
-    let inv = DVector::from_iterator(
-        eig.eigenvalues.len(),
-        eig.eigenvalues.iter().map(|&l| if l > 1e-12 * max { 1.0 / l } else { 0.0 }),
-    );
-    let pinv = &eig.eigenvectors * DMatrix::from_diagonal(&inv) * eig.eigenvectors.transpose();
-    Some(DMatrix::from_fn(a.nrows(), a.ncols(), |i, j| pinv[(i, j)] / (d[i] * d[j])))
-}
-
 /// ω, ζ and their standard deviations of mode `r` (scaled ω).
 pub fn mode_estimate(fit: &FitResult, r: usize) -> [f64; 4] {
     let o = PER_MODE * r;
@@ -929,103 +543,4 @@ pub fn mode_estimate(fit: &FitResult, r: usize) -> [f64; 4] {
     let c = |i: usize, j: usize| fit.cov[(o + i, o + j)];
     let var = |g: [f64; 2]| g[0] * g[0] * c(0, 0) + 2.0 * g[0] * g[1] * c(0, 1) + g[1] * g[1] * c(1, 1);
     [w, var(gw).max(0.0).sqrt(), z, var(gz).max(0.0).sqrt()]
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use rand::SeedableRng;
-    use rand_chacha::ChaCha8Rng;
-    use rand_distr::{Distribution, StandardNormal};
-
-    /// Residuals correlated beyond what a banded R of two lags can hold
-    /// (an AR(1) with coefficient 0.95, ρ̂₁ ≈ 0.95, ρ̂₂ ≈ 0.9: the symbol
-    /// 1 + 2ρ₁cos θ + 2ρ₂cos 2θ is negative near θ = 2π/3) still give a
-    /// positive semidefinite covariance: every eigenvalue ≥ −1e-12 of the
-    /// largest, where the unshrunk R gives a negative one.
-    #[test]
-    fn the_sandwich_stays_positive_semidefinite_under_strong_correlation() {
-        let mut rng = ChaCha8Rng::seed_from_u64(5);
-        let m = 400;
-        let mut x = vec![0.0; m];
-        for i in 1..m {
-            let e: f64 = StandardNormal.sample(&mut rng);
-            x[i] = 0.95 * x[i - 1] + 0.1 * e;
-        }
-        // three smooth parameters and one that alternates bin to bin
-        let g = DMatrix::from_fn(m, 4, |i, j| match j {
-            0 => 1.0,
-            1 => i as f64 / m as f64,
-            2 => ((i as f64) * 2.0 * std::f64::consts::PI / 3.0).cos(),
-            _ => ((i as f64) * 2.0 * std::f64::consts::PI / 3.0).sin(),
-        });
-        let eig = |c: &DMatrix<f64>| c.clone().symmetric_eigen().eigenvalues;
-        let cov = psd_covariance(&g, &x).unwrap();
-        let e = eig(&cov);
-        let max = e.iter().copied().fold(0.0, f64::max);
-        assert!(e.iter().all(|&v| v >= -1e-12 * max), "{e}");
-        // the same without the shrink: R built from the raw ρ̂ is indefinite
-        let ss: f64 = x.iter().map(|v| v * v).sum();
-        let rho: Vec<f64> = (1..=2).map(|l| x.iter().zip(&x[l..]).map(|(a, b)| a * b).sum::<f64>() / ss).collect();
-        assert!(positive_correlation_factor(&rho) < 1.0, "{rho:?}");
-    }
-
-    /// Welch estimate (Hann, 50 % overlap, `segments` segments of `len`) of
-    /// white Gaussian noise at bins 2 … len/2 − 2, by a direct DFT written
-    /// here (not `identify::thermal`'s FFT).
-    fn welch_of_white_noise(len: usize, segments: usize, rng: &mut ChaCha8Rng) -> Vec<f64> {
-        let n = len * (segments + 1) / 2;
-        let x: Vec<f64> = (0..n).map(|_| StandardNormal.sample(rng)).collect();
-        let w: Vec<f64> =
-            (0..len).map(|i| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / len as f64).cos()).collect();
-        let bins: Vec<usize> = (2..len / 2 - 1).collect();
-        let mut p = vec![0.0; bins.len()];
-        for s in 0..segments {
-            let seg = &x[s * len / 2..s * len / 2 + len];
-            for (out, &k) in p.iter_mut().zip(&bins) {
-                let (mut re, mut im) = (0.0, 0.0);
-                for (i, (v, wi)) in seg.iter().zip(&w).enumerate() {
-                    let (sn, cs) = (2.0 * std::f64::consts::PI * (k * i) as f64 / len as f64).sin_cos();
-                    re += v * wi * cs;
-                    im -= v * wi * sn;
-                }
-                *out += (re * re + im * im) / segments as f64;
-            }
-        }
-        p
-    }
-
-    /// The level θ = ln S of a flat PSD, fitted by Whittle (θ̂ = ln ȳ), on
-    /// Welch estimates of white noise (segments of 128, bins 2 … 61): the
-    /// variance of θ̂ over 1 000 replications against the mean of
-    /// `psd_covariance`'s prediction. Their ratio is within 4 standard errors
-    /// of 1: the empirical variance of 1 000 draws has relative se
-    /// √(2/999) = 0.045 (θ̂ is nearly Gaussian: a mean over 60 bins), the
-    /// predictions' mean a far smaller one. The
-    /// independent-bin information (1/ν̂)/m, the formula before the
-    /// sandwich, is low by the Hann window's 1 + 2(4/9 + 1/36) = 1.94 and
-    /// fails that test.
-    #[test]
-    fn the_welch_sandwich_is_the_sampling_variance_of_a_level() {
-        let mut rng = ChaCha8Rng::seed_from_u64(11);
-        let (reps, mut thetas, mut predicted, mut fisher) = (1000, Vec::new(), 0.0, 0.0);
-        for _ in 0..reps {
-            let y = welch_of_white_noise(128, 8, &mut rng);
-            let m = y.len();
-            let mean = y.iter().sum::<f64>() / m as f64;
-            thetas.push(mean.ln());
-            let x: Vec<f64> = y.iter().map(|v| v / mean - 1.0).collect();
-            let g = DMatrix::from_element(m, 1, 1.0);
-            predicted += psd_covariance(&g, &x).unwrap()[(0, 0)] / reps as f64;
-            fisher += x.iter().map(|v| v * v).sum::<f64>() / (m - 1) as f64 / m as f64 / reps as f64;
-        }
-        let mu = thetas.iter().sum::<f64>() / reps as f64;
-        let empirical = thetas.iter().map(|t| (t - mu).powi(2)).sum::<f64>() / (reps - 1) as f64;
-        let se = (2.0 / (reps - 1) as f64).sqrt();
-        assert!((predicted / empirical - 1.0).abs() < 4.0 * se, "sandwich {predicted:.3e}, empirical {empirical:.3e}");
-        assert!(
-            (fisher / empirical - 1.0).abs() > 4.0 * se,
-            "independent bins {fisher:.3e}, empirical {empirical:.3e}"
-        );
-    }
 }
