@@ -32,52 +32,35 @@
 mod fast_path_check;
 
 use fast_path_check::{
-    assert_agrees_with_the_coupled_reference, assert_same_bits_at_one_and_two_threads_and_after_any_history,
-    compare_observables, random_relaxations,
+    assert_agrees_with_the_coupled_reference, assert_agrees_with_the_state_space,
+    assert_same_bits_at_one_and_two_threads_and_after_any_history, compression_gain, random_axial, random_nominal_beam,
+    random_relaxations, random_viscous, L_NM,
 };
-use nanobeam::beam::spec::{Section, Tube};
-use nanobeam::beam::{
-    buckling_load_n, modal_state_space, BeamSpec, InternalVariable, ModalSolver, PointMass, ShearDeformation, Support,
-};
+use nanobeam::beam::{buckling_load_n, BeamSpec, InternalVariable, ModalSolver, PointMass, ShearDeformation, Support};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-const L_NM: f64 = 8.0;
 /// Relative tolerance on a pole against the coupled RQI reference (module doc).
 const S_TOL: f64 = 4e-12;
 /// Relative tolerance against the dense state space (module doc).
 const STATE_SPACE_TOL: f64 = 1e-7;
 
-/// λ = λ_K − |λ_N| amplifies relative rounding by (1 + r)/(1 − r),
-/// r = |N|/|N_cr| under compression (`tests/beam_spring_fast_path.rs`); the
-/// mass lowers every mode's λ_K and λ_N alike, so r is that of the mass-free beam.
-fn compression_gain(b: &BeamSpec) -> f64 {
-    let free = BeamSpec { point_mass: None, ..b.clone() };
-    let r = (-b.axial_force_n / buckling_load_n(&free).unwrap().abs()).max(0.0);
-    (1.0 + r) / (1.0 - r)
-}
-
 fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
     let elements = [10, 15, 20, 20, 40][rng.gen_range(0..5)];
-    let mut b = BeamSpec::elastic(L_NM, 1.0, 1e12, 2300.0, Support::SimplySupported, elements);
-    b.nonlocal_e0a_nm = rng.gen_range(0.0..2.0);
-    if rng.gen_bool(0.3) {
-        b.section = Some(Section { tube: Tube { wall_nm: rng.gen_range(0.2..0.45) } });
-    }
+    let mut b = random_nominal_beam(rng, elements);
     let rho_a = b.density_kg_m3 * b.area_m2();
     let mu = 10f64.powf(rng.gen_range(-3.0..0.0));
     b.point_mass = Some(PointMass { mass_kg: mu * rho_a * L_NM * 1e-9, x_nm: rng.gen_range(0.0..L_NM) });
-    // C up to ≈ 2ζω₁ρA with ζ ≈ 0.3 on mode 1 of the nominal beam (ω₁ ≈ 8e11 rad/s)
-    let damping = |rng: &mut ChaCha8Rng| rng.gen_range(0.01..0.6) * 8e11 * rho_a;
+    let damping = |rng: &mut ChaCha8Rng, b: &BeamSpec| random_viscous(rng, b, 0.01);
+    // the buckling load of the beam without its mass (the prior's scale)
     let force = |rng: &mut ChaCha8Rng, b: &BeamSpec| {
-        let ncr = buckling_load_n(&BeamSpec { point_mass: None, ..b.clone() }).unwrap().abs();
-        rng.gen_range((-0.9f64).asinh()..100f64.asinh()).sinh() * ncr
+        random_axial(rng, buckling_load_n(&BeamSpec { point_mass: None, ..b.clone() }).unwrap().abs())
     };
     match rng.gen_range(0..3) {
-        0 => b.viscous_damping_n_s_m2 = damping(rng),
+        0 => b.viscous_damping_n_s_m2 = damping(rng, &b),
         1 => b.axial_force_n = force(rng, &b),
         _ => {
-            b.viscous_damping_n_s_m2 = damping(rng);
+            b.viscous_damping_n_s_m2 = damping(rng, &b);
             b.axial_force_n = force(rng, &b);
         }
     }
@@ -108,24 +91,14 @@ fn random_beams_agree_with_the_coupled_reference() {
 #[test]
 fn random_beams_agree_with_the_state_space() {
     let mut rng = ChaCha8Rng::seed_from_u64(4152);
-    let mut solver = ModalSolver::new();
-    let mut worst = 0.0f64;
-    for i in 0..40 {
-        let mut b = random_beam(&mut rng);
-        b.elements = 10; // the dense solve is O(dim³)
-        let dense = modal_state_space(&b, 4).unwrap();
-        let what = format!("beam {i}: {b:?}");
-        let w = compare_observables::<4>(
-            &mut solver,
-            &b,
-            ModalSolver::last_used_mass_blocks,
-            &dense,
-            STATE_SPACE_TOL,
-            &what,
-        );
-        worst = worst.max(w.unwrap_or_else(|| panic!("{what}: the fast path was not taken")));
-    }
-    eprintln!("point-mass block path vs state space: worst relative ω difference {worst:e}");
+    let beams: Vec<BeamSpec> = (0..40).map(|_| random_beam(&mut rng)).collect();
+    assert_agrees_with_the_state_space::<4>(
+        beams,
+        ModalSolver::new(),
+        ModalSolver::last_used_mass_blocks,
+        STATE_SPACE_TOL,
+        "point-mass block path",
+    );
 }
 
 /// The path is taken only on its hypotheses: a simply supported

@@ -41,8 +41,8 @@
 mod fast_path_check;
 
 use fast_path_check::{
-    assert_same_bits_at_one_and_two_threads_and_after_any_history, random_axial, random_relaxations, random_shear_beam,
-    random_springs, random_viscous,
+    assert_same_bits_at_one_and_two_threads_and_after_any_history, compression_gain, random_axial, random_relaxations,
+    random_shear_beam, random_springs, random_viscous,
 };
 use nanobeam::beam::{buckling_load_n, BeamSpec, ModalSolver, Support};
 use rand::{Rng, SeedableRng};
@@ -54,11 +54,6 @@ const ROUNDING: f64 = 5e-12;
 const RATE_SLACK: f64 = 1.1;
 /// Modes compared: the five a diagnosis fits.
 const MODES: usize = 5;
-
-fn compression_gain(b: &BeamSpec) -> f64 {
-    let r = (-b.axial_force_n / buckling_load_n(b).unwrap().abs()).max(0.0);
-    (1.0 + r) / (1.0 - r)
-}
 
 fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
     let elements = [20, 20, 40][rng.gen_range(0..3)];

@@ -38,37 +38,22 @@
 mod fast_path_check;
 
 use fast_path_check::{
-    assert_agrees_with_the_coupled_reference, assert_same_bits_at_one_and_two_threads_and_after_any_history,
-    compare_observables, random_axial, random_relaxations, random_springs, random_viscous,
+    assert_agrees_with_the_coupled_reference, assert_agrees_with_the_state_space,
+    assert_same_bits_at_one_and_two_threads_and_after_any_history, compression_gain, random_axial, random_nominal_beam,
+    random_relaxations, random_springs, random_viscous, L_NM,
 };
-use nanobeam::beam::spec::{Section, Tube};
-use nanobeam::beam::{
-    buckling_load_n, modal_state_space, BeamSpec, InternalVariable, ModalSolver, PointMass, ShearDeformation, Support,
-};
+use nanobeam::beam::{buckling_load_n, BeamSpec, InternalVariable, ModalSolver, PointMass, ShearDeformation, Support};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-const L_NM: f64 = 8.0;
 /// Relative tolerance on a pole against the coupled RQI reference (module doc).
 const S_TOL: f64 = 4e-12;
 /// Relative tolerance against the dense state space (module doc).
 const STATE_SPACE_TOL: f64 = 1e-7;
 
-/// How much a compressive force amplifies relative rounding: λ = λ_K − |λ_N|
-/// with λ_N/λ_K ≤ r = |N|/|N_cr| on every mode, so a relative error ε in each
-/// part is ε(1 + r)/(1 − r) in λ (at most 19 at r = 0.9); 1 under tension.
-fn compression_gain(b: &BeamSpec) -> f64 {
-    let r = (-b.axial_force_n / buckling_load_n(b).unwrap().abs()).max(0.0);
-    (1.0 + r) / (1.0 - r)
-}
-
 fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
     let elements = [10, 20, 20, 20, 40][rng.gen_range(0..5)];
-    let mut b = BeamSpec::elastic(L_NM, 1.0, 1e12, 2300.0, Support::SimplySupported, elements);
-    b.nonlocal_e0a_nm = rng.gen_range(0.0..2.0);
-    if rng.gen_bool(0.3) {
-        b.section = Some(Section { tube: Tube { wall_nm: rng.gen_range(0.2..0.45) } });
-    }
+    let mut b = random_nominal_beam(rng, elements);
     random_springs(rng, &mut b);
     if rng.gen_bool(0.3) {
         let ncr = buckling_load_n(&b).unwrap().abs();
@@ -104,24 +89,14 @@ fn random_beams_agree_with_the_coupled_reference() {
 #[test]
 fn random_beams_agree_with_the_state_space() {
     let mut rng = ChaCha8Rng::seed_from_u64(4122);
-    let mut solver = ModalSolver::new();
-    let mut worst = 0.0f64;
-    for i in 0..40 {
-        let mut b = random_beam(&mut rng);
-        b.elements = 10; // the dense solve is O(dim³)
-        let dense = modal_state_space(&b, 4).unwrap();
-        let what = format!("beam {i}: {b:?}");
-        let w = compare_observables::<4>(
-            &mut solver,
-            &b,
-            ModalSolver::last_used_spring_blocks,
-            &dense,
-            STATE_SPACE_TOL,
-            &what,
-        );
-        worst = worst.max(w.unwrap_or_else(|| panic!("{what}: the fast path was not taken")));
-    }
-    eprintln!("spring fast path vs state space: worst relative ω difference {worst:e}");
+    let beams: Vec<BeamSpec> = (0..40).map(|_| random_beam(&mut rng)).collect();
+    assert_agrees_with_the_state_space::<4>(
+        beams,
+        ModalSolver::new(),
+        ModalSolver::last_used_spring_blocks,
+        STATE_SPACE_TOL,
+        "spring fast path",
+    );
 }
 
 /// The path is taken only on its hypotheses: a simply supported

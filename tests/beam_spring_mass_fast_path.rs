@@ -31,14 +31,13 @@ mod fast_path_check;
 
 use fast_path_check::{
     assert_agrees_with_the_coupled_reference, assert_agrees_with_the_state_space,
-    assert_same_bits_at_one_and_two_threads_and_after_any_history, random_relaxations, random_springs,
+    assert_same_bits_at_one_and_two_threads_and_after_any_history, random_nominal_beam, random_relaxations,
+    random_springs, L_NM,
 };
-use nanobeam::beam::spec::{Section, Tube};
 use nanobeam::beam::{BeamSpec, InternalVariable, ModalSolver, PointMass, ShearDeformation, Support};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-const L_NM: f64 = 8.0;
 /// Relative tolerance on a pole against the coupled RQI reference (module doc).
 const S_TOL: f64 = 4e-12;
 /// Relative tolerance against the dense state space (module doc).
@@ -46,11 +45,7 @@ const STATE_SPACE_TOL: f64 = 1e-7;
 
 fn random_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
     let elements = [10, 15, 20, 20, 40][rng.gen_range(0..5)];
-    let mut b = BeamSpec::elastic(L_NM, 1.0, 1e12, 2300.0, Support::SimplySupported, elements);
-    b.nonlocal_e0a_nm = rng.gen_range(0.0..2.0);
-    if rng.gen_bool(0.3) {
-        b.section = Some(Section { tube: Tube { wall_nm: rng.gen_range(0.2..0.45) } });
-    }
+    let mut b = random_nominal_beam(rng, elements);
     random_springs(rng, &mut b);
     let rho_a = b.density_kg_m3 * b.area_m2();
     let mu = 10f64.powf(rng.gen_range(-3.0..0.0));
@@ -89,6 +84,7 @@ fn random_beams_agree_with_the_state_space() {
     let beams: Vec<BeamSpec> = (0..40).map(|_| random_beam(&mut rng)).collect();
     assert_agrees_with_the_state_space::<4>(
         beams,
+        ModalSolver::new(),
         ModalSolver::last_used_spring_mass_blocks,
         STATE_SPACE_TOL,
         "spring + point-mass path",

@@ -9,12 +9,13 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-/// module → modules it may use, parsed from the table.
-fn allowed() -> BTreeMap<String, BTreeSet<String>> {
+/// A table of ARCHITECTURE.md under `heading` whose header row starts with
+/// `| {first}`: first column → the names of the second (backticks removed).
+fn table(heading: &str, first: &str) -> BTreeMap<String, BTreeSet<String>> {
     let text = std::fs::read_to_string(root().join("ARCHITECTURE.md")).expect("ARCHITECTURE.md");
-    let section = text.split("## Dependencies").nth(1).expect("a '## Dependencies' section");
+    let section = text.split(heading).nth(1).unwrap_or_else(|| panic!("a '{heading}' section"));
     let mut table = BTreeMap::new();
-    for line in section.lines().skip_while(|l| !l.starts_with("| module")).skip(2) {
+    for line in section.lines().skip_while(|l| !l.starts_with(&format!("| {first}"))).skip(2) {
         if !line.starts_with('|') {
             break;
         }
@@ -25,6 +26,11 @@ fn allowed() -> BTreeMap<String, BTreeSet<String>> {
         table.insert(name(cells[0]), uses);
     }
     table
+}
+
+/// module → modules it may use, parsed from the "## Dependencies" table.
+fn allowed() -> BTreeMap<String, BTreeSet<String>> {
+    table("## Dependencies", "module")
 }
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
@@ -244,34 +250,120 @@ fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>>
     None
 }
 
-/// No circle between the files of one module: each file's uses of its
-/// siblings (`super::…`, `crate::<module>::…`) form a graph without cycles,
-/// so every file can be read after the files it builds on.
+/// The `.rs` files under `dir` at any depth.
+fn files_under(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    rust_files(dir, &mut out);
+    out.sort();
+    out
+}
+
+/// No circle between the files of a module, nor between the rooms
+/// (sub-folders) of one: in every folder of `src/<module>/…`, each file's
+/// uses of its siblings (`super::…`, `crate::<path>::…`) and each sub-folder's
+/// uses of its siblings (by any file inside it) form a graph without cycles,
+/// so every file and room can be read after those it builds on.
 #[test]
 fn no_circle_between_the_files_of_a_module() {
-    let mut circles = Vec::new();
+    fn folders(dir: &Path, path: &str, out: &mut Vec<(PathBuf, String)>) {
+        out.push((dir.to_path_buf(), path.to_string()));
+        let mut subs: Vec<PathBuf> = std::fs::read_dir(dir)
+            .expect("readable")
+            .map(|e| e.expect("entry").path())
+            .filter(|p| p.is_dir())
+            .collect();
+        subs.sort();
+        for sub in subs {
+            let name = sub.file_name().expect("name").to_string_lossy().into_owned();
+            folders(&sub, &format!("{path}::{name}"), out);
+        }
+    }
+    let mut all = Vec::new();
     for e in std::fs::read_dir(root().join("src")).expect("readable src") {
         let dir = e.expect("entry").path();
-        if !dir.is_dir() {
-            continue;
+        if dir.is_dir() {
+            let module = dir.file_name().expect("name").to_string_lossy().into_owned();
+            folders(&dir, &module, &mut all);
         }
-        let module = dir.file_name().expect("name").to_string_lossy().into_owned();
+    }
+    all.sort();
+    let mut circles = Vec::new();
+    for (dir, path) in &all {
         let mut texts = BTreeMap::new();
-        for f in std::fs::read_dir(&dir).expect("readable module") {
+        let mut rooms = BTreeMap::new();
+        for f in std::fs::read_dir(dir).expect("readable module") {
             let p = f.expect("entry").path();
-            if p.extension().is_some_and(|x| x == "rs") {
-                let stem = p.file_stem().expect("stem").to_string_lossy().into_owned();
+            let stem = p.file_stem().expect("stem").to_string_lossy().into_owned();
+            if p.is_dir() {
+                rooms.insert(stem, p);
+            } else if p.extension().is_some_and(|x| x == "rs") {
                 texts.insert(stem, std::fs::read_to_string(&p).expect("readable"));
             }
         }
-        let siblings: BTreeSet<String> = texts.keys().filter(|k| *k != "mod").cloned().collect();
-        let graph: BTreeMap<String, BTreeSet<String>> =
-            texts.iter().map(|(f, t)| (f.clone(), sibling_uses(&module, f, t, &siblings))).collect();
+        let siblings: BTreeSet<String> = texts.keys().filter(|k| *k != "mod").chain(rooms.keys()).cloned().collect();
+        let mut graph: BTreeMap<String, BTreeSet<String>> =
+            texts.iter().map(|(f, t)| (f.clone(), sibling_uses(path, f, t, &siblings))).collect();
+        for (room, room_dir) in &rooms {
+            let mut used = BTreeSet::new();
+            for f in files_under(room_dir) {
+                let code = code_before_tests(&std::fs::read_to_string(&f).expect("readable"));
+                used.extend(
+                    names_after(&code, &format!("crate::{path}::")).into_iter().filter(|n| siblings.contains(n)),
+                );
+            }
+            used.remove(room);
+            graph.insert(room.clone(), used);
+        }
         if let Some(c) = find_cycle(&graph) {
-            circles.push(format!("src/{module}/: {}", c.join(" → ")));
+            circles.push(format!("src/{}/: {}", path.replace("::", "/"), c.join(" → ")));
         }
     }
-    assert!(circles.is_empty(), "files of one module that use each other in a circle:\n{}", circles.join("\n"));
+    assert!(
+        circles.is_empty(),
+        "files or rooms of one module that use each other in a circle:\n{}",
+        circles.join("\n")
+    );
+}
+
+/// room of `beam` → rooms it may use, parsed from ARCHITECTURE.md's
+/// "## Rooms of `beam`" table.
+fn beam_rooms() -> BTreeMap<String, BTreeSet<String>> {
+    table("## Rooms of `beam`", "room")
+}
+
+/// Inside `beam`, every `crate::beam::<room>` path (tests included) must be
+/// allowed by the rooms table: the model never reaches a solver, the
+/// references never an accelerator, and only the dispatch (`modal`) and the
+/// face (`mod.rs`) use the accelerators (`fast`). Every file and folder of
+/// `src/beam/` is a row.
+#[test]
+fn every_room_of_beam_uses_only_what_architecture_md_allows() {
+    let table = beam_rooms();
+    assert!(table.contains_key("fast") && table.contains_key("modal"), "table not parsed: {table:?}");
+    let dir = root().join("src/beam");
+    let mut violations = Vec::new();
+    for f in files_under(&dir) {
+        let rel = f.strip_prefix(&dir).expect("under src/beam");
+        let first = rel.components().next().expect("a component").as_os_str().to_string_lossy().into_owned();
+        let room = first.trim_end_matches(".rs").to_string();
+        if room == "mod" {
+            continue;
+        }
+        let Some(ok) = table.get(&room) else {
+            violations.push(format!("{}: room `{room}` is not in ARCHITECTURE.md's rooms of `beam`", f.display()));
+            continue;
+        };
+        let text = std::fs::read_to_string(&f).expect("readable");
+        for (i, line) in text.lines().enumerate() {
+            for used in names_after(code_of(line), "crate::beam::") {
+                let module = used.chars().next().is_some_and(|c| c.is_ascii_lowercase());
+                if module && used != room && !ok.contains(&used) {
+                    violations.push(format!("{}:{}: room `{room}` uses `crate::beam::{used}`", f.display(), i + 1));
+                }
+            }
+        }
+    }
+    assert!(violations.is_empty(), "uses the rooms table does not allow:\n{}", violations.join("\n"));
 }
 
 #[test]

@@ -29,38 +29,36 @@
 //! coupled path (c) in `coupled.rs`, and the state-space path (a), the
 //! reference and fallback, in `state_space_modal.rs`.
 
-use std::collections::HashMap;
-
-use crate::beam::axial_spectrum::{AxialBlocks, Bending};
-use crate::beam::band::{ShiftedLdl, SymBand};
-use crate::beam::coupled::{general_path, Poles};
-use crate::beam::dual::Dual;
-use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
-use crate::beam::family::{decoupled_family_roots_into, family_roots, Roots};
-use crate::beam::mass_blocks::MassScratch;
-use crate::beam::mass_spectrum::MassSpectrumTable;
+use crate::beam::eigen_cache::EigenCache;
+use crate::beam::error::BeamError;
+use crate::beam::fast::axial_spectrum::{AxialBlocks, Bending};
+use crate::beam::fast::mass_blocks::MassScratch;
+use crate::beam::fast::mass_spectrum::MassSpectrumTable;
+use crate::beam::fast::shear_blocks::ShearBlocks;
+use crate::beam::fast::shear_continuum::{self, ContinuumShear};
+use crate::beam::fast::shear_poles;
+use crate::beam::fast::shear_spectrum::ShearSpectrumTable;
+use crate::beam::fast::spectrum::SpectrumTable;
+use crate::beam::fast::spring_mass::SpringMassScratch;
+use crate::beam::fast::spring_spectrum::SpringScratch;
+use crate::beam::fe::model::UnitMesh;
+use crate::beam::fe::scaling::{ScaledModel, Scaling};
 use crate::beam::modal_result::{assemble, check_mode_count, oscillatory_pair, ModalResult, SolverPath};
-use crate::beam::model::{PencilParams, ScaledModel, Scaling, UnitMesh};
-use crate::beam::shear_blocks::{self, ShearBlocks};
-use crate::beam::shear_continuum::{self, ContinuumShear};
-use crate::beam::shear_spectrum::ShearSpectrumTable;
+use crate::beam::solve::coupled::{general_path, Poles};
+use crate::beam::solve::family::{decoupled_family_roots_into, family_roots, Roots};
+use crate::beam::solve::state_space_modal::state_space_modal;
 use crate::beam::spec::{BeamSpec, Support, MAX_INTERNAL_VARIABLES};
-use crate::beam::spectrum::SpectrumTable;
-use crate::beam::spring_mass::SpringMassScratch;
-use crate::beam::spring_spectrum::SpringScratch;
-use crate::beam::state_space_modal::state_space_modal;
-use crate::beam::BeamError;
 
 /// Reusable solver: caches the unit mesh integrals (they depend only on the
 /// element count and the supports) and the pencil eigenpairs, so a call with
 /// new parameters mostly rescales and re-solves small problems.
 ///
 /// The lowest eigenpairs of the undamped relaxed pencil (K̃ + K̃_spring, M̃)
-/// depend only on [`PencilParams`] (ẽ, point mass, spring), not on E, ρ, d, C,
+/// depend only on [`PencilParams`](crate::beam::fe::model::PencilParams) (ẽ, point mass, spring), not on E, ρ, d, C,
 /// Δ, Ω; they are found (see `EigenCache`) by
 /// 1. exact reuse when the parameters are bitwise those of the last call;
 /// 2. otherwise Rayleigh-quotient iteration from the eigenpairs of the
-///    nearest grid pencil ([`PencilParams::snapped`], cached), certified by
+///    nearest grid pencil ([`PencilParams::snapped`](crate::beam::fe::model::PencilParams::snapped), cached), certified by
 ///    an inertia count;
 /// 3. otherwise (or if 2 fails) Newton–Maehly from scratch.
 ///
@@ -134,193 +132,6 @@ pub struct ModalSolver {
     /// Error bounds of `lambdas` on the point-mass path (`mass_spectrum.rs`).
     bounds: Vec<f64>,
     roots: Vec<Roots>,
-}
-
-/// Grid start pencils kept per solver (≈ 6 kB each for 6 modes of a
-/// 20-element mesh). A calibration chain visits a few cells; a TMCMC run of
-/// a 3-parameter pencil class (point mass: ẽ, μ̃, x̃) visits thousands while
-/// its population still spreads over the prior, then settles in a few.
-const GRID_CACHE: usize = 1024;
-/// Plain grid pencils (ẽ, g̃) kept per solver. Measured on a 5-mode
-/// shear-deformation search (17 models, 1.1 M solves, 2 threads): 2 012
-/// distinct plain cells in all, so ≈ 1 000 per thread; with plain and
-/// extended cells sharing one cache of 1 024, 18.6 k plain misses (each a
-/// Newton–Maehly solve from scratch) for those 2 012 cells.
-const PLAIN_GRID_CACHE: usize = 2048;
-
-/// Eigenpair caches of one mesh (see [`ModalSolver`]).
-#[derive(Debug, Default, Clone)]
-struct EigenCache {
-    work: Vec<Dual<f64>>,
-    ldl: ShiftedLdl,
-    exact: Option<([u64; 7], Vec<EigenPair>)>,
-    /// Grid pencil eigenvectors keyed by [`PencilParams::bits`] of the grid
-    /// point: plain pencils (ẽ, g̃) and extended ones apart, so that a
-    /// population sweeping an extended grid does not evict the parents every
-    /// extended cell is refined from.
-    grid: HashMap<[u64; 7], Vec<GridVector>>,
-    plain_grid: HashMap<[u64; 7], Vec<GridVector>>,
-    /// How the last [`EigenCache::lowest`] call got its answer (for tests).
-    last_method: Option<EigenMethod>,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum EigenMethod {
-    Reused,
-    Refined,
-    Scratch,
-}
-
-/// An eigenvector of a grid pencil with the parameter-free pieces of its
-/// products, so that its RQI start on any pencil of the mesh costs O(n):
-/// M̃x = M̃₀x + ẽ²M̃₁x + μ̃N(Nᵀx), xᵀM̃x = xᵀM̃₀x + ẽ²xᵀM̃₁x + μ̃(Nᵀx)²,
-/// xᵀ(K̃ + K̃_spring + K̃_N)x = xᵀK̃x + Σ_ends k̃_e x_e² + ñ(xᵀG̃₀x + ẽ²xᵀG̃₁x),
-/// with xᵀK̃x = xᵀK̃_bx + g̃·xᵀK̃_γx on a Timoshenko mesh.
-#[derive(Debug, Clone)]
-struct GridVector {
-    vector: Vec<f64>,
-    m0x: Vec<f64>,
-    m1x: Vec<f64>,
-    /// xᵀK̃x without shear (Euler–Bernoulli: all of it) and xᵀ(Σ∫γγᵀ)x.
-    k_form: f64,
-    shear_form: f64,
-    m0_form: f64,
-    m1_form: f64,
-    /// x_i² on the free rotation at x = 0 and at x = L (0 where the support fixes it).
-    spring_sq: [f64; 2],
-    /// xᵀG̃₀x and xᵀG̃₁x (axial-force forms; 0 when the mesh pencil has no force).
-    g_forms: (f64, f64),
-}
-
-impl GridVector {
-    fn new(mesh: &UnitMesh, vector: Vec<f64>) -> Self {
-        let (mut m0x, mut m1x) = (Vec::new(), Vec::new());
-        mesh.m0.mul_vec_into(&vector, &mut m0x);
-        mesh.m1.mul_vec_into(&vector, &mut m1x);
-        let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
-        GridVector {
-            k_form: mesh.stiffness_form(&vector, 0.0),
-            shear_form: mesh.shear.as_ref().map_or(0.0, |sh| sh.ks.bilinear(&vector, &vector)),
-            m0_form: dot(&vector, &m0x),
-            m1_form: dot(&vector, &m1x),
-            spring_sq: mesh.spring_dofs.map(|d| d.map_or(0.0, |i| vector[i] * vector[i])),
-            g_forms: {
-                let f = mesh.energy_forms_ext(&vector, 0.0);
-                (f[5], f[6])
-            },
-            vector,
-            m0x,
-            m1x,
-        }
-    }
-
-    fn start(&self, params: &PencilParams, point_mass: Option<&(f64, Vec<f64>)>) -> RqiStart {
-        let e2 = params.e_tilde * params.e_tilde;
-        let mut mx: Vec<f64> = self.m0x.iter().zip(&self.m1x).map(|(a, b)| a + e2 * b).collect();
-        let mut m_form = self.m0_form + e2 * self.m1_form;
-        if let Some((mu, nv)) = point_mass {
-            let w: f64 = nv.iter().zip(&self.vector).map(|(a, b)| a * b).sum();
-            mx.iter_mut().zip(nv).for_each(|(y, a)| *y += mu * w * a);
-            m_form += mu * w * w;
-        }
-        let k_n = if params.axial != 0.0 { params.axial * (self.g_forms.0 + e2 * self.g_forms.1) } else { 0.0 };
-        let rho = (self.k_form
-            + params.shear * self.shear_form
-            + params.spring[0] * self.spring_sq[0]
-            + params.spring[1] * self.spring_sq[1]
-            + k_n)
-            / m_form;
-        RqiStart { vector: self.vector.clone(), mx, rho }
-    }
-}
-
-impl EigenCache {
-    /// The `count` lowest eigenpairs of (k, m), the pencil of `params`.
-    fn lowest(
-        &mut self,
-        mesh: &UnitMesh,
-        params: &PencilParams,
-        k: &SymBand,
-        m: &SymBand,
-        point_mass: Option<&(f64, Vec<f64>)>,
-        count: usize,
-    ) -> Result<&[EigenPair], BeamError> {
-        let key = params.bits();
-        // exact reuse only for the same count: certification depends on it,
-        // and a different count must give what a fresh solve would.
-        if !matches!(&self.exact, Some((kk, p)) if *kk == key && p.len() == count) {
-            let rq = |x: &[f64]| mesh.pencil_stiffness(params, x);
-            let starts: Option<Vec<RqiStart>> = self
-                .grid_starts(mesh, params.snapped(), count)
-                .map(|grid| grid.iter().map(|g| g.start(params, point_mass)).collect());
-            let refined = starts.and_then(|starts| refine_eigenpairs(k, m, starts, &rq, &mut self.ldl));
-            let pairs = match refined {
-                Some(p) => {
-                    self.last_method = Some(EigenMethod::Refined);
-                    p
-                }
-                None => {
-                    self.last_method = Some(EigenMethod::Scratch);
-                    lowest_eigenpairs(k, m, count, &mut self.work, &rq)?
-                }
-            };
-            self.exact = Some((key, pairs));
-        } else {
-            self.last_method = Some(EigenMethod::Reused);
-        }
-        Ok(&self.exact.as_ref().expect("just set").1)
-    }
-
-    /// The eigenvectors of the grid pencil `g`, at least `count` of them,
-    /// computed from scratch on a miss (the first `count` of a longer list are
-    /// the same numbers: Newton–Maehly finds them in order); `None` if that fails.
-    fn grid_starts(&mut self, mesh: &UnitMesh, g: PencilParams, count: usize) -> Option<&[GridVector]> {
-        let key = g.bits();
-        let plain = g.plain() == g;
-        let hit = matches!(self.cells(plain).get(&key), Some(e) if e.len() >= count);
-        if !hit {
-            let (kg, mg) = mesh.pencil(&g);
-            let rq = |x: &[f64]| mesh.pencil_stiffness(&g, x);
-            // an extended grid pencil (spring, point mass, axial force) first
-            // by RQI from its plain parent (same ẽ and g̃, no extension: a few
-            // hundred cells, so nearly always cached), certified like any
-            // refinement; Newton–Maehly from scratch only if that fails. A
-            // TMCMC population spread over a 2–4-parameter prior misses the
-            // grid on most draws (measured: 38 k misses in 42 k solves for
-            // attached-mass + shear-deformation), and a scratch solve costs
-            // several times a certified refinement.
-            let parent = g.plain();
-            let pairs = if parent != g {
-                let pm = g.point_mass.map(|(mu, x)| (mu, mesh.shape_vector(x)));
-                let starts: Option<Vec<RqiStart>> = self
-                    .grid_starts(mesh, parent, count)
-                    .map(|grid| grid.iter().map(|v| v.start(&g, pm.as_ref())).collect());
-                starts.and_then(|starts| refine_eigenpairs(&kg, &mg, starts, &rq, &mut self.ldl))
-            } else {
-                None
-            };
-            let pairs = match pairs {
-                Some(p) => p,
-                None => lowest_eigenpairs(&kg, &mg, count, &mut self.work, &rq).ok()?,
-            };
-            let cells = self.cells(plain);
-            if cells.len() >= if plain { PLAIN_GRID_CACHE } else { GRID_CACHE } {
-                // wholesale reset: the cache only changes speed, never results
-                cells.clear();
-            }
-            cells.insert(key, pairs.into_iter().map(|p| GridVector::new(mesh, p.vector)).collect());
-        }
-        self.cells(plain).get(&key).map(|e| &e[..count])
-    }
-
-    /// The plain grid (ẽ, g̃) or the extended one.
-    fn cells(&mut self, plain: bool) -> &mut HashMap<[u64; 7], Vec<GridVector>> {
-        if plain {
-            &mut self.plain_grid
-        } else {
-            &mut self.grid
-        }
-    }
 }
 
 impl ModalSolver {
@@ -510,9 +321,9 @@ impl ModalSolver {
             let blocks = shear_blocks.get_or_insert_with(|| ShearBlocks::new(mesh)).as_ref()?;
             let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
             let t = sc.e_tilde * sc.e_tilde;
-            let g = crate::beam::model::shear_params(beam).map_or(0.0, |(g, _)| g);
+            let g = crate::beam::fe::model::shear_params(beam).map_or(0.0, |(g, _)| g);
             let pencil = blocks.pencil(t, g, sc.axial);
-            if !shear_blocks::family_roots(&pencil, sc.c, &ivs[..nv], n_modes, poles == Poles::All, roots) {
+            if !shear_poles::family_roots(&pencil, sc.c, &ivs[..nv], n_modes, poles == Poles::All, roots) {
                 return None;
             }
             self.last_shear_blocks = true;
@@ -528,7 +339,7 @@ impl ModalSolver {
                 && n_modes <= mesh.elements / shear_continuum::APPLIES_UP_TO
         }) {
             let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
-            let g = crate::beam::model::shear_params(beam).map_or(0.0, |(g, _)| g);
+            let g = crate::beam::fe::model::shear_params(beam).map_or(0.0, |(g, _)| g);
             let pencil = ContinuumShear { e2: sc.e_tilde * sc.e_tilde, shear: g, r2: sh.r2, axial: sc.axial };
             if !shear_continuum::family_roots(&pencil, sc.c, &ivs[..nv], n_modes, poles == Poles::All, &mut self.roots)
             {
@@ -548,7 +359,7 @@ impl ModalSolver {
                 && n_modes <= mesh.elements / shear_continuum::APPLIES_UP_TO
         }) {
             let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
-            let g = crate::beam::model::shear_params(beam).map_or(0.0, |(g, _)| g);
+            let g = crate::beam::fe::model::shear_params(beam).map_or(0.0, |(g, _)| g);
             let pencil = ContinuumShear { e2: sc.e_tilde * sc.e_tilde, shear: g, r2: sh.r2, axial: 0.0 };
             let all = poles == Poles::All;
             let Self { spring_scratch, mass_scratch, roots, .. } = self;
@@ -660,7 +471,7 @@ impl ModalSolver {
             self.bounds.resize(n_modes, 0.0);
             self.mass_spectrum.lambdas(mesh, t, mu, x, &mut self.lambdas, &mut self.bounds)
         } else if shear {
-            let g = crate::beam::model::shear_params(beam).map_or(0.0, |(g, _)| g);
+            let g = crate::beam::fe::model::shear_params(beam).map_or(0.0, |(g, _)| g);
             self.shear_spectrum.lambdas(mesh, t, g, &mut self.lambdas)
         } else {
             self.spectrum.lambdas(mesh, t, &mut self.lambdas)
@@ -795,6 +606,8 @@ fn coupled_path(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::beam::eigen_cache::EigenMethod;
+    use crate::beam::solve::eigen::lowest_eigenpairs;
     use crate::beam::spec::{InternalVariable, PointMass, Support};
 
     fn beam(support: Support, e0a_nm: f64, spring: f64, mass: Option<(f64, f64)>) -> BeamSpec {

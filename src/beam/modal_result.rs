@@ -16,7 +16,7 @@
 use num_complex::Complex64;
 use serde::{Deserialize, Serialize};
 
-use crate::beam::BeamError;
+use crate::beam::error::BeamError;
 use crate::error::InputError;
 
 /// One oscillatory mode.
@@ -76,11 +76,11 @@ pub enum SolverPath {
 }
 
 /// The oscillatory member of a family: the Im > 0 root of largest |s|.
-pub(super) fn oscillatory_pair(family: &[Complex64]) -> Option<Complex64> {
+pub(crate) fn oscillatory_pair(family: &[Complex64]) -> Option<Complex64> {
     family.iter().copied().filter(|s| s.im > 0.0).max_by(|a, b| a.norm_sqr().total_cmp(&b.norm_sqr()))
 }
 
-pub(super) fn check_mode_count(n_modes: usize, n: usize) -> Result<(), BeamError> {
+pub(crate) fn check_mode_count(n_modes: usize, n: usize) -> Result<(), BeamError> {
     if n_modes == 0 || n_modes > n {
         return Err(InputError::new("n_modes", n_modes, format!("1..={n} (free DOFs of this mesh)")).into());
     }
@@ -90,7 +90,7 @@ pub(super) fn check_mode_count(n_modes: usize, n: usize) -> Result<(), BeamError
 /// Physical modes 1..=n_modes from the roots of families 1..=n_modes (in
 /// eigenpair order): each family's oscillatory pair (largest |s| if there
 /// are several) or, without one, an overdamped mode with its real roots.
-pub(super) fn assemble<F: std::ops::Deref<Target = [Complex64]>>(
+pub(crate) fn assemble<F: std::ops::Deref<Target = [Complex64]>>(
     families: &[F],
     n_modes: usize,
     omega_ref: f64,

@@ -1,5 +1,14 @@
 //! The glue between physics and statistics: the measured-data file, named
 //! parameters mapped onto a beam, and the beam posterior that the samplers see.
+//!
+//! # Files
+//! `measured` (the measured-data file: modes, held-out modes, mode scans, and its observables:
+//! `Observable`, a mode's ω or ζ or a scan point's relative amplitude), `parameters` (names → beam
+//! fields), `posterior` (`BeamPosterior`: THE beam posterior; relative amplitudes through
+//! `beam::frf_points`), `run` (`calibrate`: overdispersed starts → chains → health checks → summary
+//! → MAP; `SamplingError`), `output` (chains.csv, summary.json, InferenceData, SVGs), `identified`
+//! (identified modes → numbered measured-data file); the `sampler:` section is
+//! `bayes::dram::DramSettings`
 
 pub mod identified;
 pub mod measured;

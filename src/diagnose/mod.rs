@@ -52,6 +52,27 @@
 //!    ([`next::shape_measurement`]). The
 //!    named causes that every alternative that fits contains too are the
 //!    decided ones ([`decided_causes`]); the others are a best guess.
+//!
+//! # Files
+//! `mod.rs` (module doc: the procedure; the entry points `diagnose`, `diagnose_run`; re-exports),
+//! `settings` (`DiagnoseSettings`, `DiagnoseError`), `classes` (seven causes, `section-mismatch`
+//! among them, each with its out-of-catalogue first-order mimic if one is known
+//! (`first_order_mimic`), `Model` = base + causes or the β baseline, priors, `model_posterior`),
+//! `evidence` (`ModelRun`: `bayes::evidence` per model with the diagnosis's settings; which
+//! posteriors are multimodal by construction and get the global and nested MAP searches, the sub-
+//! models' MAPs), `search` (evidence of every model of at most two causes (`--max-causes`) that act
+//! on the beam's support, run in one batch per number of causes; on records of ≥ 12 fitted
+//! observables a selected pair's extensions by one cause; selection), `screen` (the top layer's
+//! evidence bounds from a MAP search at the sub-models' MAPs: ln Z ≤ ln L_max, and the Laplace
+//! evidence with a measured margin; the rule that leaves a model uncomputed only when its bound
+//! cannot change a decision), `verdict` (misfit of the selection, alternatives, next measurement,
+//! gain), `diagnosis` (the result types, `decided_causes`, `decide`: the decided causes and, for
+//! every other named cause, why not), `predictive` (predictions at every posterior draw), `ppc`
+//! (leverage-corrected residual tests of fitted observables, predictive checks of held-out ones),
+//! `next` (the measurement that would decide: an unmeasured ω or ζ, else a measured mode's shape
+//! scan through `beam::frf_points`, which goes back in as `mode_scans` data), `report` (Markdown +
+//! figures through `report`, and the CLI's text summary); error type `DiagnoseError`. The posterior
+//! is `calibration::BeamPosterior` seen through `bayes::transform`
 
 pub mod classes;
 mod diagnosis;

@@ -14,6 +14,10 @@
 //!   layout ArviZ's `from_netcdf` reads).
 //!
 //! All fallible functions return [`ReportError`].
+//!
+//! # Files
+//! `svg` (plotters figures), `table` (Markdown/CSV), `render` (tera, atomic output directories),
+//! `inference_data` (NetCDF-4 for ArviZ); error type `ReportError`
 
 pub mod error;
 pub mod inference_data;

@@ -79,11 +79,12 @@
 
 use num_complex::Complex64;
 
-use crate::beam::axial_spectrum::{secular_families, AxialBlocks};
-use crate::beam::family::Roots;
-use crate::beam::jet::relaxation;
-use crate::beam::mass_blocks::MassScratch;
-use crate::beam::spring_spectrum::{certified_eigenvalue, Jet, Num, RESIDUE_GAP};
+use crate::beam::fast::axial_spectrum::{secular_families, AxialBlocks};
+use crate::beam::fast::jet::relaxation;
+use crate::beam::fast::mass_blocks::MassScratch;
+use crate::beam::fast::secular::{certified_eigenvalue, RESIDUE_GAP};
+use crate::beam::fast::spring_spectrum::{Jet, Num};
+use crate::beam::solve::family::Roots;
 
 /// H(λ)z must vanish to this, relative to |H||z|, at a certified eigenvalue:
 /// H is singular there up to the rounding of its sums (~1e-13).
@@ -549,8 +550,8 @@ mod tests {
     //! the mass added (`UnitMesh::pencil`) and `eigen.rs`'s solve of it:
     //! another code path than the secular determinant.
     use super::*;
-    use crate::beam::eigen::lowest_eigenpairs;
-    use crate::beam::model::{PencilParams, UnitMesh};
+    use crate::beam::fe::model::{PencilParams, UnitMesh};
+    use crate::beam::solve::eigen::lowest_eigenpairs;
     use crate::beam::spec::Support;
 
     /// The certified secular eigenvalues are the lowest eigenvalues of the

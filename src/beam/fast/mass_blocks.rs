@@ -71,12 +71,13 @@
 
 use num_complex::Complex64;
 
-use crate::beam::axial_spectrum::{secular_families, AxialBlocks};
-use crate::beam::continuum_tail::MassTail;
-use crate::beam::element;
-use crate::beam::family::Roots;
-use crate::beam::jet::relaxation;
-use crate::beam::spring_spectrum::{certified_eigenvalue, Block, Jet, Num};
+use crate::beam::fast::axial_spectrum::{secular_families, AxialBlocks};
+use crate::beam::fast::continuum_tail::MassTail;
+use crate::beam::fast::jet::relaxation;
+use crate::beam::fast::secular::{certified_eigenvalue, Block};
+use crate::beam::fast::spring_spectrum::{Jet, Num};
+use crate::beam::fe::element;
+use crate::beam::solve::family::Roots;
 
 /// The eigenvector's Rayleigh quotient a + b must be λ to this (relative), as
 /// on the spring path: its forms are sums of positive terms rounded to ~1e-13.
@@ -86,20 +87,20 @@ const RAYLEIGH_TOL: f64 = 1e-8;
 /// mass-free spectrum.
 #[derive(Debug, Default, Clone)]
 pub struct MassScratch {
-    pub(super) blocks: Vec<Block>,
+    pub(crate) blocks: Vec<Block>,
     /// (n_u, n_v) of every block, in the order of `blocks`.
-    pub(super) coords: Vec<[f64; 2]>,
+    pub(crate) coords: Vec<[f64; 2]>,
     /// Mass-free eigenvalues with their block, ascending.
-    pub(super) mu: Vec<(f64, usize)>,
+    pub(crate) mu: Vec<(f64, usize)>,
     /// The blocks beyond the last of `blocks` in closed form, when the
     /// blocks are a truncated infinite set (the continuum Timoshenko beam,
     /// `shear_continuum.rs`); `None` on a mesh.
-    pub(super) tail: Option<MassTail>,
+    pub(crate) tail: Option<MassTail>,
     /// (sin, cos)(πk/n_e), k = 0..2n_e − 1, for `table_elements`.
     table: Vec<(f64, f64)>,
     table_elements: usize,
     /// μ̃ = m/(ρAL).
-    pub(super) mass: f64,
+    pub(crate) mass: f64,
 }
 
 impl MassScratch {
@@ -214,7 +215,7 @@ impl MassScratch {
     /// The poles of families 1..=n_modes from the filled scratch into
     /// `roots` (every pole when `all`, else the oscillatory pairs); `false`
     /// when the path declines.
-    pub(super) fn family_roots(
+    pub(crate) fn family_roots(
         &self,
         c: f64,
         ivs: &[(f64, f64)],
@@ -277,7 +278,7 @@ impl AxialBlocks {
     /// Fills `scratch` for (t = ẽ², ñ, μ̃, x̃); `false` unless μ̃ > 0, x̃ ∈ [0, 1],
     /// `n_modes` mass-free eigenvalues exist, all finite, and the lowest is
     /// positive (module doc).
-    pub(super) fn mass_setup(
+    pub(crate) fn mass_setup(
         &self,
         t: f64,
         axial: f64,
@@ -374,8 +375,8 @@ mod tests {
     //! to M̃ (`UnitMesh::pencil`) and `eigen.rs`'s solve of it: another code
     //! path than the secular equation.
     use super::*;
-    use crate::beam::eigen::lowest_eigenpairs;
-    use crate::beam::model::{PencilParams, UnitMesh};
+    use crate::beam::fe::model::{PencilParams, UnitMesh};
+    use crate::beam::solve::eigen::lowest_eigenpairs;
     use crate::beam::spec::Support;
 
     /// The certified secular eigenvalues are the lowest eigenvalues of the

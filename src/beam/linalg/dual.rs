@@ -93,3 +93,15 @@ impl<T: Scalar> Scalar for Dual<T> {
         self.v.magnitude()
     }
 }
+
+impl From<f64> for Dual<f64> {
+    fn from(v: f64) -> Self {
+        Dual::new(v, 0.0)
+    }
+}
+
+impl From<f64> for Dual<Complex64> {
+    fn from(v: f64) -> Self {
+        Dual::new(Complex64::new(v, 0.0), Complex64::new(0.0, 0.0))
+    }
+}

@@ -67,9 +67,9 @@
 
 use num_complex::Complex64;
 
-use crate::beam::element;
-use crate::beam::family::{family_roots_into, Roots, REAL_TOL};
-use crate::beam::model::UnitMesh;
+use crate::beam::fe::element;
+use crate::beam::fe::model::UnitMesh;
+use crate::beam::solve::family::{family_roots_into, Roots, REAL_TOL};
 use crate::beam::spec::Support;
 
 /// Largest residual ‖W⁻¹A U_j − U_j B_j‖∞ / ‖W⁻¹A‖-scale accepted for the
@@ -86,20 +86,20 @@ const NEWTON_MAX_STEPS: usize = 40;
 
 /// A symmetric 2 × 2 block (uu, uv, vv).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) struct Sym2 {
-    pub(super) uu: f64,
-    pub(super) uv: f64,
-    pub(super) vv: f64,
+pub(crate) struct Sym2 {
+    pub(crate) uu: f64,
+    pub(crate) uv: f64,
+    pub(crate) vv: f64,
 }
 
 impl Sym2 {
-    pub(super) fn plus(self, c: f64, o: Sym2) -> Sym2 {
+    pub(crate) fn plus(self, c: f64, o: Sym2) -> Sym2 {
         Sym2 { uu: self.uu + c * o.uu, uv: self.uv + c * o.uv, vv: self.vv + c * o.vv }
     }
-    pub(super) fn scaled(self, c: f64) -> Sym2 {
+    pub(crate) fn scaled(self, c: f64) -> Sym2 {
         Sym2 { uu: c * self.uu, uv: c * self.uv, vv: c * self.vv }
     }
-    pub(super) fn form(self, x: [f64; 2]) -> f64 {
+    pub(crate) fn form(self, x: [f64; 2]) -> f64 {
         self.uu * x[0] * x[0] + 2.0 * self.uv * x[0] * x[1] + self.vv * x[1] * x[1]
     }
 }
@@ -108,11 +108,11 @@ impl Sym2 {
 /// j = 1..n_e − 1, and the 1 × 1 rotation blocks j = 0, n_e.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AxialBlocks {
-    pub(super) elements: usize,
+    pub(crate) elements: usize,
     /// (k, m₀, m₁) of block j = 1..n_e − 1 (index j − 1).
-    pub(super) blocks: Vec<[Sym2; 3]>,
+    pub(crate) blocks: Vec<[Sym2; 3]>,
     /// (k, m₀, m₁) of v_0 and v_{n_e}.
-    pub(super) rotation: [[f64; 3]; 2],
+    pub(crate) rotation: [[f64; 3]; 2],
 }
 
 /// The block of one element matrix at φ = jπ/n_e (module doc).
@@ -366,7 +366,7 @@ fn family_function(b: &Bending, c: f64, ivs: &[(f64, f64)], s: Complex64) -> Jet
 /// root already found within 1e-8·|s| (two starts on one pole), room left in
 /// `found`, and off the real axis. An accepted root joins `found` and `fam`
 /// as the pair (s, s̄) with Im s > 0; `false` ends the fast path.
-pub(super) fn accept_pair(
+pub(crate) fn accept_pair(
     s0: Complex64,
     s: Complex64,
     found: &mut [Complex64],
@@ -394,7 +394,7 @@ pub(super) fn accept_pair(
 /// `step`) from each of its starts with Im s > 0, each root accepted by
 /// [`accept_pair`]; `None` when a start fails either (the block and
 /// continuum paths then decline).
-pub(super) fn oscillatory_pairs(
+pub(crate) fn oscillatory_pairs(
     starts: &Roots,
     mut step: impl FnMut(Complex64) -> Complex64,
     found: &mut [Complex64],
@@ -417,7 +417,7 @@ pub(super) fn oscillatory_pairs(
 /// declines on a real start when `all` (real poles are left to the
 /// reference), and its oscillatory pairs come from [`oscillatory_pairs`]
 /// with `step(context, s)`. `false` when any part declines.
-pub(super) fn secular_families<R>(
+pub(crate) fn secular_families<R>(
     n_modes: usize,
     all: bool,
     ivs: &[(f64, f64)],
@@ -460,7 +460,7 @@ fn newton(b: &Bending, c: f64, ivs: &[(f64, f64)], s0: Complex64) -> Option<Comp
 /// ≤ [`NEWTON_TOL`]·|s| (then the root), or `None` on a non-finite step or
 /// after [`NEWTON_MAX_STEPS`]: the one stopping rule of the block paths
 /// (this file's determinants and `spring_spectrum.rs`'s secular function).
-pub(super) fn newton_from(s0: Complex64, mut step: impl FnMut(Complex64) -> Complex64) -> Option<Complex64> {
+pub(crate) fn newton_from(s0: Complex64, mut step: impl FnMut(Complex64) -> Complex64) -> Option<Complex64> {
     let mut s = s0;
     for _ in 0..NEWTON_MAX_STEPS {
         let ds = step(s);
@@ -481,8 +481,8 @@ mod tests {
     //! than the element sums of [`block`]) and `eigen.rs`'s solve of the
     //! whole assembled pencil.
     use super::*;
-    use crate::beam::eigen::lowest_eigenpairs;
-    use crate::beam::model::PencilParams;
+    use crate::beam::fe::model::PencilParams;
+    use crate::beam::solve::eigen::lowest_eigenpairs;
 
     /// The invariance the path rests on holds on simply supported meshes
     /// (residual at rounding) and fails on clamped–clamped (order 1), so the

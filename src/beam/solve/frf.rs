@@ -7,10 +7,11 @@
 
 use num_complex::Complex64;
 
-use crate::beam::band::BandLu;
-use crate::beam::model::{check_position, ScaledModel, UnitMesh};
+use crate::beam::error::BeamError;
+use crate::beam::fe::model::{check_position, UnitMesh};
+use crate::beam::fe::scaling::ScaledModel;
+use crate::beam::linalg::band::BandLu;
 use crate::beam::spec::BeamSpec;
-use crate::beam::BeamError;
 use crate::error::{fmt_num, InputError};
 
 /// Largest dimensionless frequency ω/ω_ref accepted: T̃(iω̃) has entries

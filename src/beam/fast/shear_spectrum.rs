@@ -108,11 +108,11 @@
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use crate::beam::band::{ShiftedLdl, SymBand};
-use crate::beam::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
-use crate::beam::model::UnitMesh;
+use crate::beam::fast::spectrum::{lobatto_coefficients, piece_of, piece_range};
+use crate::beam::fe::model::UnitMesh;
+use crate::beam::linalg::band::{ShiftedLdl, SymBand};
+use crate::beam::solve::eigen::{lowest_eigenpairs, refine_eigenpairs, EigenPair, RqiStart};
 use crate::beam::spec::Support;
-use crate::beam::spectrum::{lobatto_coefficients, piece_of, piece_range};
 
 /// Largest certified relative error of an interpolated Timoshenko eigenvalue.
 /// Ten times the Euler–Bernoulli [`crate::beam::CERTIFIED_TOL`], because the

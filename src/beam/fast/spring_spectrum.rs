@@ -60,7 +60,7 @@
 //! bracket. Newton on g(λ), safeguarded by bisection inside the bracket
 //! [a, b] that every count narrows, converges to λ_r, and λ_r is accepted
 //! only when the count is r − 1 just below it and ≥ r just above it (a
-//! relative gap of [`CERTIFY_GAP`]); otherwise the path declines.
+//! relative gap of [`CERTIFY_GAP`](crate::beam::fast::secular::CERTIFY_GAP)); otherwise the path declines.
 //! The eigenvector is x = T₀(−λ)⁻¹E z with H(λ)z = 0, in the block basis
 //! y_j = (w_jᵀz)/(d_j δ_j) · (−B_uv, B_uu) (a 1 × 1 block: (w_jᵀz)/(d_j B_j)),
 //! its forms xᵀAx = Σ_j d_j y_jᵀA_j y_j, and its end rotations
@@ -92,7 +92,7 @@
 //! becomes the terms of μ_r … μ_{r+|A|} themselves (β = c_k,
 //! δ = p + qμ_k), and on the real axis H(λ) is the rest's sum plus the
 //! removed terms' c_k/(μ_k − λ), so one sweep gives both g and the count.
-//! A block whose two eigenvalues are within [`RESIDUE_GAP`] (relative) of
+//! A block whose two eigenvalues are within [`RESIDUE_GAP`](crate::beam::fast::secular::RESIDUE_GAP) (relative) of
 //! each other would lose the split to the difference's rounding; the whole
 //! beam then keeps the block form.
 //!
@@ -113,95 +113,16 @@
 
 use num_complex::Complex64;
 
-use crate::beam::axial_spectrum::{secular_families, AxialBlocks, Sym2};
-use crate::beam::continuum_tail::SpringTail;
-use crate::beam::family::Roots;
-use crate::beam::jet::relaxation;
-pub(super) use crate::beam::jet::{Jet, Num};
+use crate::beam::fast::axial_spectrum::{secular_families, AxialBlocks, Sym2};
+use crate::beam::fast::continuum_tail::SpringTail;
+use crate::beam::fast::jet::relaxation;
+pub(crate) use crate::beam::fast::jet::{Jet, Num};
+use crate::beam::fast::secular::{block_spectrum, certified_eigenvalue, Block};
+use crate::beam::solve::family::Roots;
 
-/// The two eigenvalues of a block must differ by this (relative) for its
-/// partial fractions: the residue divides by their difference, whose
-/// rounding (~eps of the larger) is then ≤ 1e-8 of it; the blocks of a
-/// uniform beam are ≥ 1e-2 apart (bending against rotation or shear), so
-/// this only guards a degenerate pencil, which takes the block form.
-pub(super) const RESIDUE_GAP: f64 = 1e-8;
-/// Safeguarded Newton on the real axis stops after a step ≤ EIGEN_TOL·λ.
-const EIGEN_TOL: f64 = 1e-13;
-const EIGEN_MAX_STEPS: usize = 100;
-/// The count must be r − 1 at λ(1 − CERTIFY_GAP) and ≥ r at λ(1 + CERTIFY_GAP):
-/// far above the eigenvalue's rounding (≲ 1e-12 relative, above), far below
-/// any gap between two eigenvalues of a mesh a diagnosis fits (≥ 1e-2).
-pub const CERTIFY_GAP: f64 = 1e-10;
 /// The eigenvector's Rayleigh quotient a + b must be λ to this (relative):
 /// its forms are sums of positive terms rounded to ~1e-13.
 const RAYLEIGH_TOL: f64 = 1e-8;
-
-/// One wavenumber block at (ẽ², ñ): M_j, K_j (relaxed), N_j (elastic), d_j
-/// and σ_j = (−1)^j; a 1 × 1 block (j = 0, n_e) keeps its entry in `vv`.
-#[derive(Debug, Clone, Copy)]
-pub(super) struct Block {
-    pub(super) m: Sym2,
-    pub(super) k: Sym2,
-    pub(super) n: Sym2,
-    pub(super) d: f64,
-    pub(super) sign: f64,
-    pub(super) single: bool,
-}
-
-impl Block {
-    /// (B_uu or 1, det B) of B = pM + qK + N (module doc), with derivatives.
-    pub(super) fn parts<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> (Jet<T>, Jet<T>) {
-        let e = |m: f64, k: f64, n: f64| p.scale(m).add(q.scale(k)).add(Jet::c(n));
-        let vv = e(self.m.vv, self.k.vv, self.n.vv);
-        if self.single {
-            return (Jet::c(1.0), vv);
-        }
-        let uu = e(self.m.uu, self.k.uu, self.n.uu);
-        let uv = e(self.m.uv, self.k.uv, self.n.uv);
-        (uu, uu.mul(vv).sub(uv.mul(uv)))
-    }
-
-    /// The block's real matrices S − λM with S = K + N.
-    pub(super) fn shifted(&self, lambda: f64) -> Sym2 {
-        self.k.plus(1.0, self.n).plus(-lambda, self.m)
-    }
-
-    /// Both eigenvalues (low, high) of a 2 × 2 pencil (S, M), S = K + N: the
-    /// roots of det M·μ² − (S_uu M_vv + S_vv M_uu − 2S_uv M_uv)μ + det S, the
-    /// lower one as det S/(det M·high) (no cancellation); `None` when M is not
-    /// positive definite or the roots are not real.
-    pub(super) fn eigenvalues(&self) -> Option<(f64, f64)> {
-        let (s, m) = (self.k.plus(1.0, self.n), self.m);
-        let a = m.uu * m.vv - m.uv * m.uv;
-        let bb = s.uu * m.vv + s.vv * m.uu - 2.0 * s.uv * m.uv;
-        let c = s.uu * s.vv - s.uv * s.uv;
-        let disc = bb * bb - 4.0 * a * c;
-        if !(a > 0.0 && disc >= 0.0) {
-            return None;
-        }
-        let up = (bb + disc.sqrt()) / (2.0 * a);
-        Some((c / (a * up), up))
-    }
-
-    /// The residue c = φ_v²/d of eigenvalue `mu` (one of
-    /// [`Self::eigenvalues`], bitwise, or the 1 × 1 block's) in
-    /// [B⁻¹]_vv/d = Σ c/(p + qμ) when N = 0 (module doc, "Partial
-    /// fractions"); `None` when the block's two eigenvalues are too close for
-    /// the split to be accurate.
-    fn residue(&self, mu: f64) -> Option<f64> {
-        if self.single {
-            return Some(1.0 / (self.d * self.m.vv));
-        }
-        let (low, up) = self.eigenvalues()?;
-        let other = if mu == low { up } else { low };
-        if !((other - mu).abs() > RESIDUE_GAP * other.abs().max(mu.abs())) {
-            return None;
-        }
-        let m = self.m;
-        let c = (self.k.uu - mu * m.uu) / ((m.uu * m.vv - m.uv * m.uv) * (other - mu) * self.d);
-        c.is_finite().then_some(c)
-    }
-}
 
 /// One term of the partial-fraction form of the flexibility (module doc,
 /// "Partial fractions"): a spring-free eigenvalue μ_k, its residue c_k and
@@ -217,15 +138,15 @@ struct Term {
 /// The secular data of one beam: blocks, springs and the spring-free spectrum.
 #[derive(Debug, Default, Clone)]
 pub struct SpringScratch {
-    pub(super) blocks: Vec<Block>,
+    pub(crate) blocks: Vec<Block>,
     /// Spring-free eigenvalues with the block they belong to, ascending.
-    pub(super) mu: Vec<(f64, usize)>,
+    pub(crate) mu: Vec<(f64, usize)>,
     /// The active ends' (k̃, end index 0 = x = 0, 1 = x = L).
-    pub(super) ends: Vec<(f64, usize)>,
+    pub(crate) ends: Vec<(f64, usize)>,
     /// The blocks beyond the last of `blocks` in closed form, when the
     /// blocks are a truncated infinite set (the continuum Timoshenko beam,
     /// `shear_continuum.rs`); `None` on a mesh, whose blocks are all there.
-    pub(super) tail: Option<SpringTail>,
+    pub(crate) tail: Option<SpringTail>,
     /// The partial-fraction terms, one per entry of `mu` and in its order,
     /// when every block has N = 0 ([`Self::partial_fractions`]); empty
     /// otherwise, and the sums then run over the blocks.
@@ -236,7 +157,7 @@ impl SpringScratch {
     /// Fills `terms` from `blocks` and `mu` when no block has an axial part
     /// (module doc, "Partial fractions"), else empties it; the callers run
     /// it after filling the blocks.
-    pub(super) fn partial_fractions(&mut self) {
+    pub(crate) fn partial_fractions(&mut self) {
         self.terms.clear();
         let zero = |n: &Sym2| n.uu == 0.0 && n.uv == 0.0 && n.vv == 0.0;
         if !self.blocks.iter().all(|b| zero(&b.n)) {
@@ -572,7 +493,7 @@ impl SpringScratch {
     /// The poles of families 1..=n_modes from the filled scratch into
     /// `roots` (every pole when `all`, else the oscillatory pairs); `false`
     /// when the path declines.
-    pub(super) fn family_roots(
+    pub(crate) fn family_roots(
         &self,
         c: f64,
         ivs: &[(f64, f64)],
@@ -617,7 +538,7 @@ impl AxialBlocks {
     /// first, then j = 1..n_e − 1) and the whole spring-free spectrum with
     /// each eigenvalue's block into `mu`, ascending; `false` when a 2 × 2
     /// pencil has no real eigenvalues (not positive definite in M).
-    pub(super) fn wavenumber_blocks(
+    pub(crate) fn wavenumber_blocks(
         &self,
         t: f64,
         axial: f64,
@@ -704,84 +625,6 @@ impl AxialBlocks {
     }
 }
 
-/// Eigenvalue r0 + 1 of a secular path (this file's, `mass_blocks.rs`'s,
-/// `spring_mass.rs`'s), certified: safeguarded Newton on the pole-free g
-/// from `x` inside the bracket (a, b), every count narrowing the bracket, and
-/// a root accepted only when the count is r0 just below it and > r0 just
-/// above it (relative gap [`CERTIFY_GAP`]); `None` where the path declines.
-/// `eval(x)` gives g(x) with its derivative and the count at x (`None` where
-/// H is singular at x: x is then taken as the root and certified);
-/// `count(x)` the count alone.
-pub(super) fn certified_eigenvalue(
-    r0: usize,
-    (mut a, mut b): (f64, f64),
-    mut x: f64,
-    eval: impl Fn(f64) -> (Jet<f64>, Option<usize>),
-    count: impl Fn(f64) -> Option<usize>,
-) -> Option<f64> {
-    for _ in 0..EIGEN_MAX_STEPS {
-        let (g, n) = eval(x);
-        let exact = match n {
-            Some(n) if n > r0 => {
-                b = x;
-                false
-            }
-            Some(_) => {
-                a = x;
-                false
-            }
-            None => true,
-        };
-        let newton = if exact { x } else { x - g.v / g.d };
-        let inside = exact || (newton.is_finite() && newton > a && newton < b);
-        // a converged step may land on the bracket's end: the count at x
-        // itself (x at the root to rounding) may have set that end
-        let on_bracket = newton.is_finite() && newton >= a && newton <= b;
-        let converged = (inside || on_bracket) && (newton - x).abs() <= EIGEN_TOL * newton.abs();
-        if converged || b - a <= 4.0 * f64::EPSILON * b {
-            let lambda = if converged { newton } else { 0.5 * (a + b) };
-            // a root of g is λ_r only if the count says so (it may be
-            // another eigenvalue in the bracket): otherwise narrow and go on
-            let below = count(lambda * (1.0 - CERTIFY_GAP))?;
-            let above = count(lambda * (1.0 + CERTIFY_GAP))?;
-            if below == r0 && above > r0 {
-                return (lambda > 0.0).then_some(lambda);
-            }
-            if below > r0 {
-                b = b.min(lambda * (1.0 - CERTIFY_GAP));
-            } else {
-                a = a.max(lambda * (1.0 + CERTIFY_GAP));
-            }
-            if !(a < b) {
-                return None;
-            }
-            x = 0.5 * (a + b);
-            continue;
-        }
-        x = if inside { newton } else { 0.5 * (a + b) };
-    }
-    None
-}
-
-/// The spring-free spectrum of `blocks` (both eigenvalues of every 2 × 2
-/// pencil (K + N, M), the entry of every 1 × 1 one) with each eigenvalue's
-/// block into `mu`, ascending; `false` when a 2 × 2 pencil has no real
-/// eigenvalues (not positive definite in M).
-pub(super) fn block_spectrum(blocks: &[Block], mu: &mut Vec<(f64, usize)>) -> bool {
-    mu.clear();
-    for (idx, b) in blocks.iter().enumerate() {
-        if b.single {
-            mu.push(((b.k.vv + b.n.vv) / b.m.vv, idx));
-            continue;
-        }
-        let Some((low, up)) = b.eigenvalues() else { return false };
-        mu.push((low, idx));
-        mu.push((up, idx));
-    }
-    mu.sort_by(|x, y| x.0.total_cmp(&y.0));
-    true
-}
-
 /// The Newton step g/g′ of g(s) (module doc) at `s`; the iteration and its
 /// stopping rule are `axial_spectrum.rs`'s ([`secular_families`]).
 fn newton_step(scratch: &SpringScratch, c: f64, ivs: &[(f64, f64)], removed: &[usize], s: Complex64) -> Complex64 {
@@ -796,8 +639,8 @@ mod tests {
     //! on its rotation DOFs (`UnitMesh::pencil`) and `eigen.rs`'s solve of it:
     //! another code path than the secular equation.
     use super::*;
-    use crate::beam::eigen::lowest_eigenpairs;
-    use crate::beam::model::{PencilParams, UnitMesh};
+    use crate::beam::fe::model::{PencilParams, UnitMesh};
+    use crate::beam::solve::eigen::lowest_eigenpairs;
     use crate::beam::spec::Support;
 
     /// The partial fractions are the block form's flexibility (module doc,

@@ -40,8 +40,8 @@
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use crate::beam::eigen::lowest_eigenpairs;
-use crate::beam::model::UnitMesh;
+use crate::beam::fe::model::UnitMesh;
+use crate::beam::solve::eigen::lowest_eigenpairs;
 use crate::beam::spec::Support;
 
 /// Largest certified relative error of an interpolated eigenvalue.

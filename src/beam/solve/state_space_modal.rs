@@ -5,11 +5,13 @@
 
 use num_complex::Complex64;
 
-use crate::beam::family::{family_roots, REAL_TOL};
+use crate::beam::error::BeamError;
+use crate::beam::fe::model::UnitMesh;
+use crate::beam::fe::scaling::ScaledModel;
 use crate::beam::modal_result::{assemble, check_mode_count, ModalResult};
-use crate::beam::model::{ScaledModel, UnitMesh};
+use crate::beam::solve::family::{family_roots, REAL_TOL};
+use crate::beam::solve::state_space;
 use crate::beam::spec::BeamSpec;
-use crate::beam::{state_space, BeamError};
 
 /// Modal parameters from the eigenvalues of the state matrix (A15) (reference).
 pub fn modal_state_space(beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
@@ -35,7 +37,7 @@ pub fn poles_state_space(beam: &BeamSpec) -> Result<Vec<Complex64>, BeamError> {
 /// family that has one, each real pole to the family whose one-term equation
 /// it satisfies best; the uncoupled poles −Ωᵢ of variables with Δᵢ = 0 are
 /// dropped.
-pub(super) fn state_space_modal(model: &ScaledModel, n_modes: usize) -> Result<ModalResult, BeamError> {
+pub(crate) fn state_space_modal(model: &ScaledModel, n_modes: usize) -> Result<ModalResult, BeamError> {
     let poles = state_space::scaled_poles(model)?;
     let approx = dense_family_approximations(model)?;
     let mut has_pair = Vec::with_capacity(n_modes);

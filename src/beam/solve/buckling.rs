@@ -4,10 +4,11 @@
 //! (`model`), and `spec` checks the fields alone ([`BeamSpec::validate`]
 //! adds the bound to them): the spec never reaches into the assembly.
 
-use crate::beam::band::SymBand;
-use crate::beam::model::{ScaledModel, UnitMesh};
+use crate::beam::error::BeamError;
+use crate::beam::fe::model::UnitMesh;
+use crate::beam::fe::scaling::ScaledModel;
+use crate::beam::linalg::band::SymBand;
 use crate::beam::spec::BeamSpec;
-use crate::beam::BeamError;
 use crate::error::InputError;
 
 impl BeamSpec {
@@ -60,7 +61,7 @@ pub fn check_buckling(beam: &BeamSpec) -> Result<(), InputError> {
 /// [`check_buckling`]); the axial force of `beam` itself is ignored.
 pub fn buckling_load_n(beam: &BeamSpec) -> Result<f64, BeamError> {
     let (k_el, kg, to_newton) = buckling_pencil(beam);
-    let pairs = crate::beam::eigen::lowest_eigenpairs(&k_el, &kg, 1, &mut Vec::new(), &|x| k_el.bilinear(x, x))?;
+    let pairs = crate::beam::solve::eigen::lowest_eigenpairs(&k_el, &kg, 1, &mut Vec::new(), &|x| k_el.bilinear(x, x))?;
     Ok(-pairs[0].lambda * to_newton)
 }
 

@@ -17,9 +17,9 @@
 //! convergence, one unpivoted banded LDLᵀ per step — then one inertia count
 //! certifies that the refined values are the lowest ones, in order.
 
-use crate::beam::band::{ShiftedLdl, SymBand};
-use crate::beam::dual::Dual;
-use crate::beam::BeamError;
+use crate::beam::error::BeamError;
+use crate::beam::linalg::band::{ShiftedLdl, SymBand};
+use crate::beam::linalg::dual::Dual;
 
 /// Below this relative step, a step that fails to halve signals the noise floor.
 /// The floor: det(K − σM) is evaluated with absolute pivot errors ~eps·‖K‖,
@@ -243,7 +243,7 @@ fn lowest_eigenvalues(
 /// M-normalised. One step suffices: with the shift within δ (relative) of λ,
 /// other components shrink by ~δ·λ/gap (δ ≲ 1e-10 from the Newton phase).
 pub fn eigenvector(k: &SymBand, m: &SymBand, lambda: f64) -> Result<Vec<f64>, BeamError> {
-    use crate::beam::band::BandLu;
+    use crate::beam::linalg::band::BandLu;
     let n = k.n;
     let tiny = f64::EPSILON * (k.get(0, 0).abs() + lambda * m.get(0, 0).abs());
     let lu = BandLu::factor_for_inverse_iteration(n, k.kd, |i, j| k.get(i, j) - lambda * m.get(i, j), tiny)
@@ -264,7 +264,7 @@ pub fn eigenvector(k: &SymBand, m: &SymBand, lambda: f64) -> Result<Vec<f64>, Be
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::beam::model::UnitMesh;
+    use crate::beam::fe::model::UnitMesh;
     use crate::beam::spec::Support;
 
     #[test]

@@ -108,11 +108,11 @@
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
-use crate::beam::eigen::{eigenvector, lowest_eigenpairs};
-use crate::beam::element;
-use crate::beam::model::{PencilParams, UnitMesh};
+use crate::beam::fast::spectrum::{lobatto_coefficients, piece_of, piece_range, PIECES};
+use crate::beam::fe::element;
+use crate::beam::fe::model::{PencilParams, UnitMesh};
+use crate::beam::solve::eigen::{eigenvector, lowest_eigenpairs};
 use crate::beam::spec::Support;
-use crate::beam::spectrum::{lobatto_coefficients, piece_of, piece_range, PIECES};
 
 /// Largest relative error bound of an eigenvalue the solver accepts from this
 /// path (see "A bound per evaluation"). Why 1e-10 and not the 1e-12 of the

@@ -17,7 +17,7 @@
 //! Hand-written: nalgebra (the listed linear-algebra crate) has no banded
 //! factorisations, and dense O(n³) factorisations would be ~50× slower here.
 
-use crate::beam::dual::{Dual, Scalar};
+use crate::beam::linalg::dual::{Dual, Scalar};
 
 /// Half-bandwidth of the Euler–Bernoulli beam matrices.
 pub const KD: usize = 3;

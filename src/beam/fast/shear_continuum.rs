@@ -106,14 +106,15 @@ use std::f64::consts::PI;
 
 use num_complex::Complex64;
 
-use crate::beam::axial_spectrum::{oscillatory_pairs, Sym2};
+use crate::beam::fast::axial_spectrum::{oscillatory_pairs, Sym2};
 #[cfg(doc)]
-use crate::beam::continuum_tail::TAIL_TERMS;
-use crate::beam::continuum_tail::{tail_consts, MassTail, SpringTail, TailPencil, MAX_BLOCKS, TAIL_RATIO};
-use crate::beam::family::{family_roots_into, Roots};
-use crate::beam::jet::relaxation;
-use crate::beam::mass_blocks::MassScratch;
-use crate::beam::spring_spectrum::{block_spectrum, Block, Jet, SpringScratch};
+use crate::beam::fast::continuum_tail::TAIL_TERMS;
+use crate::beam::fast::continuum_tail::{tail_consts, MassTail, SpringTail, TailPencil, MAX_BLOCKS, TAIL_RATIO};
+use crate::beam::fast::jet::relaxation;
+use crate::beam::fast::mass_blocks::MassScratch;
+use crate::beam::fast::secular::{block_spectrum, Block};
+use crate::beam::fast::spring_spectrum::{Jet, SpringScratch};
+use crate::beam::solve::family::{family_roots_into, Roots};
 
 /// The path applies to modes n ≤ n_e / [`APPLIES_UP_TO`] on meshes of at
 /// least [`MIN_ELEMENTS`] elements: there kh = nπ/n_e ≤ π/4, where the mesh

@@ -24,8 +24,8 @@
 use nalgebra::{DMatrix, Schur};
 use num_complex::Complex64;
 
-use crate::beam::model::ScaledModel;
-use crate::beam::BeamError;
+use crate::beam::error::BeamError;
+use crate::beam::fe::scaling::ScaledModel;
 
 /// Largest state dimension (2 + N)·n the dense reference handles: the real
 /// Schur decomposition costs ~25·dim³ flops (≈ 2.7e10 at 1024, a few seconds

@@ -20,8 +20,8 @@
 
 use num_complex::Complex64;
 
-use crate::beam::dual::Dual;
-use crate::beam::BeamError;
+use crate::beam::error::BeamError;
+use crate::beam::linalg::dual::Dual;
 
 /// Imaginary part (relative to |s|) below which a root counts as real.
 /// Aberth reaches ~1e-15 on simple roots; a double real root (critical damping)

@@ -9,7 +9,7 @@ use num_complex::Complex64;
 
 /// A number the secular functions are evaluated in: f64 on the real axis,
 /// Complex64 at a pole.
-pub(super) trait Num:
+pub(crate) trait Num:
     Copy
     + std::ops::Add<Output = Self>
     + std::ops::Sub<Output = Self>
@@ -62,28 +62,28 @@ impl Num for Complex64 {
 
 /// A value with its derivative.
 #[derive(Debug, Clone, Copy)]
-pub(super) struct Jet<T> {
-    pub(super) v: T,
-    pub(super) d: T,
+pub(crate) struct Jet<T> {
+    pub(crate) v: T,
+    pub(crate) d: T,
 }
 
 impl<T: Num> Jet<T> {
-    pub(super) fn c(v: f64) -> Self {
+    pub(crate) fn c(v: f64) -> Self {
         Jet { v: T::from(v), d: T::from(0.0) }
     }
-    pub(super) fn mul(self, o: Self) -> Self {
+    pub(crate) fn mul(self, o: Self) -> Self {
         Jet { v: self.v * o.v, d: self.d * o.v + self.v * o.d }
     }
-    pub(super) fn add(self, o: Self) -> Self {
+    pub(crate) fn add(self, o: Self) -> Self {
         Jet { v: self.v + o.v, d: self.d + o.d }
     }
-    pub(super) fn sub(self, o: Self) -> Self {
+    pub(crate) fn sub(self, o: Self) -> Self {
         Jet { v: self.v - o.v, d: self.d - o.d }
     }
-    pub(super) fn scale(self, c: f64) -> Self {
+    pub(crate) fn scale(self, c: f64) -> Self {
         Jet { v: self.v * T::from(c), d: self.d * T::from(c) }
     }
-    pub(super) fn div(self, o: Self) -> Self {
+    pub(crate) fn div(self, o: Self) -> Self {
         let v = self.v / o.v;
         Jet { v, d: (self.d - v * o.d) / o.v }
     }
@@ -92,7 +92,7 @@ impl<T: Num> Jet<T> {
 /// G(s) = 1 + Σᵢ Δᵢ s/(s + Ω̃ᵢ) and G′(s) = Σᵢ Δᵢ Ω̃ᵢ/(s + Ω̃ᵢ)² of the internal
 /// variables `ivs` = (Δᵢ, Ω̃ᵢ) (`model.rs`: the relaxation factor of the
 /// stiffness).
-pub(super) fn relaxation(ivs: &[(f64, f64)], s: Complex64) -> Jet<Complex64> {
+pub(crate) fn relaxation(ivs: &[(f64, f64)], s: Complex64) -> Jet<Complex64> {
     let (mut g, mut dg) = (Complex64::new(1.0, 0.0), Complex64::new(0.0, 0.0));
     for &(d, w) in ivs {
         let den = s + w;

@@ -64,13 +64,12 @@
 // Dense 5 × 5 and 8 × 8 kernels with row/column indices, as in the formulas above.
 #![allow(clippy::needless_range_loop)]
 
-use num_complex::Complex64;
-
-use crate::beam::axial_spectrum::{secular_families, INVARIANCE_TOL};
-use crate::beam::dual::{Dual, Scalar};
-use crate::beam::element;
-use crate::beam::family::Roots;
-use crate::beam::model::UnitMesh;
+use crate::beam::fast::axial_spectrum::INVARIANCE_TOL;
+use crate::beam::fast::secular::{CERTIFY_GAP, EIGEN_MAX_STEPS, EIGEN_TOL};
+use crate::beam::fe::element;
+use crate::beam::fe::model::UnitMesh;
+use crate::beam::linalg::dual::{Dual, Scalar};
+use crate::beam::linalg::small::{ldl_negatives, lu_solve};
 use crate::beam::spec::Support;
 
 /// The seven assembled matrices of a Timoshenko mesh, in this order:
@@ -229,7 +228,7 @@ impl ShearBlocks {
     /// Fills the couplings X_j (the border rows of A V_j) and returns the
     /// larger of the invariance residual max ‖(A V_j − W V_j B_j) on P‖∞ /
     /// max|A| and the orthogonality residual max |V_jᵀ W V_k − d_j δ| / d_j.
-    fn check(&mut self, mesh: &UnitMesh, assembled: &[&crate::beam::band::SymBand; MATS]) -> f64 {
+    fn check(&mut self, mesh: &UnitMesh, assembled: &[&crate::beam::linalg::band::SymBand; MATS]) -> f64 {
         let n = mesh.n();
         let w = self.w_diag(mesh);
         let scale: [f64; MATS] = assembled.map(|m| m.data.iter().fold(0.0_f64, |a, v| a.max(v.abs())));
@@ -305,7 +304,7 @@ impl ShearBlocks {
 
 /// The seven assembled matrices of a Timoshenko `mesh`, in [`MATS`] order
 /// (m_t1 is also g₀, `model.rs`).
-fn assembled(mesh: &UnitMesh) -> [&crate::beam::band::SymBand; MATS] {
+fn assembled(mesh: &UnitMesh) -> [&crate::beam::linalg::band::SymBand; MATS] {
     let sh = mesh.shear.as_ref().expect("a Timoshenko mesh");
     [&mesh.k, &sh.ks, &mesh.m0, &mesh.m1, &sh.mt0, &sh.mt1, &mesh.g1]
 }
@@ -317,73 +316,6 @@ pub struct ShearPencil {
     dims: Vec<usize>,
     weights: Vec<f64>,
     parts: [(Vec<Mat5>, Vec<Coupling>, Mat3); 4],
-}
-
-/// LU with partial pivoting of the leading n × n of `a` in place; the
-/// determinant, or `None` at a zero pivot. `rhs` (n × m) is overwritten by
-/// a⁻¹·rhs.
-fn lu_solve<T: Scalar, const N: usize, const M: usize>(
-    a: &mut [[T; N]; N],
-    n: usize,
-    rhs: &mut [[T; M]; N],
-    m: usize,
-) -> Option<T> {
-    let mut det: Option<T> = None;
-    let mut sign = false;
-    for c in 0..n {
-        let piv = (c..n).max_by(|&x, &y| a[x][c].magnitude().total_cmp(&a[y][c].magnitude()))?;
-        if !(a[piv][c].magnitude() > 0.0) {
-            return None;
-        }
-        if piv != c {
-            a.swap(piv, c);
-            rhs.swap(piv, c);
-            sign = !sign;
-        }
-        let d = a[c][c];
-        det = Some(det.map_or(d, |x| x * d));
-        for r in c + 1..n {
-            let f = a[r][c] / d;
-            for k in c + 1..n {
-                a[r][k] = a[r][k] - f * a[c][k];
-            }
-            for k in 0..m {
-                rhs[r][k] = rhs[r][k] - f * rhs[c][k];
-            }
-        }
-    }
-    for r in (0..n).rev() {
-        for k in 0..m {
-            let mut v = rhs[r][k];
-            for c in r + 1..n {
-                v = v - a[r][c] * rhs[c][k];
-            }
-            rhs[r][k] = v / a[r][r];
-        }
-    }
-    let det = det?;
-    Some(if sign { -det } else { det })
-}
-
-/// Negative pivots of an LDLᵀ without pivoting of the leading n × n of the
-/// symmetric `a`; `None` at a zero or non-finite pivot.
-fn ldl_negatives<const N: usize>(mut a: [[f64; N]; N], n: usize) -> Option<usize> {
-    let mut neg = 0;
-    for c in 0..n {
-        let d = a[c][c];
-        if !(d.is_finite() && d != 0.0) {
-            return None;
-        }
-        neg += usize::from(d < 0.0);
-        for r in c + 1..n {
-            let f = a[r][c] / d;
-            for k in c + 1..=r {
-                a[r][k] -= f * a[k][c];
-                a[k][r] = a[r][k];
-            }
-        }
-    }
-    Some(neg)
 }
 
 impl ShearPencil {
@@ -522,12 +454,6 @@ impl ShearPencil {
     }
 }
 
-/// Safeguarded Newton on the real axis stops after a step ≤ EIGEN_TOL·λ.
-const EIGEN_TOL: f64 = 1e-13;
-const EIGEN_MAX_STEPS: usize = 100;
-/// The count must be r − 1 at λ(1 − CERTIFY_GAP) and ≥ r at λ(1 + CERTIFY_GAP)
-/// (the margin and reasons of `spring_spectrum.rs`'s constant).
-const CERTIFY_GAP: f64 = crate::beam::spring_spectrum::CERTIFY_GAP;
 /// The eigenvector's Rayleigh quotient a + b must be λ to this (relative),
 /// as in `spring_spectrum.rs`: a guard against a lost vector.
 const RAYLEIGH_TOL: f64 = 1e-8;
@@ -765,74 +691,16 @@ impl ShearPencil {
     }
 }
 
-impl From<f64> for Dual<f64> {
-    fn from(v: f64) -> Self {
-        Dual::new(v, 0.0)
-    }
-}
-
-/// The poles of families 1..=n_modes (scaled units) of the beam whose
-/// pencil is `pencil`, with damping c̃ and internal variables `ivs`, into
-/// `roots`: every pole when `all`, else the oscillatory pairs only. Family r
-/// starts, as the coupled reference does (`coupled.rs`), from the one-term
-/// family of the certified r-th eigenpair (c_φ = c̃·xᵀM̃_bx/xᵀM̃x); Newton on
-/// the bordered determinant that keeps the eigenvector's dominant block
-/// ([`ShearPencil::determinant`]), with the reference's acceptance tests
-/// (`axial_spectrum::accept_pair`). `false` when the path declines (a count
-/// that fails, a real start when `all`, a root that fails a test): the
-/// caller then runs the reference.
-pub fn family_roots(
-    pencil: &ShearPencil,
-    c: f64,
-    ivs: &[(f64, f64)],
-    n_modes: usize,
-    all: bool,
-    roots: &mut Vec<Roots>,
-) -> bool {
-    let mut floor = 0.0;
-    let family = |r0| {
-        let lambda = pencil.eigenvalue(r0, floor)?;
-        // the count is certified r0 + 1 there (`eigenvalue`); at λ itself it
-        // is not (S and the nearest block are singular to rounding)
-        floor = lambda * (1.0 + CERTIFY_GAP);
-        let md = pencil.mode(lambda)?;
-        Some(((md.a, md.b, c * md.damping_share), md.block))
-    };
-    let step = |&block: &_, s| match pencil.determinant(coefficients(s, c, ivs), Some(block), |_| ()) {
-        Some(det) => det.v / det.d,
-        None => Complex64::new(f64::NAN, f64::NAN),
-    };
-    secular_families(n_modes, all, ivs, roots, family, step)
-}
-
-/// The coefficients (s², s c̃, G(s), 1) at s with G = 1 + Σᵢ Δᵢ s/(s + Ωᵢ),
-/// each with its derivative in s.
-pub fn coefficients(s: Complex64, c: f64, ivs: &[(f64, f64)]) -> [Dual<Complex64>; 4] {
-    let one = Complex64::new(1.0, 0.0);
-    let zero = Complex64::new(0.0, 0.0);
-    let (mut g, mut dg) = (one, zero);
-    for &(d, w) in ivs {
-        let den = s + w;
-        g += d * s / den;
-        dg += d * w / (den * den);
-    }
-    [Dual::new(s * s, 2.0 * s), Dual::new(s * c, Complex64::new(c, 0.0)), Dual::new(g, dg), Dual::new(one, zero)]
-}
-
-impl From<f64> for Dual<Complex64> {
-    fn from(v: f64) -> Self {
-        Dual::new(Complex64::new(v, 0.0), Complex64::new(0.0, 0.0))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     //! Data: the assembled Timoshenko mesh of `model.rs` (another code path
     //! than the element sums of [`block`]), a dense complex LU determinant of
     //! it (nalgebra), and `eigen.rs`'s solve of the assembled pencil.
     use super::*;
-    use crate::beam::eigen::lowest_eigenpairs;
-    use crate::beam::model::PencilParams;
+    use crate::beam::fast::shear_poles::coefficients;
+    use crate::beam::fe::model::PencilParams;
+    use crate::beam::solve::eigen::lowest_eigenpairs;
+    use num_complex::Complex64;
 
     fn mesh(ne: usize, support: Support) -> UnitMesh {
         // L/d = 8: g̃ = (κG/E)·16·64, r̃² = 1/(16·64)

@@ -9,16 +9,16 @@
 
 use num_complex::Complex64;
 
-use crate::beam::band::{ldl_factor_for_inverse_iteration, ldl_solve, BandLu};
-use crate::beam::eigen::EigenPair;
-use crate::beam::family::{family_roots, REAL_TOL};
+use crate::beam::error::BeamError;
+use crate::beam::fe::scaling::ScaledModel;
+use crate::beam::linalg::band::{ldl_factor_for_inverse_iteration, ldl_solve, BandLu};
 use crate::beam::modal_result::{assemble, ModalResult};
-use crate::beam::model::ScaledModel;
-use crate::beam::BeamError;
+use crate::beam::solve::eigen::EigenPair;
+use crate::beam::solve::family::{family_roots, REAL_TOL};
 
 /// Which poles the coupled path (c) solves for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Poles {
+pub(crate) enum Poles {
     /// Every pole of the requested families (what [`crate::beam::ModalSolver::modal`] reports).
     All,
     /// The oscillatory pairs only (what [`crate::beam::ModalSolver::observables`] needs).
@@ -58,7 +58,7 @@ fn family_approximations(model: &ScaledModel, pairs: &[EigenPair]) -> Vec<Family
 /// approximation of its family (root and eigenvector of (K̃ + K̃_spring, M̃)).
 /// `pairs` are the lowest n_modes eigenpairs of (K̃ + K̃_spring, M̃).
 /// Any failure → the caller falls back to (a).
-pub(super) fn general_path(
+pub(crate) fn general_path(
     model: &ScaledModel,
     n_modes: usize,
     pairs: &[EigenPair],

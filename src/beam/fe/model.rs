@@ -25,12 +25,10 @@
 //! they are elastic only (not multiplied by the relaxation factor
 //! 1 + ΣΔᵢ s/(s+Ωᵢ)).
 
-use std::borrow::Cow;
-
-use crate::beam::band::SymBand;
-use crate::beam::element;
+use crate::beam::error::BeamError;
+use crate::beam::fe::element;
+use crate::beam::linalg::band::SymBand;
 use crate::beam::spec::{BeamSpec, Support};
-use crate::beam::BeamError;
 use crate::error::InputError;
 
 /// (weight, N, N′, N″) at one Gauss point of an Euler–Bernoulli element.
@@ -589,7 +587,7 @@ impl UnitMesh {
 }
 
 /// M̃ += μ̃ N Nᵀ (a point mass with interpolation vector N).
-fn add_point_mass(m: &mut SymBand, mu: f64, nv: &[f64]) {
+pub(crate) fn add_point_mass(m: &mut SymBand, mu: f64, nv: &[f64]) {
     let nz: Vec<usize> = (0..nv.len()).filter(|&i| nv[i] != 0.0).collect();
     for &i in &nz {
         for &j in &nz {
@@ -597,232 +595,6 @@ fn add_point_mass(m: &mut SymBand, mu: f64, nv: &[f64]) {
                 m.add(i, j, mu * nv[i] * nv[j]);
             }
         }
-    }
-}
-
-/// The scaled model of one beam: everything the pole and FRF solvers need.
-#[derive(Debug, Clone)]
-pub struct ScaledModel<'a> {
-    pub mesh: &'a UnitMesh,
-    /// K̃ (beam, relaxed).
-    /// (The mesh's own matrix for Euler–Bernoulli; K̃ = k + g̃·ks for Timoshenko.)
-    pub k: Cow<'a, SymBand>,
-    /// g̃ = κGAL²/EI (0 for Euler–Bernoulli).
-    pub shear: f64,
-    /// Point mass μ̃ and N(x̃₀) (reduced DOFs).
-    pub point_mass: Option<(f64, Vec<f64>)>,
-    /// M̃ including the point mass.
-    pub m: SymBand,
-    /// The damping shape: the viscous damping matrix is c̃ times this. It is
-    /// the translational nonlocal mass of the beam (A5): M̃ of the beam alone
-    /// for Euler–Bernoulli, without the rotary inertia for Timoshenko.
-    pub m_beam: SymBand,
-    /// K̃_N = ñ(G̃₀ + ẽ²G̃₁), the axial-force stiffness (elastic, not relaxed).
-    pub k_axial: Option<SymBand>,
-    /// ñ = NL²/EI.
-    pub axial: f64,
-    /// True for a Timoshenko beam (rotary inertia: D̃ ∝ M̃ only if c̃ = 0).
-    pub has_rotary: bool,
-    /// k̃_r at x = 0 and at x = L (0 = no spring; a value on an end whose
-    /// rotation the support fixes acts on nothing: `spring_dofs`).
-    pub spring: [f64; 2],
-    pub spring_dofs: [Option<usize>; 2],
-    pub c: f64,
-    /// Active internal variables (Δᵢ > 0) as (Δᵢ, Ω̃ᵢ).
-    pub ivs: Vec<(f64, f64)>,
-    /// All internal variables, including Δᵢ = 0 (state-space dimension).
-    pub ivs_all: Vec<(f64, f64)>,
-    pub has_point_mass: bool,
-    /// x̃ of the point mass (0 without one).
-    pub point_mass_x: f64,
-    pub omega_ref: f64,
-    /// L³/(EI) in m/N: converts T̃⁻¹ to SI receptance.
-    pub compliance: f64,
-    pub e_tilde: f64,
-}
-
-/// The scalars of the nondimensional scaling (module doc), without any matrix:
-/// what [`ScaledModel::new`] and the interpolated fast path of `modal.rs` share.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Scaling {
-    /// L in m.
-    pub l: f64,
-    pub ei: f64,
-    pub rho_a: f64,
-    /// ω_ref = √(EI/ρA)/L².
-    pub omega_ref: f64,
-    /// ẽ = e0a/L.
-    pub e_tilde: f64,
-    /// c̃ = C/(ρA ω_ref).
-    pub c: f64,
-    /// k̃_r = k_r L/EI at x = 0 and at x = L.
-    pub spring: [f64; 2],
-    /// ñ = NL²/EI.
-    pub axial: f64,
-}
-
-impl Scaling {
-    pub fn new(beam: &BeamSpec) -> Self {
-        let l = beam.length_nm * 1e-9;
-        let ei = beam.youngs_modulus_pa * beam.inertia_m4();
-        let rho_a = beam.density_kg_m3 * beam.area_m2();
-        let omega_ref = (ei / rho_a).sqrt() / (l * l);
-        Scaling {
-            l,
-            ei,
-            rho_a,
-            omega_ref,
-            e_tilde: beam.nonlocal_e0a_nm / beam.length_nm,
-            c: beam.viscous_damping_n_s_m2 / (rho_a * omega_ref),
-            spring: beam.support_rotational_stiffness_at_ends_n_m_rad().map(|k| k * l / ei),
-            axial: beam.axial_force_n * l * l / ei,
-        }
-    }
-}
-
-impl<'a> ScaledModel<'a> {
-    pub fn new(beam: &BeamSpec, mesh: &'a UnitMesh) -> Self {
-        let Scaling { l, ei, rho_a, omega_ref, e_tilde, c, spring, axial } = Scaling::new(beam);
-        let shear = shear_params(beam).map_or(0.0, |(g, _)| g);
-        let m_all = mesh.m0.plus_scaled(e_tilde * e_tilde, &mesh.m1);
-        let m_beam = match &mesh.shear {
-            Some(sh) => sh.mt0.plus_scaled(e_tilde * e_tilde, &sh.mt1),
-            None => m_all.clone(),
-        };
-        let mut m = m_all;
-        let k_axial = (axial != 0.0).then(|| mesh.geometric(axial, e_tilde));
-        let mut point_mass = None;
-        if let Some(pm) = &beam.point_mass {
-            let mu = pm.mass_kg / (rho_a * l);
-            let nv = mesh.shape_vector(pm.x_nm / beam.length_nm);
-            add_point_mass(&mut m, mu, &nv);
-            point_mass = Some((mu, nv));
-        }
-        let ivs_all: Vec<(f64, f64)> =
-            beam.internal_variables.iter().map(|iv| (iv.delta, iv.omega_rad_s / omega_ref)).collect();
-        Self {
-            mesh,
-            k: match &mesh.shear {
-                Some(_) => Cow::Owned(mesh.stiffness(shear)),
-                None => Cow::Borrowed(&mesh.k),
-            },
-            shear,
-            point_mass,
-            m,
-            m_beam,
-            k_axial,
-            axial,
-            has_rotary: mesh.shear.is_some(),
-            spring,
-            spring_dofs: mesh.spring_dofs,
-            c,
-            ivs: ivs_all.iter().copied().filter(|&(d, _)| d > 0.0).collect(),
-            ivs_all,
-            has_point_mass: beam.point_mass.is_some(),
-            point_mass_x: beam.point_mass.as_ref().map_or(0.0, |p| p.x_nm / beam.length_nm),
-            omega_ref,
-            compliance: l * l * l / ei,
-            e_tilde,
-        }
-    }
-
-    pub fn n(&self) -> usize {
-        self.k.n
-    }
-
-    /// The parameters of this model's undamped relaxed pencil.
-    pub fn pencil_params(&self) -> PencilParams {
-        PencilParams {
-            e_tilde: self.e_tilde,
-            point_mass: self.point_mass.as_ref().map(|(mu, _)| (*mu, self.point_mass_x)),
-            spring: std::array::from_fn(|e| if self.spring_dofs[e].is_some() { self.spring[e] } else { 0.0 }),
-            axial: self.axial,
-            shear: self.shear,
-        }
-    }
-
-    pub fn has_spring(&self) -> bool {
-        self.springs().next().is_some()
-    }
-
-    /// (reduced DOF, k̃_r) of each support spring that acts ([`UnitMesh::springs`]).
-    pub fn springs(&self) -> impl Iterator<Item = (usize, f64)> + '_ {
-        self.spring_dofs.iter().zip(&self.spring).filter_map(|(d, &k)| d.filter(|_| k > 0.0).map(|i| (i, k)))
-    }
-
-    /// k̃_r on reduced DOF `i` (0 where no spring acts).
-    pub fn spring_at(&self, i: usize) -> f64 {
-        self.springs().find(|&(d, _)| d == i).map_or(0.0, |(_, k)| k)
-    }
-
-    /// True when the pencil decouples exactly (proof in `modal.rs`): no spring,
-    /// no axial force (both are elastic stiffness not ∝ the relaxed K̃), and
-    /// D̃ ∝ M̃: no point mass and no rotary inertia unless C = 0.
-    pub fn decouples(&self) -> bool {
-        !self.has_spring() && self.k_axial.is_none() && (!(self.has_point_mass || self.has_rotary) || self.c == 0.0)
-    }
-
-    /// K̃ + K̃_spring (the elastic stiffness of the undamped, relaxed pencil).
-    pub fn k_total(&self) -> SymBand {
-        let mut k = self.k.as_ref().clone();
-        for (i, ks) in self.springs() {
-            k.add(i, i, ks);
-        }
-        if let Some(ka) = &self.k_axial {
-            k = k.plus_scaled(1.0, ka);
-        }
-        k
-    }
-
-    /// The entry (i, j) of the unrelaxed elastic stiffness K̃_spring + K̃_N.
-    pub fn unrelaxed_entry(&self, i: usize, j: usize) -> f64 {
-        let ks = if i == j { self.spring_at(i) } else { 0.0 };
-        ks + self.k_axial.as_ref().map_or(0.0, |ka| ka.get(i, j))
-    }
-
-    /// Bilinear forms of x: (xᵀK̃x, xᵀM̃x, xᵀM̃_beam x, xᵀ(K̃_spring + K̃_N)x), the
-    /// first three (and the axial part of the last) from element energies
-    /// (see [`UnitMesh::energy_forms`]).
-    pub fn forms<T>(&self, x: &[T]) -> (T, T, T, T)
-    where
-        T: Copy + Default + std::ops::Add<Output = T> + std::ops::Mul<Output = T> + std::ops::Mul<f64, Output = T>,
-    {
-        let e2 = self.e_tilde * self.e_tilde;
-        let (k, mut m, mb, k_n) = if self.mesh.shear.is_none() && self.k_axial.is_none() {
-            let [k, m0, m1] = self.mesh.energy_forms(x);
-            let mb = m0 + m1 * e2;
-            (k, mb, mb, T::default())
-        } else {
-            let [k, m0, m1, mt0, mt1, g0, g1] = self.mesh.energy_forms_ext(x, self.shear);
-            (k, m0 + m1 * e2, mt0 + mt1 * e2, (g0 + g1 * e2) * self.axial)
-        };
-        if let Some((mu, nv)) = &self.point_mass {
-            let mut w = T::default();
-            for (a, b) in nv.iter().zip(x) {
-                if *a != 0.0 {
-                    w = w + *b * *a;
-                }
-            }
-            m = m + w * w * *mu;
-        }
-        let mut ks = k_n;
-        for (i, k) in self.springs() {
-            ks = ks + x[i] * x[i] * k;
-        }
-        (k, m, mb, ks)
-    }
-
-    /// Relaxation factor G(s̃) = 1 + Σ Δᵢ s̃/(s̃ + Ω̃ᵢ) (Laplace transform of eq. 8
-    /// times s, eq. 9) and its derivative Σ Δᵢ Ω̃ᵢ/(s̃ + Ω̃ᵢ)².
-    pub fn relaxation(&self, s: num_complex::Complex64) -> (num_complex::Complex64, num_complex::Complex64) {
-        let mut g = num_complex::Complex64::new(1.0, 0.0);
-        let mut dg = num_complex::Complex64::new(0.0, 0.0);
-        for &(d, w) in &self.ivs {
-            let den = s + w;
-            g += d * s / den;
-            dg += d * w / (den * den);
-        }
-        (g, dg)
     }
 }
 

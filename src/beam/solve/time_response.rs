@@ -16,9 +16,11 @@
 //! Scaling: in the units of `model.rs`, T = (EI/L³)·T̃(s/ω_ref), so with
 //! t̃ = ω_ref·t the physical response is h(t) = (L³/EI)·ω_ref·h̃(ω_ref·t).
 
-use crate::beam::model::{check_position, ScaledModel, UnitMesh};
+use crate::beam::error::BeamError;
+use crate::beam::fe::model::{check_position, UnitMesh};
+use crate::beam::fe::scaling::ScaledModel;
+use crate::beam::solve::state_space;
 use crate::beam::spec::BeamSpec;
-use crate::beam::{state_space, BeamError};
 use crate::error::{positive, InputError};
 
 /// Displacement at `output_x_nm` (m) per unit force impulse (N·s) at

@@ -10,21 +10,21 @@ use std::sync::OnceLock;
 
 use num_complex::Complex64;
 
-use crate::beam::jet::{Jet, Num};
+use crate::beam::fast::jet::{Jet, Num};
 
 /// Terms of the spring tail's Laurent series (`shear_continuum.rs`).
-pub(super) const TAIL_TERMS: usize = 13;
+pub(crate) const TAIL_TERMS: usize = 13;
 /// Every root of D must lie inside 1/TAIL_RATIO of the first omitted
 /// wavenumber's z = (J + 1)²π² (`shear_continuum.rs`).
-pub(super) const TAIL_RATIO: f64 = 16.0;
+pub(crate) const TAIL_RATIO: f64 = 16.0;
 /// The most blocks the spring path keeps (J ≤ MAX_BLOCKS).
-pub(super) const MAX_BLOCKS: usize = 128;
+pub(crate) const MAX_BLOCKS: usize = 128;
 
 /// π^{−2m} Σ_{j>J} j^{−2m} over even and over odd j, m = 1..=[`TAIL_TERMS`].
-pub(super) type TailConsts = [[f64; 2]; TAIL_TERMS];
+pub(crate) type TailConsts = [[f64; 2]; TAIL_TERMS];
 
 /// The tail constants of J blocks, computed once per J.
-pub(super) fn tail_consts(j_max: usize) -> &'static TailConsts {
+pub(crate) fn tail_consts(j_max: usize) -> &'static TailConsts {
     static TABLE: [OnceLock<TailConsts>; MAX_BLOCKS + 1] = [const { OnceLock::new() }; MAX_BLOCKS + 1];
     TABLE[j_max].get_or_init(|| {
         std::array::from_fn(|i| {
@@ -64,9 +64,9 @@ fn zeta_tail(p: i32, n: usize) -> f64 {
 /// of their terms (`shear_continuum.rs`).
 #[derive(Debug, Clone, Copy)]
 pub struct TailPencil {
-    pub(super) t: f64,
-    pub(super) g: f64,
-    pub(super) r2: f64,
+    pub(crate) t: f64,
+    pub(crate) g: f64,
+    pub(crate) r2: f64,
 }
 
 impl TailPencil {
@@ -82,7 +82,7 @@ impl TailPencil {
 
     /// Fujiwara's bound on the roots of D at (p, q): every root of
     /// D₂z² + D₁z + D₀ has |z| ≤ 2 max(|D₁/D₂|, |D₀/2D₂|^½).
-    pub(super) fn root_bound<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> f64 {
+    pub(crate) fn root_bound<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> f64 {
         let [d2, d1, d0] = self.denominator(p, q).map(|d| d.v.modulus());
         2.0 * (d1 / d2).max((0.5 * d0 / d2).sqrt())
     }
@@ -91,15 +91,15 @@ impl TailPencil {
 /// The blocks j > J of the spring path in closed form (`shear_continuum.rs`).
 #[derive(Debug, Clone, Copy)]
 pub struct SpringTail {
-    pub(super) pencil: TailPencil,
-    pub(super) consts: &'static TailConsts,
-    pub(super) z_limit: f64,
+    pub(crate) pencil: TailPencil,
+    pub(crate) consts: &'static TailConsts,
+    pub(crate) z_limit: f64,
 }
 
 impl SpringTail {
     /// (Σ over even j > J, Σ over odd j > J) of α_j at (p, q), with
     /// derivatives; `None` where the series may not converge (`shear_continuum.rs`).
-    pub(super) fn sums<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> Option<[Jet<T>; 2]> {
+    pub(crate) fn sums<T: Num>(&self, p: Jet<T>, q: Jet<T>) -> Option<[Jet<T>; 2]> {
         let pen = &self.pencil;
         let a = p.scale(pen.t).add(q.scale(pen.g));
         let [d2, d1, d0] = pen.denominator(p, q);
@@ -123,10 +123,10 @@ impl SpringTail {
 /// The blocks j > J of the point-mass path in closed form (`shear_continuum.rs`).
 #[derive(Debug, Clone, Copy)]
 pub struct MassTail {
-    pub(super) pencil: TailPencil,
+    pub(crate) pencil: TailPencil,
     /// 1 − 2x̃.
-    pub(super) c: f64,
-    pub(super) j_max: usize,
+    pub(crate) c: f64,
+    pub(crate) j_max: usize,
 }
 
 /// Φ(ζ) = Σ_{j≥1} sin²(jπx̃)/(j²π² − ζ) = (cos(b(1 − 2x̃)) − cos b)/(4b sin b),
@@ -152,7 +152,7 @@ impl MassTail {
     /// over all j ≥ 1 in closed form by partial fractions of N/D, less the
     /// kept blocks' terms j = 1..J (`coords[j][0]` = sin(jπx̃)); `None` where D
     /// has a double root or Φ is not evaluable.
-    pub(super) fn sum<T: Num>(&self, p: Jet<T>, q: Jet<T>, coords: &[[f64; 2]]) -> Option<Jet<T>> {
+    pub(crate) fn sum<T: Num>(&self, p: Jet<T>, q: Jet<T>, coords: &[[f64; 2]]) -> Option<Jet<T>> {
         let cx = |j: Jet<T>| Jet { v: j.v.to_complex(), d: j.d.to_complex() };
         let (p, q) = (cx(p), cx(q));
         let sp = &self.pencil;
