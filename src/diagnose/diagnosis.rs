@@ -240,6 +240,11 @@ pub struct Diagnosis {
     /// the scan of a measured mode's shape that would (`null` otherwise, or
     /// when no shape separates them either).
     pub shape_measurement: Option<next::ShapeMeasurement>,
+    /// For a decided verdict: the unmeasured ω or ζ on which the selected
+    /// model commits to a value its strongest rivals do not share, with its
+    /// 95 % interval (`falsify.rs`); a measurement outside it falsifies the
+    /// verdict. `null` when nothing is decided.
+    pub falsifying_measurement: Option<super::falsify::FalsifyingMeasurement>,
     pub base: Candidate,
     pub baseline: Candidate,
     pub thresholds: Thresholds,

@@ -77,6 +77,7 @@
 pub mod classes;
 mod diagnosis;
 pub mod evidence;
+pub mod falsify;
 pub mod next;
 pub mod ppc;
 mod predictive;

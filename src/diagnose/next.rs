@@ -74,26 +74,8 @@ pub fn next_measurement<'r>(
     rivals: impl IntoIterator<Item = &'r ModelRun>,
     solves: &AtomicU64,
 ) -> Option<NextMeasurement> {
-    let measured: Vec<usize> = data.modes.iter().chain(&data.held_out_modes).map(|m| m.mode).collect();
-    let rel = |f: fn(&crate::calibration::ModeObservation) -> f64| {
-        let mut r: Vec<f64> = data.modes.iter().map(f).collect();
-        r.sort_by(f64::total_cmp);
-        r[r.len() / 2]
-    };
-    let rel_omega = rel(|m| m.omega_sd_rad_s / m.omega_rad_s);
-    let rel_zeta = rel(|m| m.zeta_sd / m.zeta.abs().max(f64::MIN_POSITIVE));
-    let candidates: Vec<Observable> = (1..=MAX_MODE)
-        .filter(|m| !measured.contains(m))
-        .flat_map(|mode| {
-            [Quantity::Omega, Quantity::Zeta].map(|quantity| Observable {
-                mode,
-                quantity,
-                x_nm: None,
-                value: 0.0,
-                sd: 0.0,
-            })
-        })
-        .collect();
+    let (rel_omega, rel_zeta) = relative_sds(data);
+    let candidates = unmeasured_observables(data);
     if candidates.is_empty() {
         return None;
     }
@@ -128,6 +110,34 @@ pub fn next_measurement<'r>(
             .max_by(|x, y| x.separation_sd.total_cmp(&y.separation_sd))
             .filter(|n| n.separation_sd >= MIN_SEPARATION_SD)
     })
+}
+
+/// The median relative sd of the fitted modes' ω and of their ζ: the
+/// assumed noise of a new measurement, relative to its predicted value.
+pub(super) fn relative_sds(data: &MeasuredData) -> (f64, f64) {
+    let rel = |f: fn(&crate::calibration::ModeObservation) -> f64| {
+        let mut r: Vec<f64> = data.modes.iter().map(f).collect();
+        r.sort_by(f64::total_cmp);
+        r[r.len() / 2]
+    };
+    (rel(|m| m.omega_sd_rad_s / m.omega_rad_s), rel(|m| m.zeta_sd / m.zeta.abs().max(f64::MIN_POSITIVE)))
+}
+
+/// ω and ζ of every mode ≤ [`MAX_MODE`] the file neither fits nor holds out.
+pub(super) fn unmeasured_observables(data: &MeasuredData) -> Vec<Observable> {
+    let measured: Vec<usize> = data.modes.iter().chain(&data.held_out_modes).map(|m| m.mode).collect();
+    (1..=MAX_MODE)
+        .filter(|m| !measured.contains(m))
+        .flat_map(|mode| {
+            [Quantity::Omega, Quantity::Zeta].map(|quantity| Observable {
+                mode,
+                quantity,
+                x_nm: None,
+                value: 0.0,
+                sd: 0.0,
+            })
+        })
+        .collect()
 }
 
 /// Points of the readout scan: x = k·L/[`SHAPE_GRID`], k = 1 … SHAPE_GRID − 1
@@ -332,7 +342,7 @@ pub fn resonance_scan(beam: &BeamSpec, modes: usize, drive_nm: f64, xs: &[f64]) 
     Some(row)
 }
 
-fn mean_var(x: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
+pub(super) fn mean_var(x: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
     let n = x.clone().count() as f64;
     let m = x.clone().sum::<f64>() / n;
     (m, x.map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0).max(1.0))

@@ -247,6 +247,27 @@ pub fn summary(d: &Diagnosis) -> String {
         (None, true) if causal > 0 => t += "next measurement: none needed (every alternative misfits)\n",
         (None, true) => {}
     }
+    if let Some(f) = &d.falsifying_measurement {
+        let rivals: Vec<String> = f
+            .rivals
+            .iter()
+            .map(|r| {
+                format!("{} predicts {} ({:.1} sd apart)", r.model, crate::error::fmt_num(r.predicted), r.separation_sd)
+            })
+            .collect();
+        t += &format!(
+            "would falsify: {} of mode {}: {} predicts {}, 95% interval [{}, {}] (measured to +-{}); a value \
+             outside it falsifies the verdict, which is decided only among the catalogue's classes; {}\n",
+            f.quantity,
+            f.mode,
+            f.model,
+            crate::error::fmt_num(f.predicted),
+            crate::error::fmt_num(f.interval_95[0]),
+            crate::error::fmt_num(f.interval_95[1]),
+            crate::error::fmt_num(f.measurement_sd),
+            rivals.join("; ")
+        );
+    }
     let assessed = d.candidates.iter().find(|c| c.extension == d.gain.extension);
     for h in assessed.map_or(&[][..], |c| &c.map_on_prior_bound) {
         t += &format!(

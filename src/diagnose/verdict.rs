@@ -9,6 +9,7 @@ use crate::calibration::{observables, MeasuredData, Observable};
 use super::classes::Model;
 use super::diagnosis::{candidate, decide, Alternative, Candidate, Diagnosis, Gain, HeldOut, Thresholds};
 use super::evidence::ModelRun;
+use super::falsify;
 use super::next;
 use super::ppc::{self, Check, Draws};
 use super::predictive::predictive;
@@ -168,6 +169,30 @@ impl Decision {
         } else {
             (vec![], vec![])
         };
+        // every decided verdict with the measurement that would falsify it
+        // (falsify.rs): the runner-up that lacks a selected cause, and the
+        // selection plus one more cause, each only if it fits
+        let falsifying_measurement = if decided_causes.is_empty() {
+            None
+        } else {
+            let holds_selection = |m: &Model| selected.causes().iter().all(|c| m.causes().contains(c));
+            let mut by_evidence: Vec<&Model> = search.visited.iter().filter(|m| *m != selected).collect();
+            by_evidence
+                .sort_by(|a, b| run(b).log_evidence.total_cmp(&run(a).log_evidence).then(a.name().cmp(&b.name())));
+            // with no fitting rival, the best that lacks a selected cause
+            // still shows where the selection commits (falsify.rs)
+            let runner_up = by_evidence
+                .iter()
+                .find(|m| !holds_selection(m) && !misfits(problem, run(m)))
+                .or_else(|| by_evidence.iter().find(|m| !holds_selection(m)));
+            let extended = by_evidence
+                .iter()
+                .filter(|m| holds_selection(m) && m.causes().len() == selected.causes().len() + 1)
+                .filter(|m| !misfits(problem, run(m)))
+                .take(falsify::MAX_EXTENDED_RIVALS);
+            let rivals: Vec<&ModelRun> = runner_up.into_iter().chain(extended).map(|m| run(m)).collect();
+            falsify::falsifying_measurement(problem.data, run(selected), &rivals, solves)
+        };
         let gain = Gain {
             extension: self.selected.name(),
             log_bayes_factor: run(&self.selected).log_evidence - z_base,
@@ -199,6 +224,7 @@ impl Decision {
             alternatives,
             next_measurement,
             shape_measurement,
+            falsifying_measurement,
             base: candidate(run(&Model::BASE), prob(run(&Model::BASE))),
             baseline: candidate(baseline_run, 1.0 / (1.0 + (-lb).exp())),
             thresholds: Thresholds {
