@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::beam::Support;
 use crate::cli::CliError;
+use crate::diagnose::DiagnoseSettings;
 use crate::error::InputError;
 use crate::identify::DEFAULT_MAX_ORDER;
 
@@ -78,6 +79,24 @@ pub struct Defaults {
     pub thorough: bool,
 }
 
+impl Defaults {
+    /// The flags against diagnose's ranges, before anything is read (exit 2
+    /// naming the flag, as `nanobeam diagnose` would).
+    pub fn check(&self) -> Result<(), CliError> {
+        let args = crate::cli::diagnose::DiagnoseArgs {
+            measured: PathBuf::new(),
+            out: None,
+            json: false,
+            samples: self.samples,
+            thorough: self.thorough,
+            quick: false,
+            max_causes: self.max_causes,
+        };
+        crate::cli::diagnose::settings(&args).validate()?;
+        Ok(())
+    }
+}
+
 /// One record of the campaign.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Task {
@@ -113,6 +132,7 @@ pub fn kind_of(name: &str) -> Option<Kind> {
 /// `.csv.gz`, `.yaml` and `.yml` files (sorted by name, the `--beam` file
 /// and `exclude` left out) are the records.
 pub fn plan(source: &Path, defaults: &Defaults, exclude: Option<&Path>) -> Result<Vec<Task>, CliError> {
+    defaults.check()?;
     if source.is_dir() {
         return plan_folder(source, defaults, exclude);
     }
@@ -320,8 +340,19 @@ fn options(row: usize, c: &Cells, d: &Defaults) -> Result<RecordOptions, String>
     let first_mode = parse_number(row, "first_mode", &c.first_mode, "an integer >= 1")?;
     let modes = parse_number(row, "modes", &c.modes, "an integer >= 1")?;
     let max_order = parse_number(row, "max_order", &c.max_order, "an integer >= 4")?.unwrap_or(DEFAULT_MAX_ORDER);
-    let samples = parse_number(row, "samples", &c.samples, "an integer")?.or(d.samples);
-    let max_causes = parse_number(row, "max_causes", &c.max_causes, "an integer")?.or(d.max_causes);
+    let (lo, hi) = (DiagnoseSettings::MIN_SAMPLES, DiagnoseSettings::MAX_SAMPLES);
+    let samples_range = format!("an integer {lo}..={hi}");
+    let cell_samples: Option<usize> = parse_number(row, "samples", &c.samples, &samples_range)?;
+    if cell_samples.is_some_and(|n| !(lo..=hi).contains(&n)) {
+        return Err(at("samples", &c.samples, &samples_range));
+    }
+    let causes_range = format!("an integer 1..={}", DiagnoseSettings::MAX_CAUSES);
+    let cell_causes: Option<usize> = parse_number(row, "max_causes", &c.max_causes, &causes_range)?;
+    if cell_causes.is_some_and(|k| !(1..=DiagnoseSettings::MAX_CAUSES).contains(&k)) {
+        return Err(at("max_causes", &c.max_causes, &causes_range));
+    }
+    let samples = cell_samples.or(d.samples);
+    let max_causes = cell_causes.or(d.max_causes);
     let seed = parse_number(row, "seed", &c.seed, "an integer 0..=18446744073709551615")?;
     if kind == Kind::Measured {
         for (column, cell) in [("first_mode", &c.first_mode), ("modes", &c.modes), ("max_order", &c.max_order)] {
@@ -432,6 +463,28 @@ mod tests {
         assert!(e.contains("manifest row 3, column first_mode") && e.contains("= x"), "{e}");
         assert_eq!(tasks[2].options, "first_mode=x");
         assert!(tasks[3].parsed.clone().unwrap_err().contains("column kind"));
+        let tasks =
+            plan_manifest("record,samples,max_causes\na.yaml,3,\nb.yaml,,4\n", Path::new(""), &defaults()).unwrap();
+        let e = tasks[0].parsed.clone().unwrap_err();
+        assert_eq!(e, "invalid manifest row 1, column samples = 3: allowed an integer 50..=100000");
+        assert!(tasks[1].parsed.clone().unwrap_err().contains("column max_causes = 4: allowed an integer 1..=3"));
+    }
+
+    /// A folder's records are its .csv, .csv.gz, .yaml and .yml files sorted by name, the
+    /// `--beam` file and the table left out.
+    #[test]
+    fn a_folder_is_its_record_files_in_name_order() {
+        let dir = tempfile::tempdir().unwrap();
+        for name in ["b.yaml", "a.csv.gz", "beam.yaml", "notes.txt", "t.csv", "c.CSV"] {
+            std::fs::write(dir.path().join(name), "").unwrap();
+        }
+        let d = Defaults { beam: Some(dir.path().join("beam.yaml")), ..Defaults::default() };
+        let tasks = plan(dir.path(), &d, Some(&dir.path().join("t.csv"))).unwrap();
+        let names: Vec<&str> = tasks.iter().map(|t| t.record.as_str()).collect();
+        assert_eq!(names, ["a.csv.gz", "b.yaml", "c.CSV"]);
+        assert_eq!(tasks.iter().map(|t| t.row).collect::<Vec<_>>(), [1, 2, 3]);
+        assert_eq!(tasks[0].parsed.as_ref().unwrap().kind, Kind::Lab);
+        assert_eq!(tasks[1].parsed.as_ref().unwrap().kind, Kind::Measured);
     }
 
     #[test]

@@ -217,3 +217,24 @@ fn calibrate_row(mut data: MeasuredData, o: &RecordOptions, control: &Control, r
     row.warnings = result.warnings.join("; ");
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A `.gz` record is read decompressed; its hash is of the stored (compressed) bytes.
+    #[test]
+    fn a_gzip_record_is_read_decompressed() {
+        use std::io::Write;
+        let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+        gz.write_all(b"time_s,displacement_m\n0,1\n").unwrap();
+        let bytes = gz.finish().unwrap();
+        assert_eq!(text_of(Path::new("r.csv.gz"), &bytes, "DATA.csv").unwrap(), "time_s,displacement_m\n0,1\n");
+        let e = text_of(Path::new("r.csv.gz"), b"plain", "DATA.csv").unwrap_err().to_string();
+        assert!(
+            e.starts_with("invalid DATA.csv = r.csv.gz: allowed a readable UTF-8 text file compressed with gzip"),
+            "{e}"
+        );
+        assert_eq!(sha256_hex(b"abc"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
+    }
+}
