@@ -59,7 +59,9 @@ def main(manifest: str, table: str, out: str) -> None:
         c = colours.get(support, "black")
         svg.append(f'<line x1="{sx(ld):.1f}" y1="{sy(lo):.1f}" x2="{sx(ld):.1f}" y2="{sy(hi):.1f}" stroke="{c}" stroke-width="2"/>')
         svg.append(f'<circle cx="{sx(ld):.1f}" cy="{sy(mean):.1f}" r="4" fill="{c}"/>')
-        svg.append(f'<text x="{sx(ld) + 8:.1f}" y="{sy(mean) + 4:.1f}">{name} ({support})</text>')
+        right_half = sx(ld) > w / 2
+        tx, anchor = (sx(ld) - 8, "end") if right_half else (sx(ld) + 8, "start")
+        svg.append(f'<text x="{tx:.1f}" y="{sy(mean) + 4:.1f}" text-anchor="{anchor}">{name} ({support})</text>')
     for i, m in enumerate(missing):
         svg.append(f'<text x="{left}" y="{h - 12 - 14 * (len(missing) - 1 - i)}" font-size="10">no e0a: {m}</text>')
     svg.append("</svg>")

@@ -171,8 +171,9 @@ fn a_rerun_skips_the_records_already_in_the_table() {
     assert!(stderr.contains("1 of 4 records already in the table, 3 to run"), "{stderr}");
 }
 
-/// A malformed manifest exits 2 with one line naming its row and column,
-/// and writes no table; a foreign `--out` file is refused and left as it was.
+/// A malformed manifest (or a bad campaign-wide flag) exits 2 with one line
+/// naming its row and column (the flag), and writes no table; a foreign
+/// `--out` file is refused and left as it was.
 #[test]
 fn a_malformed_manifest_or_a_foreign_table_exits_2_in_one_line() {
     let dir = tempfile::tempdir().unwrap();
@@ -194,6 +195,12 @@ fn a_malformed_manifest_or_a_foreign_table_exits_2_in_one_line() {
         assert!(!out.exists(), "no table for a malformed manifest");
     }
     std::fs::write(&manifest, "record\na.yaml\n").unwrap();
+    // a campaign-wide flag out of diagnose's range: refused before anything runs
+    let o = nanobeam(&["campaign", manifest.to_str().unwrap(), "--out", out.to_str().unwrap(), "--samples", "3"], None);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.trim(), "invalid --samples = 3: allowed 50..=100000");
+    assert!(!out.exists(), "no table for a bad flag");
     std::fs::write(&out, "mine,not,nanobeam's\n").unwrap();
     let o = nanobeam(&["campaign", manifest.to_str().unwrap(), "--out", out.to_str().unwrap()], None);
     let stderr = String::from_utf8_lossy(&o.stderr);
