@@ -1,12 +1,13 @@
 //! `nanobeam campaign`: one row per record, a failed record a row, a
 //! malformed manifest exit 2, resume, and the same table at 1 and 2 threads.
 //!
-//! The records (small and fast: three modes, `--samples 50 --max-causes 1`,
-//! about 4 s each in the dev profile):
+//! The records (small and fast: three modes, 8 elements, `--samples 50
+//! --max-causes 1`, about 2 s each in the dev profile, 3x less than with 20
+//! elements):
 //! - `m3.yaml`: a hand-written measured-data file, the three modes of
-//!   `tests/diagnose_cli.rs` (`M1`–`M3`), diagnosed as it stands;
+//!   `tests/diagnose_cli.rs` (`M1`–`M3`) on an 8-element mesh, diagnosed as it stands;
 //! - `sweep.csv`: a lab record made here by `nanobeam frf --csv` of the
-//!   viscoelastic beam of `python/tests/test_cli_parity.py` (`VISCO`), with
+//!   viscoelastic beam of `python/tests/test_cli_parity.py` (`VISCO`, 8 elements), with
 //!   2 % of |H| of uniform noise on each part from a fixed 64-bit LCG (so
 //!   `identify` finds sds a diagnosis can use), identified (`modes = 3`)
 //!   against that beam, then diagnosed;
@@ -17,11 +18,11 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 const BEAM: &str = "length_nm: 8.0\ndiameter_nm: 1.0\nyoungs_modulus_pa: 1.0e12\ndensity_kg_m3: 2300.0\n\
-support: simply-supported\nelements: 20\nnonlocal_e0a_nm: 1.05\n\
+support: simply-supported\nelements: 8\nnonlocal_e0a_nm: 1.05\n\
 internal_variables:\n  - { delta: 0.45, omega_rad_s: 3.0e11 }\n";
 
 const M3: &str = "beam: { length_nm: 8.0, diameter_nm: 1.0, youngs_modulus_pa: 1.0e12, density_kg_m3: 2300.0, \
-support: simply-supported, elements: 20 }\nmodes:\n\
+support: simply-supported, elements: 8 }\nmodes:\n\
   - { mode: 1, omega_rad_s: 8.3e11, omega_sd_rad_s: 2.5e9, zeta: 0.07, zeta_sd: 0.002 }\n\
   - { mode: 2, omega_rad_s: 2.9e12, omega_sd_rad_s: 9e9, zeta: 0.05, zeta_sd: 0.0015 }\n\
   - { mode: 3, omega_rad_s: 5.3e12, omega_sd_rad_s: 1.6e10, zeta: 0.03, zeta_sd: 0.001 }\n";
