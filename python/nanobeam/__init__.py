@@ -10,7 +10,9 @@ library, so the same input and seed give the same numbers, bit for bit:
   of numpy arrays when ArviZ is not installed);
 * :func:`diagnose` -- ``nanobeam diagnose MEASURED.yaml --json``;
 * :func:`identify` -- ``nanobeam identify DATA.csv --beam BEAM.yaml``: the
-  measured-data structure, ready for :func:`calibrate` and :func:`diagnose`.
+  measured-data structure, ready for :func:`calibrate` and :func:`diagnose`;
+* :func:`campaign` -- ``nanobeam campaign MANIFEST --out TABLE.csv``: many
+  records to one pandas DataFrame, locally or on a Dask cluster (``client=``).
 
 Inputs are the documented YAML structures as Python dicts (lengths in nm,
 everything else SI, the unit in every field name) or paths to the files.
@@ -37,8 +39,9 @@ import numpy as np
 
 from . import _nanobeam
 from ._nanobeam import NumericalError, __version__
+from ._campaign import campaign
 
-__all__ = ["modal", "frf", "calibrate", "diagnose", "identify", "read_yaml", "NumericalError", "__version__"]
+__all__ = ["modal", "frf", "calibrate", "diagnose", "identify", "campaign", "read_yaml", "NumericalError", "__version__"]
 
 PathOrDict = Union[str, "os.PathLike[str]", Mapping]
 ProgressArg = Union[None, bool, Callable[[str, int, int], Any]]

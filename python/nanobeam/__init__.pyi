@@ -87,3 +87,17 @@ def identify(
 
 def read_yaml(path: Union[str, os.PathLike[str]]) -> Dict[str, Any]:
     """A YAML file as a dict (the library's parser)."""
+
+def campaign(
+    manifest_or_folder: Union[str, os.PathLike[str]],
+    beam: Optional[Union[str, os.PathLike[str]]] = ...,
+    out: Optional[Union[str, os.PathLike[str]]] = ...,
+    client: Any = ...,
+    progress: ProgressArg = ...,
+    *,
+    samples: Optional[int] = ...,
+    max_causes: Optional[int] = ...,
+    thorough: bool = ...,
+    parquet: Optional[Union[str, os.PathLike[str]]] = ...,
+) -> Any:
+    """Many records to one table (``nanobeam campaign``): a pandas DataFrame, one row per record."""

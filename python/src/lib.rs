@@ -23,7 +23,7 @@ use nanobeam::bayes::{Control, Progress};
 use nanobeam::beam::{frf_each, modal, BeamError, BeamSpec};
 use nanobeam::calibration::output::{inference_data, InferenceContext};
 use nanobeam::calibration::{calibrate, BeamPosterior, CalibrateOptions, MeasuredData};
-use nanobeam::cli::{self, CliError};
+use nanobeam::cli::{self, campaign, CliError};
 use nanobeam::error::InputError;
 use nanobeam::report::inference_data::InferenceData;
 use pyo3::create_exception;
@@ -429,6 +429,70 @@ fn read_csv(path: &Path) -> Result<String, CliError> {
         .map_err(|e| InputError::new("DATA.csv", path.display(), format!("a readable CSV file ({e})")).into())
 }
 
+/// `nanobeam campaign`'s plan of `source` (a manifest CSV or a folder) with
+/// the table at `out` (if any) read back: `{"total": n, "tasks": [<records to
+/// run>], "kept": [<rows of the table that are current>]}` as JSON text. A
+/// malformed manifest or a foreign `out` file raises `ValueError` (the CLI's
+/// exit 2 line).
+#[pyfunction]
+#[pyo3(signature = (source, beam, samples, max_causes, thorough, out))]
+fn campaign_plan(
+    py: Python<'_>,
+    source: String,
+    beam: Option<String>,
+    samples: Option<usize>,
+    max_causes: Option<usize>,
+    thorough: bool,
+    out: Option<String>,
+) -> PyResult<String> {
+    run_interruptible(py, Interrupt::Abandon, None, move |_| {
+        let out = out.map(PathBuf::from);
+        let existing = match &out {
+            Some(path) => campaign::table::read(path)?,
+            None => vec![],
+        };
+        let defaults = campaign::Defaults { beam: beam.map(PathBuf::from), samples, max_causes, thorough };
+        let tasks = campaign::manifest::plan(Path::new(&source), &defaults, out.as_deref())?;
+        let total = tasks.len();
+        let (todo, kept) = campaign::resume(tasks, &existing);
+        let doc = serde_json::json!({ "total": total, "tasks": todo, "kept": kept });
+        Ok(serde_json::to_string(&doc).expect("plain data"))
+    })
+}
+
+/// One record of a campaign (a task of [`campaign_plan`], as JSON text): its
+/// table row as JSON text. A record's failure is its row's `error`, never an
+/// exception; Ctrl-C cancels the record and raises `KeyboardInterrupt`.
+#[pyfunction]
+#[pyo3(signature = (task_json, progress=None))]
+fn campaign_record(py: Python<'_>, task_json: String, progress: Option<PyObject>) -> PyResult<String> {
+    let task: campaign::Task = serde_json::from_str(&task_json)
+        .map_err(|e| PyValueError::new_err(format!("invalid task = (JSON): allowed a task of campaign_plan ({e})")))?;
+    run_interruptible(py, Interrupt::Cancel, progress, move |control| {
+        let row = campaign::record::run(&task, &control);
+        if control.is_cancelled() {
+            return Err(CliError::Failure("cancelled".into()));
+        }
+        Ok(serde_json::to_string(&row).expect("plain data"))
+    })
+}
+
+/// The campaign table's CSV text of `rows_json` (a JSON list of rows), in manifest order.
+#[pyfunction]
+fn campaign_csv(rows_json: &str) -> PyResult<String> {
+    let rows: Vec<campaign::Row> = serde_json::from_str(rows_json)
+        .map_err(|e| PyValueError::new_err(format!("invalid rows = (JSON): allowed rows of campaign_record ({e})")))?;
+    Ok(campaign::table::to_csv(&rows))
+}
+
+/// Writes the campaign table of `rows_json` at `out`, atomically (as the CLI's `--out`).
+#[pyfunction]
+fn campaign_write(py: Python<'_>, out: String, rows_json: String) -> PyResult<()> {
+    let rows: Vec<campaign::Row> = serde_json::from_str(&rows_json)
+        .map_err(|e| PyValueError::new_err(format!("invalid rows = (JSON): allowed rows of campaign_record ({e})")))?;
+    run_interruptible(py, Interrupt::Abandon, None, move |_| campaign::table::write(Path::new(&out), &rows))
+}
+
 /// YAML text → JSON text (for reading the CLI's YAML output in tests and
 /// examples without a YAML package).
 #[pyfunction]
@@ -447,6 +511,10 @@ fn _nanobeam(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(calibrate_groups, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose_json, m)?)?;
     m.add_function(wrap_pyfunction!(identify_json, m)?)?;
+    m.add_function(wrap_pyfunction!(campaign_plan, m)?)?;
+    m.add_function(wrap_pyfunction!(campaign_record, m)?)?;
+    m.add_function(wrap_pyfunction!(campaign_csv, m)?)?;
+    m.add_function(wrap_pyfunction!(campaign_write, m)?)?;
     m.add_function(wrap_pyfunction!(yaml_to_json, m)?)?;
     Ok(())
 }

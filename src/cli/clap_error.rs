@@ -112,7 +112,7 @@ mod tests {
     fn an_unknown_or_missing_command_lists_every_subcommand_the_parser_has() {
         for l in [line(&["nanobeam", "modl"]), line(&["nanobeam"])] {
             assert_eq!(l.lines().count(), 1, "{l}");
-            for name in ["modal", "frf", "calibrate", "diagnose", "identify"] {
+            for name in ["modal", "frf", "calibrate", "diagnose", "identify", "campaign"] {
                 assert!(l.contains(name), "{name} missing from: {l}");
             }
             assert!(!l.contains("help,"), "clap's own help subcommand is not a command: {l}");

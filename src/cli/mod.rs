@@ -3,6 +3,7 @@
 //! failure, 2 bad input (one line on stderr naming field, value and range).
 
 pub mod calibrate;
+pub mod campaign;
 pub mod clap_error;
 pub mod diagnose;
 pub mod frf;
@@ -52,6 +53,9 @@ pub enum Command {
     /// Modal identification of a measured sweep, spectrum or ring-down -> measured-data file.
     #[command(allow_negative_numbers = true)]
     Identify(identify::IdentifyArgs),
+    /// Many records (a manifest CSV or a folder) through identify and diagnose -> one table (CSV).
+    #[command(allow_negative_numbers = true)]
+    Campaign(campaign::CampaignArgs),
 }
 
 /// A command failure. Every layer's error converts into it, and
@@ -119,6 +123,7 @@ pub fn run(cli: Cli, out: &mut dyn std::io::Write) -> Result<(), CliError> {
         Command::Calibrate(args) => calibrate::run(&args, out),
         Command::Diagnose(args) => diagnose::run(&args, out),
         Command::Identify(args) => identify::run(&args, out),
+        Command::Campaign(args) => campaign::run(&args, out),
     }
 }
 
