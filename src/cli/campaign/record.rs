@@ -173,12 +173,11 @@ fn fill_diagnosis(d: &Diagnosis, row: &mut Row) {
         })
         .collect::<Vec<_>>()
         .join("; ");
-    // the summary's own wording of the next measurement (and of a mode-shape scan)
-    row.next_measurement = report::summary(d)
-        .lines()
-        .filter(|l| l.starts_with("next measurement: ") || l.starts_with("mode-shape measurement: "))
-        .collect::<Vec<_>>()
-        .join(" ");
+    // the summary's own wording of the next measurement (and of a mode-shape
+    // scan), or of the measurement that would falsify a decided verdict
+    let kinds = ["next measurement: ", "mode-shape measurement: ", "would falsify: "];
+    row.next_measurement =
+        report::summary(d).lines().filter(|l| kinds.iter().any(|k| l.starts_with(k))).collect::<Vec<_>>().join(" ");
     let model = std::iter::once(&d.base)
         .chain(&d.candidates)
         .chain(std::iter::once(&d.baseline))
