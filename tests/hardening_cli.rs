@@ -116,6 +116,34 @@ fn measured_modes_must_exist_in_the_model() {
     );
 }
 
+/// Modes are numbered by frequency: ω falling with the mode number, or two
+/// modes at one ω, are a misnumbered table (issue 69, defect 9: `diagnose`
+/// accepted both), refused naming the later mode's ω.
+#[test]
+fn a_mode_table_out_of_frequency_order_is_refused() {
+    let l = bad_measured(|m| m.replace("omega_rad_s: 3.8e12", "omega_rad_s: 9.0e11"), "modes[1].omega_rad_s");
+    assert!(l.contains("(mode 1's omega_rad_s)"), "{l}");
+    bad_measured(|m| m.replace("omega_rad_s: 3.8e12", "omega_rad_s: 9.3e11"), "modes[1].omega_rad_s");
+    // across fitted and held-out modes: a held-out mode 3 below mode 2
+    bad_measured(
+        |m| {
+            format!("{m}held_out_modes: [{{ mode: 3, omega_rad_s: 2e12, omega_sd_rad_s: 1e9, zeta: 0.1, zeta_sd: 0.01 }}]\n")
+        },
+        "held_out_modes[0].omega_rad_s",
+    );
+    // the diagnosis reads the same file
+    let three = MEASURED.replace(
+        "zeta_sd: 0.0005 }
+",
+        "zeta_sd: 0.0005 }
+  - { mode: 3, omega_rad_s: 8.0e12, omega_sd_rad_s: 2.4e10, zeta: 0.01, zeta_sd: 0.0003 }
+",
+    );
+    let (code, line) = one("diagnose", &three.replace("omega_rad_s: 3.8e12", "omega_rad_s: 9.0e11"), &[]);
+    assert_eq!(code, 2, "{line}");
+    assert!(line.starts_with("invalid modes[1].omega_rad_s = "), "{line}");
+}
+
 /// Mode scans (`mode_scans`, what `diagnose` suggests as a shape
 /// measurement) get the same treatment: each bad field named with its value
 /// and range.

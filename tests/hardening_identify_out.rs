@@ -92,6 +92,34 @@ fn bad_out_and_plot_are_refused_before_computing_and_nothing_is_written() {
     assert_eq!(debris(dir.path()), vec!["d", "f", "m.yaml", "p"]);
 }
 
+/// Issue 69, defects 4 and 5: `--out` replaced any file, the input record
+/// included, and `--out X --plot X` computed, wrote X/ and then failed. Both
+/// are refused before any work, naming the flag; the record is untouched; a
+/// file identify wrote may still be replaced.
+#[test]
+fn out_never_replaces_a_file_nanobeam_did_not_write_nor_the_plot_directory() {
+    let dir = setup();
+    let record = std::fs::read(dir.path().join("sweep.csv")).unwrap();
+    let id = ["identify", "sweep.csv", "--beam", "beam.yaml"];
+    let (code, line) = code_line(&nanobeam(&[&id[..], &["--out", "sweep.csv"]].concat(), dir.path()));
+    assert_eq!(code, 2, "{line}");
+    assert!(
+        line.starts_with("invalid --out = sweep.csv: allowed a new path or a file nanobeam identify wrote"),
+        "{line}"
+    );
+    assert_eq!(std::fs::read(dir.path().join("sweep.csv")).unwrap(), record, "the record changed");
+    let (code, line) = code_line(&nanobeam(&[&id[..], &["--out", "./x", "--plot", "x"]].concat(), dir.path()));
+    assert_eq!(code, 2, "{line}");
+    assert!(line.starts_with("invalid --plot = x: allowed a directory other than --out's file"), "{line}");
+    assert_eq!(debris(dir.path()), Vec::<String>::new());
+    // identify's own output is replaced by a rerun
+    for _ in 0..2 {
+        let (code, line) = code_line(&nanobeam(&[&id[..], &["--out", "m.yaml"]].concat(), dir.path()));
+        assert_eq!(code, 0, "{line}");
+    }
+    assert_eq!(debris(dir.path()), vec!["m.yaml"]);
+}
+
 #[test]
 fn a_dead_runs_temporary_file_is_removed_by_the_next_run() {
     // defect 1: `.NAME.tmp-PID-0` of a killed run stayed forever
@@ -110,7 +138,9 @@ fn a_signal_at_any_time_leaves_the_old_output_or_the_new_one_and_no_temporary_fi
     // Delays from 0 to the run's length put the signal before, during and
     // after the writes; at each, only a complete m.yaml (old or new) may stay.
     let dir = setup();
-    std::fs::write(dir.path().join("m.yaml"), "old\n").unwrap();
+    // an earlier output of identify (its first line), which --out may replace
+    let old = "# nanobeam identify (an earlier run)\n";
+    std::fs::write(dir.path().join("m.yaml"), old).unwrap();
     for delay_ms in [0u64, 50, 150, 300, 600, 1000] {
         let mut child = Command::new(env!("CARGO_BIN_EXE_nanobeam"))
             .args(["identify", "sweep.csv", "--beam", "beam.yaml", "--out", "m.yaml", "--plot", "p"])
@@ -126,7 +156,7 @@ fn a_signal_at_any_time_leaves_the_old_output_or_the_new_one_and_no_temporary_fi
         let left = debris(dir.path());
         assert!(left.iter().all(|n| n == "m.yaml" || n == "p"), "delay {delay_ms} ms: {left:?}");
         let m = std::fs::read_to_string(dir.path().join("m.yaml")).unwrap();
-        assert!(m == "old\n" || m.contains("modes:"), "delay {delay_ms} ms: partial m.yaml");
+        assert!(m == old || m.contains("modes:"), "delay {delay_ms} ms: partial m.yaml");
     }
 }
 

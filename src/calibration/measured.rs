@@ -122,6 +122,7 @@ impl MeasuredData {
                 ));
             }
         }
+        validate_order(&file.modes, &file.held_out_modes)?;
         validate_scans(&file.mode_scans, &file.modes, &file.beam)?;
         let parameters = match &file.parameters {
             Some(map) => ParameterSet::from_mapping(map)?,
@@ -278,6 +279,40 @@ fn validate_modes(field: &str, modes: &[ModeObservation], dofs: usize) -> Result
         }
         if !(m.zeta_sd.is_finite() && (RAW_MIN..=1.0).contains(&m.zeta_sd)) {
             return Err(InputError::new(f("zeta_sd"), fmt_num(m.zeta_sd), format!("{RAW_MIN:e} <= zeta_sd <= 1")));
+        }
+    }
+    Ok(())
+}
+
+/// Physical modes are numbered by |s| (eq. 34), and a beam's flexural
+/// eigenvalues in one plane are simple (a Sturm–Liouville problem), so over
+/// the fitted and held-out modes together ω must rise strictly with the mode
+/// number: a table where it falls or repeats is misnumbered or mistyped. The
+/// later mode of the first pair out of order is named.
+fn validate_order(modes: &[ModeObservation], held_out: &[ModeObservation]) -> Result<(), InputError> {
+    let mut all: Vec<(usize, String, f64)> = modes
+        .iter()
+        .enumerate()
+        .map(|(i, m)| (m.mode, format!("modes[{i}].omega_rad_s"), m.omega_rad_s))
+        .chain(
+            held_out
+                .iter()
+                .enumerate()
+                .map(|(i, m)| (m.mode, format!("held_out_modes[{i}].omega_rad_s"), m.omega_rad_s)),
+        )
+        .collect();
+    all.sort_by_key(|m| m.0);
+    for w in all.windows(2) {
+        let ((lower, _, w_lower), (mode, field, omega)) = (&w[0], &w[1]);
+        if omega <= w_lower {
+            return Err(InputError::new(
+                field.clone(),
+                fmt_num(*omega),
+                format!(
+                    "> {} (mode {lower}'s omega_rad_s): modes are numbered by frequency, so mode {mode} lies above mode {lower}",
+                    fmt_num(*w_lower)
+                ),
+            ));
         }
     }
     Ok(())

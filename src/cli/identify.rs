@@ -196,6 +196,41 @@ pub fn identify_record(
     Ok(Identified { identification: id, observations, file })
 }
 
+/// The first line of every measured-data file `identify` writes.
+const OUT_MARKER: &str = "# nanobeam identify ";
+
+/// `--out` replaces a file only when `identify` wrote it (its first line is
+/// [`OUT_MARKER`]) or it is empty: any other existing file, the input record
+/// among them, is the user's data (issue 69, defect 4: `--out rec.csv`
+/// replaced the record).
+fn refuse_foreign_file(path: &Path) -> Result<(), CliError> {
+    let Ok(mut f) = std::fs::File::open(path) else { return Ok(()) };
+    if f.metadata().is_ok_and(|m| m.len() == 0) {
+        return Ok(());
+    }
+    let mut head = vec![0u8; OUT_MARKER.len()];
+    let ours = std::io::Read::read_exact(&mut f, &mut head).is_ok() && head == OUT_MARKER.as_bytes();
+    if ours {
+        return Ok(());
+    }
+    Err(InputError::new(
+        "--out",
+        path.display(),
+        "a new path or a file nanobeam identify wrote (this file exists and nanobeam did not write it)",
+    )
+    .into())
+}
+
+/// Whether two output paths name the same place (their parents resolved,
+/// the last components compared); paths whose parent does not exist differ.
+fn same_target(a: &Path, b: &Path) -> bool {
+    let resolve = |p: &Path| -> Option<(std::path::PathBuf, std::ffi::OsString)> {
+        let parent = p.parent().filter(|q| !q.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        Some((std::fs::canonicalize(parent).ok()?, p.file_name()?.to_os_string()))
+    };
+    matches!((resolve(a), resolve(b)), (Some(x), Some(y)) if x == y)
+}
+
 pub fn run(args: &IdentifyArgs, out: &mut dyn std::io::Write) -> Result<(), CliError> {
     if args.max_order < 4 {
         return Err(InputError::new("--max-order", args.max_order, ">= 4").into());
@@ -203,8 +238,12 @@ pub fn run(args: &IdentifyArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
     // every output is checked before anything is computed
     if let Some(path) = &args.out {
         check_out_file(path).map_err(|e| out_error("--out", path, e))?;
+        refuse_foreign_file(path)?;
     }
     if let Some(dir) = &args.plot {
+        if args.out.as_deref().is_some_and(|out| same_target(out, dir)) {
+            return Err(InputError::new("--plot", dir.display(), "a directory other than --out's file").into());
+        }
         check_out_dir(dir).map_err(|e| out_error("--plot", dir, e))?;
     }
     let beam = read_beam(&args.beam)?;
@@ -217,8 +256,10 @@ pub fn run(args: &IdentifyArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
     if let Some(w) = crate::identify::thermal::fit_warning(&text, &id.x, id.noise_sd) {
         eprintln!("warning: {w}");
     }
+    // its first line, written `# ` + comment, is what `refuse_foreign_file` recognises
     let comment = format!(
-        "nanobeam identify {}: {} record, {} modes; sds from the fit (residual noise sd {:.4e}, {} residuals, {} parameters)",
+        "{}{}: {} record, {} modes; sds from the fit (residual noise sd {:.4e}, {} residuals, {} parameters)",
+        OUT_MARKER.trim_start_matches("# "),
         args.data.display(),
         id.kind,
         observations.len(),
