@@ -135,7 +135,14 @@ impl Measurement {
     /// Parses and validates a CSV record (header line first).
     pub fn from_csv(text: &str) -> Result<Self, InputError> {
         let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-        let mut reader = csv::ReaderBuilder::new().has_headers(true).trim(csv::Trim::All).from_reader(text.as_bytes());
+        // flexible: a line of whitespace alone is one empty field, skipped
+        // below as the reader skips an empty line; every other row must have
+        // the header's field count (checked below, naming the row)
+        let mut reader = csv::ReaderBuilder::new()
+            .has_headers(true)
+            .trim(csv::Trim::All)
+            .flexible(true)
+            .from_reader(text.as_bytes());
         let header: Vec<String> = reader
             .headers()
             .map_err(|e| InputError::new("header", "(unreadable)", format!("a CSV header line ({e})")))?
@@ -151,8 +158,12 @@ impl Measurement {
         let shown: Vec<&str> = header.iter().map(String::as_str).collect();
         let names: &[&str] = &shown;
         let mut columns: Vec<Vec<f64>> = vec![Vec::new(); names.len()];
-        for (r, record) in reader.records().enumerate() {
-            let row = r + 1;
+        let mut row = 0;
+        for record in reader.records() {
+            if record.as_ref().is_ok_and(|r| r.iter().all(str::is_empty)) {
+                continue;
+            }
+            row += 1;
             if row > MAX_ROWS {
                 return Err(InputError::new(
                     "rows",
@@ -368,6 +379,26 @@ mod tests {
             s.push('\n');
         }
         s
+    }
+
+    /// Issue 69, defect 10: a line of whitespace alone was refused ("found
+    /// record with 1 fields") though blank lines are skipped; now both are,
+    /// and the rows after them keep their data-row numbers.
+    #[test]
+    fn whitespace_only_lines_are_skipped_like_blank_ones() {
+        let clean = rows("omega_rad_s,h_abs_m_per_n", 10, |i| format!("{},1e-9", i + 1));
+        let spaced = clean.replacen("3,1e-9\n", "3,1e-9\n   \n\t\n", 1);
+        assert_ne!(clean, spaced);
+        let (a, b) = (Measurement::from_csv(&clean).unwrap(), Measurement::from_csv(&spaced).unwrap());
+        assert_eq!(format!("{a:?}"), format!("{b:?}"));
+        // a bad value after them is still named by its data row
+        let bad = spaced.replacen("5,1e-9", "5,x", 1);
+        let e = Measurement::from_csv(&bad).unwrap_err().to_string();
+        assert!(e.contains("(row 5)"), "{e}");
+        // a short row is still refused, naming the row
+        let short = clean.replacen("4,1e-9", "4", 1);
+        let e = Measurement::from_csv(&short).unwrap_err().to_string();
+        assert!(e.contains("row 4") && e.contains("1 fields"), "{e}");
     }
 
     #[test]
