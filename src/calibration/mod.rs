@@ -3,6 +3,7 @@
 
 pub mod identified;
 pub mod measured;
+pub mod numbering;
 pub mod output;
 pub mod parameters;
 pub mod posterior;
