@@ -180,6 +180,33 @@ fn first_mode_bounds_name_first_mode() {
     assert!(line.contains("modes 1, 2") && line.contains("would decide"), "{line}");
 }
 
+/// A gzipped record (as `data/md/*.csv.gz` are committed) is read directly,
+/// with the same result as the plain one (issue 67: it exited 2 with "stream
+/// did not contain valid UTF-8"); a file that only claims to be gzip is bad
+/// input naming the record.
+#[test]
+fn a_gzipped_record_is_read_as_the_plain_one() {
+    use std::io::Write;
+    let dir = setup();
+    let plain = std::fs::read(dir.path().join("sweep.csv")).unwrap();
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    gz.write_all(&plain).unwrap();
+    std::fs::write(dir.path().join("sweep.csv.gz"), gz.finish().unwrap()).unwrap();
+    let run = |data: &str| nanobeam(&["identify", data, "--beam", "beam.yaml", "--first-mode", "1"], dir.path());
+    let (a, b) = (run("sweep.csv"), run("sweep.csv.gz"));
+    assert_eq!(code_line(&b).0, 0, "{}", code_line(&b).1);
+    // the YAML names the record in its header comment; the rest is the same
+    let body = |o: &Output| String::from_utf8_lossy(&o.stdout).lines().skip(1).collect::<Vec<_>>().join("\n");
+    assert_eq!(body(&a), body(&b));
+    std::fs::write(dir.path().join("bad.csv.gz"), [0x1f, 0x8b, 0x08, 0x00, 0x01]).unwrap();
+    let (code, line) = code_line(&run("bad.csv.gz"));
+    assert_eq!(code, 2, "{line}");
+    assert!(
+        line.starts_with("invalid DATA.csv = bad.csv.gz: allowed a readable CSV file, plain or gzipped (gzip: "),
+        "{line}"
+    );
+}
+
 #[test]
 fn negative_values_are_named_with_their_flag() {
     // user-hostile 9: "invalid -1 = (unknown argument)"
