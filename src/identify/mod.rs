@@ -167,7 +167,7 @@ pub enum IdentifyError {
 /// Knobs of [`identify`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct IdentifySettings {
-    /// Number of modes to report (default: all stable modes in the band).
+    /// Number of modes to report: the K lowest clear ones (default: all clear modes in the band).
     pub modes: Option<usize>,
     /// Highest model order of the stabilisation diagram (default 40).
     pub max_order: usize,
