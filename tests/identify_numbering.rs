@@ -29,7 +29,7 @@
 //! ambiguity, naming the mode); what it must never do is return wrong numbers.
 
 use nanobeam::beam::BeamSpec;
-use nanobeam::calibration::identified::{number_modes, number_modes_checked};
+use nanobeam::calibration::identified::{number_modes, number_modes_checked, number_modes_with_sd};
 
 /// cc7 (L = 7.39 nm), modes 1..6, rad/s.
 const CC7_RAD_S: [f64; 6] = [1.937107e12, 4.730263e12, 8.279720e12, 1.226079e13, 1.642419e13, 2.079731e13];
@@ -300,7 +300,9 @@ fn confusion(count: usize, seed: u64) -> Confusion {
             "length_nm: {l_nm}\ndiameter_nm: {d_nm}\nyoungs_modulus_pa: {e}\ndensity_kg_m3: {rho}\nsupport: {support}\nelements: 40\n"
         );
         let beam = BeamSpec::from_yaml(&spec).expect("valid nominal beam");
-        match number_modes(&beam, &omegas, None) {
+        // the sds identify would report with these frequencies
+        let sds: Vec<f64> = omegas.iter().map(|w| SIGMA * w).collect();
+        match number_modes_with_sd(&beam, &omegas, Some(&sds), None).map(|n| n.numbers) {
             Ok(n) if n == numbers => out.right += 1,
             Ok(n) => {
                 eprintln!("record {record} ({support}, L {l_nm:.2} nm, d {d_nm:.2} nm, f {f:.3}, e0a {e0a:.2}, delta {delta:.2}, Omega {omega:.3e}): numbered {n:?}, truth {numbers:?}");

@@ -63,13 +63,64 @@ fn one_based(m: &[usize]) -> String {
 /// with `first_mode` the stated number of the lowest (checked, see the
 /// module doc), and a warning when the stated number fits much worse than
 /// another. Exit-2 errors name `--first-mode` with its value as written
-/// (`absent` when not given).
+/// (`absent` when not given). The frequencies' σ are taken as negligible
+/// beside the margins; [`number_modes_with_sd`] takes them.
 pub fn number_modes_checked(
     beam: &BeamSpec,
     omegas_rad_s: &[f64],
     first_mode: Option<usize>,
 ) -> Result<Numbered, InputError> {
+    number_modes_with_sd(beam, omegas_rad_s, None, first_mode)
+}
+
+/// The margin between two numberings: [`AMBIGUITY_MARGIN`], or
+/// [`SKIP_MARGIN`] for an alternative with more skipped modes, or 3 noise sd
+/// where that is more, the noise being the root sum of squares of σ/ω over
+/// the modes the two number differently (the modes they number alike move
+/// both misfits alike): an alternative within 3 noise sd cannot be told
+/// from the chosen numbering by the data.
+struct Margins {
+    /// σ/ω of each identified mode (0 when not given).
+    relative_sd: Vec<f64>,
+}
+
+impl Margins {
+    fn between(&self, chosen: &Fit, other: &Fit) -> f64 {
+        let noise = chosen
+            .modes
+            .iter()
+            .zip(&other.modes)
+            .zip(&self.relative_sd)
+            .filter(|((a, b), _)| a != b)
+            .map(|(_, r)| r * r)
+            .sum::<f64>()
+            .sqrt();
+        let model = if skips(&other.modes) <= skips(&chosen.modes) { AMBIGUITY_MARGIN } else { SKIP_MARGIN };
+        model.max(3.0 * noise)
+    }
+}
+
+/// [`number_modes_checked`] with the frequencies' sds (rad/s, one per
+/// frequency), which widen the margins to 3 noise sd where that is more.
+pub fn number_modes_with_sd(
+    beam: &BeamSpec,
+    omegas_rad_s: &[f64],
+    omega_sds_rad_s: Option<&[f64]>,
+    first_mode: Option<usize>,
+) -> Result<Numbered, InputError> {
     let k = omegas_rad_s.len();
+    let margin = Margins {
+        relative_sd: (0..k)
+            .map(|i| {
+                let r = omega_sds_rad_s.and_then(|sd| sd.get(i)).map_or(0.0, |s| s / omegas_rad_s[i]);
+                if r.is_finite() {
+                    r.abs()
+                } else {
+                    0.0
+                }
+            })
+            .collect(),
+    };
     if first_mode == Some(0) {
         return Err(InputError::new("--first-mode", 0, ">= 1 (mode numbers are 1-based)"));
     }
@@ -85,7 +136,7 @@ pub fn number_modes_checked(
         .filter(|b| b.cost.is_finite())
         .ok_or_else(|| InputError::new("--beam", format!("{n} predicted modes"), "a beam model with enough modes"))?;
     let Some(f) = first_mode else {
-        check_unique(&all, best, None, omegas_rad_s, &family.text)?;
+        check_unique(&all, best, None, omegas_rad_s, &family.text, &margin)?;
         return Ok(Numbered { numbers: best.modes.iter().map(|j| j + 1).collect(), warning: None });
     };
     let from_n: Vec<Fit> = all.iter().filter(|x| x.first() == f - 1).cloned().collect();
@@ -110,7 +161,7 @@ pub fn number_modes_checked(
             ),
         ));
     }
-    let warning = (x >= AMBIGUITY_MARGIN).then(|| {
+    let warning = (x >= margin.between(best, best_n)).then(|| {
         format!(
             "--first-mode {f}: modes {} fit the identified frequencies {x:.3} worse (root summed squared ln omega) than modes {} over the --beam model's prior; kept as stated",
             one_based(&best_n.modes),
@@ -119,34 +170,35 @@ pub fn number_modes_checked(
     });
     // consecutive from N when that fits within the margin of the best from N
     if let Some(c) = from_n.iter().find(|c| skips(&c.modes) == 0) {
-        if extra(best_n, c) < AMBIGUITY_MARGIN {
+        if extra(best_n, c) < margin.between(best_n, c) {
             return Ok(Numbered { numbers: c.modes.iter().map(|j| j + 1).collect(), warning });
         }
     }
-    check_unique(&from_n, best_n, Some(f), omegas_rad_s, &family.text)?;
+    check_unique(&from_n, best_n, Some(f), omegas_rad_s, &family.text, &margin)?;
     Ok(Numbered { numbers: best_n.modes.iter().map(|j| j + 1).collect(), warning })
 }
 
 /// Refuses `chosen` when another numbering of `all` fits a beam of the
-/// prior within [`AMBIGUITY_MARGIN`] of it.
+/// prior within the margin of it ([`AMBIGUITY_MARGIN`], [`SKIP_MARGIN`], or
+/// 3 noise sd).
 fn check_unique(
     all: &[Fit],
     chosen: &Fit,
     first: Option<usize>,
     omegas_rad_s: &[f64],
     prior: &str,
+    margins: &Margins,
 ) -> Result<(), InputError> {
     // an alternative with more skipped modes than the chosen numbering counts
     // within the tighter SKIP_MARGIN: a skip needs a reason (a node at the
     // sensor, a lost line), and over the whole prior a numbering with one more
     // skip near the top often fits nearly as well (cc7's modes 1-6 against
     // 1-5, 7: 0.042 more)
-    let Some(other) = all.iter().find(|o| {
-        let margin = if skips(&o.modes) <= skips(&chosen.modes) { AMBIGUITY_MARGIN } else { SKIP_MARGIN };
-        o.modes != chosen.modes && extra(chosen, o) < margin
-    }) else {
+    let Some(other) = all.iter().find(|o| o.modes != chosen.modes && extra(chosen, o) < margins.between(chosen, o))
+    else {
         return Ok(());
     };
+    let margin_of = |o: &Fit| margins.between(chosen, o);
     let decide = if other.first() != chosen.first() {
         "a lower mode in the record, a mode-shape scan of the lowest mode, or a known e0a would decide; or state --first-mode N"
     } else {
@@ -155,12 +207,13 @@ fn check_unique(
             "--first-mode",
             first.map_or("absent".to_string(), |f| f.to_string()),
             format!(
-                "a numbering the prior decides: the modes identified from {:.4e} rad/s up fit both modes {} and modes {} (they differ from the mode at {:.4e} rad/s on; the second misfits by {:.3} more in root summed squared ln omega, margin {AMBIGUITY_MARGIN}) of beams of the --beam model's prior ({prior}); a mode-shape scan of that mode or a known e0a would decide",
+                "a numbering the prior decides: the modes identified from {:.4e} rad/s up fit both modes {} and modes {} (they differ from the mode at {:.4e} rad/s on; the second misfits by {:.3} more in root summed squared ln omega, margin {:.3}) of beams of the --beam model's prior ({prior}); a mode-shape scan of that mode or a known e0a would decide",
                 omegas_rad_s[0],
                 one_based(&chosen.modes),
                 one_based(&other.modes),
                 omegas_rad_s[i],
-                extra(chosen, other)
+                extra(chosen, other),
+                margin_of(other)
             ),
         ));
     };
@@ -168,11 +221,12 @@ fn check_unique(
         "--first-mode",
         first.map_or("absent".to_string(), |f| f.to_string()),
         format!(
-            "a numbering the prior decides: the modes identified from {:.4e} rad/s up fit both modes {} and modes {} (the second misfits by {:.3} more in root summed squared ln omega, margin {AMBIGUITY_MARGIN}) of beams of the --beam model's prior ({prior}); {decide}",
+            "a numbering the prior decides: the modes identified from {:.4e} rad/s up fit both modes {} and modes {} (the second misfits by {:.3} more in root summed squared ln omega, margin {:.3}) of beams of the --beam model's prior ({prior}); {decide}",
             omegas_rad_s[0],
             one_based(&chosen.modes),
             one_based(&other.modes),
-            extra(chosen, other)
+            extra(chosen, other),
+            margin_of(other)
         ),
     ))
 }

@@ -13,7 +13,7 @@ use serde::Serialize;
 
 use crate::bayes::Control;
 use crate::beam::BeamSpec;
-use crate::calibration::identified::{measured_file, number_modes_checked, to_yaml};
+use crate::calibration::identified::{measured_file, number_modes_with_sd, to_yaml};
 use crate::calibration::measured::MeasuredFile;
 use crate::calibration::numbering::predicted_count;
 use crate::calibration::ModeObservation;
@@ -195,7 +195,14 @@ pub fn identify_record(
     // by --modes is numbered within them, never renumbered into a gap)
     let found = &id.found_omegas_rad_s;
     check_first_mode_fits(first_mode, found.len(), &beam)?;
-    let numbered = number_modes_checked(&beam, found, first_mode)?;
+    // each found mode's σ, from the reported or the background list it went to
+    let sds: Vec<f64> = found
+        .iter()
+        .map(|&w| {
+            id.modes.iter().chain(&id.background_modes).find(|m| m.omega_rad_s == w).map_or(0.0, |m| m.omega_sd_rad_s)
+        })
+        .collect();
+    let numbered = number_modes_with_sd(&beam, found, Some(&sds), first_mode)?;
     let all_numbers = numbered.numbers;
     let numbers: Vec<usize> = id
         .modes
