@@ -752,6 +752,9 @@ mod tests {
         let all = numberings(2, 4, 0..4);
         assert_eq!(all, vec![vec![0, 1], vec![0, 2], vec![0, 3], vec![1, 2], vec![1, 3], vec![2, 3]]);
         assert!(numberings(3, 8, 0..1).iter().all(|m| skips(m) <= MAX_SKIPS));
-        assert_eq!(numberings(3, 8, 0..1).len(), 1 + 2 + 3 + 4);
+        // from mode 0, [0, a, b] skips b − 2 ≤ MAX_SKIPS = 4: b ≤ 6, and
+        // b − 1 choices of a for each b = 2..=6
+        assert_eq!(MAX_SKIPS, 4);
+        assert_eq!(numberings(3, 8, 0..1).len(), 1 + 2 + 3 + 4 + 5);
     }
 }
