@@ -37,52 +37,69 @@
 //! range); Ω' spans [0, Ω_max/√f_min], a little more than the prior.
 //!
 //! **The elastic modes.** ln ω_e of each mode is smooth in u = e0a² and in the
-//! shear compliance s = E/(κG); 1/ω_e² is interpolated by a tensor
-//! Lagrange polynomial on [`NODES`] × [`NODES`] Chebyshev–Lobatto points
-//! (e0a² × s), each a modal solve of the elastic nominal beam (internal
-//! variables and viscous damping removed: viscous damping does not move
-//! |s|). The interpolant is checked against direct solves at the cell
-//! midpoints; twice the largest difference in ln ω is each mode's
-//! interpolation bound (the factor 2: an analytic function's interpolation
-//! error between check points stays within a small factor of its value at
-//! them; Trefethen, ATAP ch. 7–8, as `beam::spectrum` certifies its own).
-//! [`NODES`]² + ([`NODES`] − 1)² = 25 modal solves per numbering instead of one
-//! per grid point (697 before).
+//! shear compliance s = E/(κG) over the Timoshenko range (κ from 1 to the
+//! prior's 0.3 at ν = 0.2, s in [2.4, 8]); the Euler–Bernoulli beam (no shear,
+//! no rotary inertia: not the s → 0 limit of the Timoshenko beam, whose
+//! rotary inertia stays) is a piece of its own. 1/ω_e² is interpolated by
+//! a Lagrange polynomial on [`NODES`] Chebyshev–Lobatto points in e0a²
+//! (Euler–Bernoulli) and on [`NODES`] × [`NODES`] in (e0a², s) (Timoshenko),
+//! each a modal solve of the elastic nominal beam (internal variables and
+//! viscous damping removed: viscous damping does not move |s|). Each
+//! interpolant is checked against direct solves at its cells' midpoints;
+//! twice the largest difference in ln ω is each mode's interpolation bound
+//! (the factor 2: an analytic function's interpolation error between check
+//! points stays within a small factor of its value at them; Trefethen, ATAP
+//! ch. 7–8, as `beam::spectrum` certifies its own). 4 + 3 + 16 + 9 = 32
+//! modal solves per numbering instead of one per grid point (697 in the
+//! e0a-and-shear version this replaced). Measured bound on the cc7 tube:
+//! 3e-5 to 2e-3 over modes 1–10.
 //!
 //! # The search
 //! The numberings are the order-preserving one-to-one maps of the K
-//! identified modes (sorted) to the first K + [`EXTRA_PREDICTED`] predicted
-//! ones with at most [`MAX_SKIPS`] predicted modes skipped between the first
-//! and the last (a node at the sensor, a line lost in its neighbours'
-//! noise). Each numbering's cost is its least Σᵢ (ln ωᵢ − ln ω_{mᵢ}(θ) − c)²
-//! over a grid of θ = (e0a, s, δ, Ω') with c exact ([`GRID`]).
+//! identified modes (sorted) to the first [`predicted_count`] predicted
+//! ones (K + [`EXTRA_PREDICTED`], twice the spare for a sparse record of at
+//! most [`SPARSE_RECORD`] modes) with at most [`MAX_SKIPS`] predicted modes
+//! skipped between the first and the last (a node at the sensor, a line
+//! lost in its neighbours' noise). Each numbering's cost is its least
+//! Σᵢ (ln ωᵢ − ln ω_{mᵢ}(θ) − c)² over a grid of θ = (e0a, s, δ, Ω') with c
+//! exact ([`GRID`]), then, for every numbering the grid cannot rule out
+//! (below), a Nelder–Mead refinement over the continuous family from its
+//! grid minimum ([`REFINE_EVALUATIONS`] evaluations, simplex steps one grid
+//! step).
 //!
 //! **What the grid may hide.** A numbering's cost over the continuous family
-//! is lower than over the grid. Its lower bound: the interpolation bound eᵢ
-//! per mode (the true cost's root differs from the interpolant's by at most
-//! ‖e‖), and the Gauss–Newton bound of the grid step: near the continuous
-//! minimum the cost rises as ‖(I − P)J δθ‖² (the gradient vanishes there; P
-//! the projection the fitted offset c removes), and the nearest grid point
-//! is within half a step in each coordinate, so the excess is at most
-//! (Σ_d ½ ‖(I − P)Δ_d‖)², Δ_d the largest move of the numbering's ln ω to a
-//! neighbouring grid point along coordinate d.
+//! is lower than over the grid. The interpolation bound eᵢ per mode moves
+//! the cost's root by at most ‖e‖; and the Gauss–Newton bound of the grid
+//! step: near the continuous minimum the cost rises as ‖(I − P)J δθ‖² (the
+//! gradient vanishes there; P the projection the fitted offset c removes),
+//! and the nearest grid point is within half a step in each coordinate, so
+//! the excess is at most (Σ_d ½ ‖(I − P)Δ_d‖)², Δ_d the largest move of the
+//! numbering's ln ω to a neighbouring grid point along coordinate d. A
+//! numbering whose grid lower bound stays beyond the margin of the best
+//! upper bound is ruled out without refinement; the others (and the best
+//! numbering from every lowest mode) are refined, and their bounds are then
+//! the refined cost's root ± ‖e‖. The refinement is local: a basin the grid
+//! misses entirely is not searched (the grid's steps are what a basin must
+//! be wider than).
 //!
-//! **Ambiguity.** The numbering with the least grid cost is the candidate.
-//! Every other numbering whose cost's lower bound exceeds the candidate's
-//! upper bound ((√cost + ‖e‖)²) by less than [`AMBIGUITY_MARGIN`]² also fits
-//! a beam of the prior: the numbering is refused, naming the lowest
-//! identified mode, both numberings and what would decide. Every numbering
-//! counts, with more skipped modes or fewer. The margin is what the family
-//! leaves out (springs, a point mass, tension, a nanotube's atomistic
-//! departures from a beam) and the identified σ, which is far below it.
+//! **Ambiguity.** The numbering with the least cost is the candidate. Every
+//! other numbering whose cost's lower bound exceeds the candidate's upper
+//! bound by less than the margin squared also fits a beam of the prior: the
+//! numbering is refused, naming the lowest identified mode, both numberings
+//! and what would decide. The margin is [`AMBIGUITY_MARGIN`], what the
+//! family leaves out (springs, a point mass, tension, a nanotube's
+//! atomistic departures from a beam); [`SKIP_MARGIN`] for an alternative
+//! with more skipped modes; either widened to 3 noise sd of the modes the
+//! two number differently when the identified σ are given
+//! (`calibration::identified`).
 //!
 //! **`--first-mode N`** is checked, not trusted: the numberings from N are
 //! searched as above. When the best of them exceeds the best of all by
 //! [`FIRST_MODE_TOLERANCE`] or more (bounds as above), no beam of the prior
-//! fits N and it is refused; by [`AMBIGUITY_MARGIN`] or more, it is taken
-//! with a warning. Among the numberings from N the consecutive one (no
-//! skip) is taken when it is within the margin of the best from N;
-//! otherwise the best from N, which must be unambiguous.
+//! fits N and it is refused; by the margin or more, it is taken with a
+//! warning. Among the numberings from N the consecutive one (no skip) is
+//! taken when it is within the margin of the best from N; otherwise the
+//! best from N, which must be unambiguous.
 
 use rayon::prelude::*;
 
