@@ -71,7 +71,9 @@ fn bad_out_and_plot_are_refused_before_computing_and_nothing_is_written() {
     // defect 2 / user-hostile 1: `--plot p --out d` with d a directory wrote p/ and exited 1
     let dir = setup();
     std::fs::create_dir(dir.path().join("d")).unwrap();
-    let id = ["identify", "sweep.csv", "--beam", "beam.yaml"];
+    // two modes fit modes 1, 2 and modes 1, 3 of beams of the prior (issue
+    // 67): the record's numbers are stated
+    let id = ["identify", "sweep.csv", "--beam", "beam.yaml", "--first-mode", "1"];
     let (code, line) = code_line(&nanobeam(&[&id[..], &["--plot", "p", "--out", "d"]].concat(), dir.path()));
     assert_eq!(code, 2, "{line}");
     assert!(line.starts_with("invalid --out = d: ") && line.contains("existing directory"), "{line}");
@@ -100,7 +102,8 @@ fn bad_out_and_plot_are_refused_before_computing_and_nothing_is_written() {
 fn out_never_replaces_a_file_nanobeam_did_not_write_nor_the_plot_directory() {
     let dir = setup();
     let record = std::fs::read(dir.path().join("sweep.csv")).unwrap();
-    let id = ["identify", "sweep.csv", "--beam", "beam.yaml"];
+    // two modes fit two numberings over the whole prior: the first is stated
+    let id = ["identify", "sweep.csv", "--beam", "beam.yaml", "--first-mode", "1"];
     let (code, line) = code_line(&nanobeam(&[&id[..], &["--out", "sweep.csv"]].concat(), dir.path()));
     assert_eq!(code, 2, "{line}");
     assert!(
@@ -127,7 +130,8 @@ fn a_dead_runs_temporary_file_is_removed_by_the_next_run() {
     // a pid that is not running: beyond the kernel's pid_max (at most 2^22)
     let stale = dir.path().join(".m.yaml.tmp-99999999-0");
     std::fs::write(&stale, "partial").unwrap();
-    let out = nanobeam(&["identify", "sweep.csv", "--beam", "beam.yaml", "--out", "m.yaml"], dir.path());
+    let out =
+        nanobeam(&["identify", "sweep.csv", "--beam", "beam.yaml", "--first-mode", "1", "--out", "m.yaml"], dir.path());
     assert_eq!(code_line(&out).0, 0);
     assert_eq!(debris(dir.path()), vec!["m.yaml"]);
 }
@@ -143,7 +147,18 @@ fn a_signal_at_any_time_leaves_the_old_output_or_the_new_one_and_no_temporary_fi
     std::fs::write(dir.path().join("m.yaml"), old).unwrap();
     for delay_ms in [0u64, 50, 150, 300, 600, 1000] {
         let mut child = Command::new(env!("CARGO_BIN_EXE_nanobeam"))
-            .args(["identify", "sweep.csv", "--beam", "beam.yaml", "--out", "m.yaml", "--plot", "p"])
+            .args([
+                "identify",
+                "sweep.csv",
+                "--beam",
+                "beam.yaml",
+                "--first-mode",
+                "1",
+                "--out",
+                "m.yaml",
+                "--plot",
+                "p",
+            ])
             .current_dir(dir.path())
             .stdout(std::process::Stdio::null())
             .stderr(std::process::Stdio::null())
@@ -166,13 +181,61 @@ fn first_mode_bounds_name_first_mode() {
     let dir = setup();
     let id = ["identify", "sweep.csv", "--beam", "beam.yaml", "--first-mode"];
     // 20 simply supported elements: 2·21 − 2 = 40 free DOFs, so 40 physical modes
-    for (f, allowed) in [("1000000", "1..=40 "), ("18446744073709551615", "1..=40 "), ("37", "1..=35 ")] {
+    // two identified modes get 8 spare (a sparse record, `calibration::numbering::predicted_count`)
+    for (f, allowed) in [("1000000", "1..=40 "), ("18446744073709551615", "1..=40 "), ("32", "1..=31 ")] {
         let (code, line) = code_line(&nanobeam(&[&id[..], &[f]].concat(), dir.path()));
         assert_eq!(code, 2, "{line}");
         assert!(line.starts_with(&format!("invalid --first-mode = {f}: allowed {allowed}")), "{line}");
     }
-    // two modes identified from mode 35 on, plus 4 spare, fill modes 35..=40
-    assert_eq!(code_line(&nanobeam(&[&id[..], &["35"]].concat(), dir.path())).0, 0);
+    // two modes identified from mode 31 on, plus 8 spare, fill modes 31..=40:
+    // inside the bound, so the refusal is the numbering's, not the bound's: the
+    // record holds modes 1 and 2 (ratio 4.1), and no beam of the prior puts
+    // two modes from 31 on that far apart. The value is the one written.
+    let (code, line) = code_line(&nanobeam(&[&id[..], &["31"]].concat(), dir.path()));
+    assert_eq!(code, 2, "{line}");
+    assert!(
+        line.starts_with("invalid --first-mode = 31: allowed a lowest-mode number some beam of the prior fits"),
+        "{line}"
+    );
+    assert_eq!(code_line(&nanobeam(&[&id[..], &["1"]].concat(), dir.path())).0, 0);
+    // without --first-mode, the two modes fit two numberings: refused, naming
+    // the lowest mode, both numberings and what would decide
+    let (code, line) = code_line(&nanobeam(&id[..4], dir.path()));
+    assert_eq!(code, 2, "{line}");
+    assert!(
+        line.starts_with(
+            "invalid --first-mode = absent: allowed a numbering the prior decides: the modes identified from 9.3"
+        ),
+        "{line}"
+    );
+    assert!(line.contains("modes 1, 2") && line.contains("would decide"), "{line}");
+}
+
+/// A gzipped record (as `data/md/*.csv.gz` are committed) is read directly,
+/// with the same result as the plain one (issue 67: it exited 2 with "stream
+/// did not contain valid UTF-8"); a file that only claims to be gzip is bad
+/// input naming the record.
+#[test]
+fn a_gzipped_record_is_read_as_the_plain_one() {
+    use std::io::Write;
+    let dir = setup();
+    let plain = std::fs::read(dir.path().join("sweep.csv")).unwrap();
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    gz.write_all(&plain).unwrap();
+    std::fs::write(dir.path().join("sweep.csv.gz"), gz.finish().unwrap()).unwrap();
+    let run = |data: &str| nanobeam(&["identify", data, "--beam", "beam.yaml", "--first-mode", "1"], dir.path());
+    let (a, b) = (run("sweep.csv"), run("sweep.csv.gz"));
+    assert_eq!(code_line(&b).0, 0, "{}", code_line(&b).1);
+    // the YAML names the record in its header comment; the rest is the same
+    let body = |o: &Output| String::from_utf8_lossy(&o.stdout).lines().skip(1).collect::<Vec<_>>().join("\n");
+    assert_eq!(body(&a), body(&b));
+    std::fs::write(dir.path().join("bad.csv.gz"), [0x1f, 0x8b, 0x08, 0x00, 0x01]).unwrap();
+    let (code, line) = code_line(&run("bad.csv.gz"));
+    assert_eq!(code, 2, "{line}");
+    assert!(
+        line.starts_with("invalid DATA.csv = bad.csv.gz: allowed a readable CSV file, plain or gzipped (gzip: "),
+        "{line}"
+    );
 }
 
 #[test]

@@ -280,20 +280,13 @@ fn identify_md_record(name: &str) -> Vec<serde_yaml::Value> {
 }
 
 /// The measured-data file `nanobeam identify --beam data/md/tube-NAME.yaml`
-/// writes for the committed record `data/md/NAME.langevin.csv.gz`.
+/// writes for the committed record `data/md/NAME.langevin.csv.gz`, read as
+/// committed (gzipped: issue 67).
 fn identified_file(name: &str) -> String {
     let root = env!("CARGO_MANIFEST_DIR");
-    let dir = tempfile::tempdir().unwrap();
-    let csv = dir.path().join(format!("{name}.csv"));
-    let unzipped = std::process::Command::new("gzip")
-        .args(["-dc", &format!("{root}/data/md/{name}.langevin.csv.gz")])
-        .output()
-        .expect("gzip runs");
-    assert!(unzipped.status.success());
-    std::fs::write(&csv, unzipped.stdout).unwrap();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_nanobeam"))
         .args(["identify", "--beam", &format!("{root}/data/md/tube-{name}.yaml")])
-        .arg(&csv)
+        .arg(format!("{root}/data/md/{name}.langevin.csv.gz"))
         .output()
         .unwrap();
     let stderr = String::from_utf8_lossy(&out.stderr);

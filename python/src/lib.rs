@@ -410,11 +410,13 @@ fn identify_json(
             Source::Text(t) => t.clone(),
         };
         // the CLI's own identification, numbering and checks
-        let cli::identify::Identified { identification: id, observations, file } =
+        let cli::identify::Identified { identification: id, observations, file, numbering_warning } =
             cli::identify::identify_record(beam, &text, modes, max_order, first_mode, &control)?;
         // the CLI's `warning:` lines, without the prefix (issued as Python warnings)
-        let warnings: Vec<String> =
-            nanobeam::identify::thermal::fit_warning(&text, &id.x, id.noise_sd).into_iter().collect();
+        let warnings: Vec<String> = nanobeam::identify::thermal::fit_warning(&text, &id.x, id.noise_sd)
+            .into_iter()
+            .chain(numbering_warning)
+            .collect();
         let doc = serde_json::json!({
             "measured": file,
             "identification": { "modes": observations, "identification": id },
@@ -425,8 +427,7 @@ fn identify_json(
 }
 
 fn read_csv(path: &Path) -> Result<String, CliError> {
-    std::fs::read_to_string(path)
-        .map_err(|e| InputError::new("DATA.csv", path.display(), format!("a readable CSV file ({e})")).into())
+    cli::identify::read_record(path)
 }
 
 /// `nanobeam campaign`'s plan of `source` (a manifest CSV or a folder) with

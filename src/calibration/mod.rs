@@ -7,11 +7,14 @@
 //! fields), `posterior` (`BeamPosterior`: THE beam posterior; relative amplitudes through
 //! `beam::frf_points`), `run` (`calibrate`: overdispersed starts → chains → health checks → summary
 //! → MAP; `SamplingError`), `output` (chains.csv, summary.json, InferenceData, SVGs), `identified`
-//! (identified modes → numbered measured-data file); the `sampler:` section is
-//! `bayes::dram::DramSettings`
+//! (identified modes → numbered measured-data file), `numbering` (the physical numbering over the
+//! base model's whole prior: the elastic modes interpolated over (e0a, shear), the N = 1
+//! relaxation and the section in closed form, the numberings' grid search and local refinement);
+//! the `sampler:` section is `bayes::dram::DramSettings`
 
 pub mod identified;
 pub mod measured;
+pub mod numbering;
 pub mod output;
 pub mod parameters;
 pub mod posterior;

@@ -282,6 +282,18 @@ fn point_mass_mut(beam: &mut BeamSpec) -> &mut PointMass {
 /// in-plane 0.16–0.19). Only G = E/(2(1 + ν)) depends on it, through κG.
 pub const DEFAULT_POISSON_RATIO: f64 = 0.2;
 
+/// The range of the shear coefficient κ a diagnosis's `shear-deformation`
+/// cause samples (uniform; at ν = [`DEFAULT_POISSON_RATIO`]), and the
+/// softest shear `identify` numbers modes against: from 1 down to 0.3,
+/// below a thin tube's ≈ 0.52 (the reasoning is in `diagnose::classes`).
+pub const SHEAR_COEFFICIENT_PRIOR: (f64, f64) = (0.3, 1.0);
+
+/// The prior range of the stiffness-to-mass factor f (on EI/ρA, sampled as
+/// E/E_nominal) of a diagnosis's `section-mismatch` cause (the reasoning is in
+/// `diagnose::classes`), and the nominal section's uncertainty `identify`
+/// numbers modes against: every ω scales by √f.
+pub const SECTION_FACTOR_RANGE: (f64, f64) = (2.0 / 3.0, 1.5);
+
 /// Shear deformation as a calibration turns it on: ν = [`DEFAULT_POISSON_RATIO`]
 /// and the section's shear coefficient at that ν (`BeamSpec::default_shear_coefficient`:
 /// solid circle or thin tube, Cowper 1966).

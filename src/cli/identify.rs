@@ -13,8 +13,9 @@ use serde::Serialize;
 
 use crate::bayes::Control;
 use crate::beam::BeamSpec;
-use crate::calibration::identified::{measured_file, number_modes, to_yaml, EXTRA_PREDICTED};
+use crate::calibration::identified::{measured_file, number_modes_with_sd, to_yaml};
 use crate::calibration::measured::MeasuredFile;
+use crate::calibration::numbering::predicted_count;
 use crate::calibration::ModeObservation;
 use crate::cli::{read_beam, write_out, CliError};
 use crate::error::InputError;
@@ -28,15 +29,15 @@ use crate::report::ReportError;
 
 #[derive(Debug, Args)]
 pub struct IdentifyArgs {
-    /// Measured record (CSV; the header names the kind, see README).
+    /// Measured record (CSV, or gzipped CSV such as data/md/*.csv.gz; the header names the kind, see README).
     pub data: PathBuf,
     /// The nominal beam (YAML): copied into the output, and used to number the modes.
     #[arg(long)]
     pub beam: PathBuf,
-    /// Number of modes to report (default: every stable mode in the band).
+    /// Report the K lowest modes the record shows clearly, in order (default: every clear mode in the band).
     #[arg(long)]
     pub modes: Option<usize>,
-    /// Physical number of the lowest identified mode (when the numbering is ambiguous).
+    /// Physical number of the lowest identified mode (when the numbering is ambiguous); checked against the --beam model's prior.
     #[arg(long)]
     pub first_mode: Option<usize>,
     /// Highest model order of the stabilisation diagram.
@@ -103,18 +104,19 @@ pub fn check_first_mode(first: Option<usize>, beam: &BeamSpec) -> Result<(), Cli
 }
 
 /// `--first-mode` against the identified modes: modes f ..= f + k − 1 and the
-/// [`EXTRA_PREDICTED`] spare ones the numbering compares against must all be
+/// spare ones the numbering compares against (`predicted_count`) must all be
 /// modes of the `--beam` mesh.
 fn check_first_mode_fits(first: Option<usize>, k: usize, beam: &BeamSpec) -> Result<(), CliError> {
     let dofs = beam.free_dofs();
     let Some(f) = first else { return Ok(()) };
-    let last_first = (dofs + 1).saturating_sub(k + EXTRA_PREDICTED);
+    let spare = predicted_count(k, Some(1)) - k;
+    let last_first = (dofs + 1).saturating_sub(k + spare);
     if f > last_first {
         return Err(InputError::new(
             "--first-mode",
             f,
             format!(
-                "1..={last_first} ({k} identified modes from it on plus {EXTRA_PREDICTED} spare must be among the {dofs} modes of the --beam mesh)"
+                "1..={last_first} ({k} identified modes from it on plus {spare} spare must be among the {dofs} modes of the --beam mesh)"
             ),
         )
         .into());
@@ -146,6 +148,26 @@ pub struct Identified {
     pub observations: Vec<ModeObservation>,
     /// The measured-data file of `beam` and `observations`.
     pub file: MeasuredFile,
+    /// A stated `--first-mode` that fits much worse than another numbering.
+    pub numbering_warning: Option<String>,
+}
+
+/// The record at `path` as text: a gzipped file (its first two bytes 1f 8b,
+/// e.g. the committed `data/md/*.csv.gz`) is decompressed, anything else is
+/// read as UTF-8. Errors name the path (exit 2).
+pub fn read_record(path: &Path) -> Result<String, CliError> {
+    use std::io::Read;
+    let bad =
+        |e: String| InputError::new("DATA.csv", path.display(), format!("a readable CSV file, plain or gzipped ({e})"));
+    let bytes = std::fs::read(path).map_err(|e| bad(e.to_string()))?;
+    let bytes = if bytes.starts_with(&[0x1f, 0x8b]) {
+        let mut out = Vec::new();
+        flate2::read::MultiGzDecoder::new(&bytes[..]).read_to_end(&mut out).map_err(|e| bad(format!("gzip: {e}")))?;
+        out
+    } else {
+        bytes
+    };
+    String::from_utf8(bytes).map_err(|e| bad(format!("not UTF-8 text: {e}")).into())
 }
 
 /// The record `text` (CSV) identified with at most `max_order` poles (`modes`
@@ -173,7 +195,15 @@ pub fn identify_record(
     // by --modes is numbered within them, never renumbered into a gap)
     let found = &id.found_omegas_rad_s;
     check_first_mode_fits(first_mode, found.len(), &beam)?;
-    let all_numbers = number_modes(&beam, found, first_mode)?;
+    // each found mode's σ, from the reported or the background list it went to
+    let sds: Vec<f64> = found
+        .iter()
+        .map(|&w| {
+            id.modes.iter().chain(&id.background_modes).find(|m| m.omega_rad_s == w).map_or(0.0, |m| m.omega_sd_rad_s)
+        })
+        .collect();
+    let numbered = number_modes_with_sd(&beam, found, Some(&sds), first_mode)?;
+    let all_numbers = numbered.numbers;
     let numbers: Vec<usize> = id
         .modes
         .iter()
@@ -193,7 +223,7 @@ pub fn identify_record(
         })
         .collect();
     let file = measured_file(beam, observations.clone()).map_err(|e| record_error(e, &record))?;
-    Ok(Identified { identification: id, observations, file })
+    Ok(Identified { identification: id, observations, file, numbering_warning: numbered.warning })
 }
 
 /// The first line of every measured-data file `identify` writes.
@@ -248,10 +278,12 @@ pub fn run(args: &IdentifyArgs, out: &mut dyn std::io::Write) -> Result<(), CliE
     }
     let beam = read_beam(&args.beam)?;
     check_first_mode(args.first_mode, &beam)?;
-    let text = std::fs::read_to_string(&args.data)
-        .map_err(|e| InputError::new("DATA.csv", args.data.display(), format!("a readable CSV file ({e})")))?;
-    let Identified { identification: id, observations, file } =
+    let text = read_record(&args.data)?;
+    let Identified { identification: id, observations, file, numbering_warning } =
         identify_record(beam, &text, args.modes, args.max_order, args.first_mode, &Control::default())?;
+    if let Some(w) = numbering_warning {
+        eprintln!("warning: {w}");
+    }
     // thermal-motion records (issue 43): the fit's ν̂ against the Welch segments
     if let Some(w) = crate::identify::thermal::fit_warning(&text, &id.x, id.noise_sd) {
         eprintln!("warning: {w}");

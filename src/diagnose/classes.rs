@@ -93,6 +93,7 @@
 use crate::bayes::prior::Prior;
 use crate::bayes::transform::{Coordinate, Reparameterized};
 use crate::beam::{BeamError, BeamSpec, Support};
+use crate::calibration::parameters::SHEAR_COEFFICIENT_PRIOR;
 use crate::calibration::{BeamPosterior, ModeObservation, ModeScan, Parameter, ParameterSet, Target};
 
 /// One candidate cause: an extension of the base model.
@@ -541,7 +542,8 @@ fn add_extension(
             params.push(param("axial_force_n", Prior::AsinhUniform { lower: lo * n, upper: hi * n, scale: n }));
         }
         ModelClass::ShearDeformation => {
-            params.push(param("shear_coefficient", Prior::Uniform { lower: 0.3, upper: 1.0 }));
+            let (lower, upper) = SHEAR_COEFFICIENT_PRIOR;
+            params.push(param("shear_coefficient", Prior::Uniform { lower, upper }));
         }
         ModelClass::SectionMismatch => {
             let (lo, hi) = SECTION_FACTOR_RANGE;
@@ -560,8 +562,9 @@ pub const END_SPRING_RANGE: (f64, f64) = (1e-2, 1e3);
 pub const AXIAL_FORCE_RANGE: (f64, f64) = (-0.5, 100.0);
 
 /// The prior range of the stiffness-to-mass factor f of `section-mismatch`
-/// (the module doc's reasoning).
-pub const SECTION_FACTOR_RANGE: (f64, f64) = (2.0 / 3.0, 1.5);
+/// (the module doc's reasoning); defined beside the other priors in
+/// `calibration::parameters`, where `identify`'s numbering reads it too.
+pub use crate::calibration::parameters::SECTION_FACTOR_RANGE;
 
 /// A `section-mismatch` posterior read in the user's terms: the factor f on
 /// EI/ρA (= E/E_nominal as sampled), and what it means for each nominal value

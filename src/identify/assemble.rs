@@ -152,7 +152,18 @@ pub(super) fn assemble(
         .into());
     }
     let keep = report.unwrap_or(by_peak.len()).min(by_peak.len());
-    by_peak.sort_by(|&a, &b| all[b].peak_snr.total_cmp(&all[a].peak_snr));
+    // `--modes K`: the K lowest modes the record shows clearly (a user asking
+    // for four modes expects modes 1-4, not the four tallest: issue 67), then,
+    // when fewer than K are clear, the clearest of the rest
+    by_peak.sort_by(|&a, &b| {
+        clear(b).cmp(&clear(a)).then_with(|| {
+            if clear(a) {
+                all[a].omega_rad_s.total_cmp(&all[b].omega_rad_s)
+            } else {
+                all[b].peak_snr.total_cmp(&all[a].peak_snr)
+            }
+        })
+    });
     let reported: Vec<usize> = by_peak[..keep].to_vec();
     let found_omegas_rad_s: Vec<f64> = {
         let mut f: Vec<f64> =

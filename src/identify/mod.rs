@@ -36,8 +36,8 @@
 //! free decays: its residue at least [`MIN_AMPLITUDE_SNR`] sd from zero and
 //! its initial amplitude at least [`MIN_RELATIVE_AMPLITUDE`] of the record's
 //! largest sample), or
-//! with `modes = Some(K)` the K stable modes of the diagram that stand
-//! clearest (the others, and the refinement's out-of-band pseudo-modes, stay
+//! with `modes = Some(K)` the K lowest stable modes of the diagram that are
+//! clear, in order (fewer clear than K: the clearest of the rest fill up; the others, and the refinement's out-of-band pseudo-modes, stay
 //! in the fit as background). No clear mode is an input error naming the
 //! clearest one's height. Fewer stable modes than K, fewer
 //! than [`MIN_POINTS_PER_RESONANCE`] samples in a mode's half-power band, or
@@ -167,7 +167,7 @@ pub enum IdentifyError {
 /// Knobs of [`identify`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct IdentifySettings {
-    /// Number of modes to report (default: all stable modes in the band).
+    /// Number of modes to report: the K lowest clear ones (default: all clear modes in the band).
     pub modes: Option<usize>,
     /// Highest model order of the stabilisation diagram (default 40).
     pub max_order: usize,
