@@ -11,7 +11,8 @@
 //! **The rivals.** The strongest explanations the search built apart from
 //! the selection: the runner-up (the best visited model, by evidence, that
 //! does not hold every selected cause) and the best [`MAX_EXTENDED_RIVALS`]
-//! visited models that hold the selected causes and one more (the verdict
+//! visited models that hold the selected causes and one more, each among the
+//! best [`MAX_TESTED_RIVALS`] of its kind (the verdict
 //! plus an effect the data did not ask for). Models that misfit are no
 //! rivals (the data already rule them out), unless no model that lacks a
 //! selected cause fits: then the best of those stands in as the runner-up,
@@ -43,6 +44,11 @@ use crate::calibration::{MeasuredData, Quantity};
 /// Visited models with the selected causes and one more that are asked as
 /// rivals (the best by evidence).
 pub const MAX_EXTENDED_RIVALS: usize = 2;
+
+/// Candidates of each kind (lacking a selected cause; the selection plus
+/// one cause) whose misfit is tested, best first: a test costs the model's
+/// predictive draws, and a rival beyond the fourth by evidence adds little.
+pub const MAX_TESTED_RIVALS: usize = 4;
 
 /// A rival separated by this many combined sds is ruled out by the
 /// measurement: separations beyond it gain nothing (module doc).

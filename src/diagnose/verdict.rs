@@ -181,13 +181,17 @@ impl Decision {
                 .sort_by(|a, b| run(b).log_evidence.total_cmp(&run(a).log_evidence).then(a.name().cmp(&b.name())));
             // with no fitting rival, the best that lacks a selected cause
             // still shows where the selection commits (falsify.rs)
-            let runner_up = by_evidence
-                .iter()
-                .find(|m| !holds_selection(m) && !misfits(problem, run(m)))
-                .or_else(|| by_evidence.iter().find(|m| !holds_selection(m)));
+            // (each misfit test costs a model's predictive draws, so only the
+            // best few of each kind are tested)
+            let lacking = || by_evidence.iter().filter(|m| !holds_selection(m));
+            let runner_up = lacking()
+                .take(falsify::MAX_TESTED_RIVALS)
+                .find(|m| !misfits(problem, run(m)))
+                .or_else(|| lacking().next());
             let extended = by_evidence
                 .iter()
                 .filter(|m| holds_selection(m) && m.causes().len() == selected.causes().len() + 1)
+                .take(falsify::MAX_TESTED_RIVALS)
                 .filter(|m| !misfits(problem, run(m)))
                 .take(falsify::MAX_EXTENDED_RIVALS);
             let rivals: Vec<&ModelRun> = runner_up.into_iter().chain(extended).map(|m| run(m)).collect();
