@@ -9,7 +9,9 @@ segments (measured: ν̂ = 0.17 against 31), below the warning's level of half
 the segments: the CLI prints one ``warning:`` line. The reference is that
 line from the CLI binary (a separate program, its stderr); the Python
 function must issue the same text as a ``RuntimeWarning`` and return the
-same identification. The beam only numbers the modes (``first_mode=1``).
+same identification. The beam only numbers the modes: the line, at 0.3 rad per sample
+(1.5e13 rad/s), is mode 8 of the cc11 tube over the whole prior (``first_mode=8``; a stated first
+mode the prior cannot fit is refused).
 """
 
 from __future__ import annotations
@@ -45,7 +47,7 @@ def brick_record() -> str:
 def test_nu_warning_of_a_thermal_record_is_the_cli_line(tmp_path):
     csv_path = tmp_path / "brick.csv"
     csv_path.write_text(brick_record())
-    out = cli("identify", str(csv_path), "--beam", str(BEAM), "--first-mode", "1", "--json")
+    out = cli("identify", str(csv_path), "--beam", str(BEAM), "--first-mode", "8", "--json")
     assert out.returncode == 0, out.stderr
     lines = [line for line in out.stderr.splitlines() if line.startswith("warning: ")]
     assert len(lines) == 1, out.stderr
@@ -53,7 +55,7 @@ def test_nu_warning_of_a_thermal_record_is_the_cli_line(tmp_path):
     assert "Welch averages" in expected
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        measured, ident = nanobeam.identify(str(csv_path), str(BEAM), first_mode=1, return_identification=True)
+        measured, ident = nanobeam.identify(str(csv_path), str(BEAM), first_mode=8, return_identification=True)
     texts = [str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)]
     assert texts == [expected]
     assert ident == json.loads(out.stdout)
