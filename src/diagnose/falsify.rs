@@ -38,8 +38,9 @@ use std::sync::atomic::AtomicU64;
 use serde::Serialize;
 
 use super::evidence::ModelRun;
-use super::next::{mean_var, relative_sds, unmeasured_observables, MAX_MODE};
-use crate::calibration::{MeasuredData, Quantity};
+use super::next::{mean_var, relative_sds, MAX_MODE};
+use super::ppc::Draws;
+use crate::calibration::{MeasuredData, Observable, Quantity};
 
 /// Visited models with the selected causes and one more that are asked as
 /// rivals (the best by evidence).
@@ -87,26 +88,29 @@ pub struct FalsifyingMeasurement {
     pub rivals: Vec<RivalPrediction>,
 }
 
-/// The falsifying measurement of `selected` against `rivals` (module doc);
-/// `None` when nothing is unmeasured or no rival's predictions compute. The
-/// forward solves of the predictive draws are added to `solves`.
+/// The falsifying measurement of `selected` against `rivals` (module doc),
+/// `own` being `selected`'s [`unmeasured_draws`](super::next::unmeasured_draws); `None` when no rival's
+/// predictions compute. The forward solves of the rivals' predictive draws
+/// are added to `solves`.
 pub fn falsifying_measurement(
     data: &MeasuredData,
     selected: &ModelRun,
+    (candidates, own): &(Vec<Observable>, Draws),
     rivals: &[&ModelRun],
     solves: &AtomicU64,
 ) -> Option<FalsifyingMeasurement> {
-    let candidates = unmeasured_observables(data);
-    if candidates.is_empty() || rivals.is_empty() {
+    if rivals.is_empty() {
         return None;
     }
     let (rel_omega, rel_zeta) = relative_sds(data);
-    let predict = |run: &ModelRun| {
-        let d = super::predictive::predictive(run, &candidates, MAX_MODE, solves);
-        (!d.predictions.is_empty())
-            .then(|| (0..candidates.len()).map(|j| mean_var(d.predictions.iter().map(|p| p[j]))).collect::<Vec<_>>())
+    let moments = |d: &Draws| -> Vec<(f64, f64)> {
+        (0..candidates.len()).map(|j| mean_var(d.predictions.iter().map(|p| p[j]))).collect()
     };
-    let own = predict(selected)?;
+    let predict = |run: &ModelRun| {
+        let d = super::predictive::predictive(run, candidates, MAX_MODE, solves);
+        (!d.predictions.is_empty()).then(|| moments(&d))
+    };
+    let own = moments(own);
     let theirs: Vec<(&ModelRun, Vec<(f64, f64)>)> = rivals.iter().filter_map(|r| Some((*r, predict(r)?))).collect();
     if theirs.is_empty() {
         return None;

@@ -38,6 +38,7 @@ use crate::calibration::posterior::relative_to_peak;
 use crate::calibration::{MeasuredData, ModeScan, Observable, Quantity, ScanPoint};
 
 use super::evidence::ModelRun;
+use super::ppc::Draws;
 
 /// Highest mode number considered for a new measurement.
 pub const MAX_MODE: usize = 8;
@@ -64,27 +65,38 @@ pub struct NextMeasurement {
     pub separation_sd: f64,
 }
 
-/// The best unmeasured observable to separate `a` from the first of
-/// `rivals` (in their order) that some observable predicted by both
-/// separates by [`MIN_SEPARATION_SD`]; `a`'s predictive draws are computed
-/// once. The forward solves of the predictive draws are added to `solves`.
-pub fn next_measurement<'r>(
+/// The unmeasured observables ([`unmeasured_observables`]) with `run`'s
+/// predictive draws of them: computed once for the selected model and read by
+/// both [`next_measurement`] and `falsify::falsifying_measurement`. `None`
+/// when nothing is unmeasured or no draw computes. The forward solves are
+/// added to `solves`.
+pub(super) fn unmeasured_draws(
     data: &MeasuredData,
-    a: &ModelRun,
-    rivals: impl IntoIterator<Item = &'r ModelRun>,
+    run: &ModelRun,
     solves: &AtomicU64,
-) -> Option<NextMeasurement> {
-    let (rel_omega, rel_zeta) = relative_sds(data);
+) -> Option<(Vec<Observable>, Draws)> {
     let candidates = unmeasured_observables(data);
     if candidates.is_empty() {
         return None;
     }
-    let da = super::predictive::predictive(a, &candidates, MAX_MODE, solves);
-    if da.predictions.is_empty() {
-        return None;
-    }
+    let draws = super::predictive::predictive(run, &candidates, MAX_MODE, solves);
+    (!draws.predictions.is_empty()).then_some((candidates, draws))
+}
+
+/// The best unmeasured observable to separate `a` from the first of
+/// `rivals` (in their order) that some observable predicted by both
+/// separates by [`MIN_SEPARATION_SD`]; `own` is `a`'s [`unmeasured_draws`].
+/// The forward solves of the rivals' predictive draws are added to `solves`.
+pub fn next_measurement<'r>(
+    data: &MeasuredData,
+    a: &ModelRun,
+    (candidates, da): &(Vec<Observable>, Draws),
+    rivals: impl IntoIterator<Item = &'r ModelRun>,
+    solves: &AtomicU64,
+) -> Option<NextMeasurement> {
+    let (rel_omega, rel_zeta) = relative_sds(data);
     rivals.into_iter().find_map(|b| {
-        let db = super::predictive::predictive(b, &candidates, MAX_MODE, solves);
+        let db = super::predictive::predictive(b, candidates, MAX_MODE, solves);
         if db.predictions.is_empty() {
             return None;
         }

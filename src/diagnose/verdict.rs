@@ -151,7 +151,12 @@ impl Decision {
         let rivals: Vec<&ModelRun> =
             asked.map(|a| run(search.visited.iter().find(|m| m.name() == a.extension).expect("visited"))).collect();
         let solves = &problem.predictive_solves;
-        let next_measurement = next::next_measurement(problem.data, run(selected), rivals.iter().copied(), solves);
+        // the selected model's predictions of the unmeasured observables,
+        // read by the next measurement and the falsifying one
+        let own = next::unmeasured_draws(problem.data, run(selected), solves);
+        let next_measurement = own
+            .as_ref()
+            .and_then(|o| next::next_measurement(problem.data, run(selected), o, rivals.iter().copied(), solves));
         // no ω or ζ decides: a mode shape may (next.rs, module doc)
         let shape_measurement = match next_measurement {
             None => next::shape_measurement(
@@ -195,7 +200,7 @@ impl Decision {
                 .filter(|m| !misfits(problem, run(m)))
                 .take(falsify::MAX_EXTENDED_RIVALS);
             let rivals: Vec<&ModelRun> = runner_up.into_iter().chain(extended).map(|m| run(m)).collect();
-            falsify::falsifying_measurement(problem.data, run(selected), &rivals, solves)
+            own.as_ref().and_then(|o| falsify::falsifying_measurement(problem.data, run(selected), o, &rivals, solves))
         };
         let gain = Gain {
             extension: self.selected.name(),
