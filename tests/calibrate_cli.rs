@@ -24,6 +24,8 @@ fn truth_beam() -> BeamSpec {
         support_rotational_stiffness_right_n_m_rad: 0.0,
         point_mass: None,
         axial_force_n: 0.0,
+        elastic_foundation_n_m2: 0.0,
+        loss_factor: 0.0,
         shear_deformation: None,
         section: None,
     }

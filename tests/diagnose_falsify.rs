@@ -15,9 +15,11 @@
 //!   s³ + Ω s² + (κ + λ_n(1 + Δ)) s + (κ + λ_n)Ω = 0
 //! (its complex pair is the mode: ω = |s|, ζ = −Re s/|s|). A gate's
 //! electrostatic pull is a negative k (a softening that is the same for every
-//! mode), which the catalogue holds as no class; on modes 1–5 it looks like a
-//! compression, and the issue that asked for this test saw it named
-//! `axial-force`, decided.
+//! mode). Before the catalogue held `elastic-foundation` (issue 65) it looked
+//! like a compression on modes 1–5 and was named `axial-force`, decided; the
+//! falsification test below was written for that case and still runs it.
+//! With the class, every foundation of `explore_foundations` is named
+//! `elastic-foundation` (`tests/diagnose_falsify.md`).
 
 use nalgebra::Matrix3;
 use nanobeam::beam::{BeamSpec, Support};
@@ -126,7 +128,8 @@ fn the_generator_reduces_to_the_textbook_beam() {
 }
 
 /// A gate's pull (κ = −0.3 λ₁) on modes 1–5, noise seed 651: named
-/// `axial-force`, decided (`explore_foundations`). Whatever the diagnosis
+/// `axial-force`, decided, before the catalogue held the foundation; now
+/// `elastic-foundation`, undecided (`explore_foundations`). Whatever the diagnosis
 /// decides, it names a falsifying measurement for it; the truth's value of
 /// that observable, fed back as a measured mode, either lies inside the
 /// stated 95 % interval and the verdict stands, or it ends the decision
@@ -155,11 +158,11 @@ fn a_gate_pull_verdict_is_falsified_by_its_own_suggestion() {
     eprintln!("modes 1-5 and {}: {}", f.mode, summary(&second));
     let still_decided = first.decided_causes.iter().all(|c| second.decided_causes.contains(c));
     if inside {
-        // the measurement agrees with the verdict: it stands (measured: the
-        // gate's pull mimics a compression through mode 8 once e0a and the
-        // relaxation adjust, so ω₇ lands inside the interval and
-        // `axial-force` stays decided; a foundation class in the catalogue,
-        // not a measurement, is what this set needs: tests/diagnose_falsify.md)
+        // the measurement agrees with the verdict: it stands (measured
+        // without the foundation class: the gate's pull mimics a compression
+        // through mode 8 once e0a and the relaxation adjust, so ω₇ landed
+        // inside the interval and `axial-force` stayed decided:
+        // tests/diagnose_falsify.md)
         assert!(still_decided, "a measurement inside the interval changed the verdict: {}", summary(&second));
     } else {
         assert!(

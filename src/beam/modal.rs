@@ -45,7 +45,7 @@ use crate::beam::fe::model::UnitMesh;
 use crate::beam::fe::scaling::{ScaledModel, Scaling};
 use crate::beam::modal_result::{assemble, check_mode_count, oscillatory_pair, ModalResult, SolverPath};
 use crate::beam::solve::coupled::{general_path, Poles};
-use crate::beam::solve::family::{decoupled_family_roots_into, family_roots, Roots};
+use crate::beam::solve::family::{decoupled_family_roots_into, hysteretic_family_roots_into, Roots};
 use crate::beam::solve::state_space_modal::state_space_modal;
 use crate::beam::spec::{BeamSpec, Support, MAX_INTERNAL_VARIABLES};
 
@@ -294,6 +294,27 @@ impl ModalSolver {
         self.last_shear_blocks = false;
         self.last_mass_blocks = false;
         self.last_shear_continuum = false;
+        // a loss factor takes the decoupled families at the end (the
+        // interpolated spectra) or, coupled, the general path: no block or
+        // continuum path has it
+        if beam.loss_factor != 0.0 {
+            let (spring, shear, mass) =
+                (mesh.springs(&sc.spring).next().is_some(), mesh.shear.is_some(), beam.point_mass.is_some());
+            if spring || sc.axial != 0.0 || (shear && sc.c != 0.0) || (mass && (shear || sc.c != 0.0)) {
+                return None;
+            }
+        }
+        // a foundation takes the plain decoupled families below (its constant
+        // term) or, coupled, the general path: no block or continuum path has it
+        if sc.foundation != 0.0 {
+            let plain = mesh.shear.is_none()
+                && beam.point_mass.is_none()
+                && mesh.springs(&sc.spring).next().is_none()
+                && sc.axial == 0.0;
+            if !plain {
+                return None;
+            }
+        }
         if let Some(pm) = beam.point_mass.as_ref().filter(|_| {
             mesh.shear.is_none() && mesh.springs(&sc.spring).next().is_none() && (sc.c != 0.0 || sc.axial != 0.0)
         }) {
@@ -481,7 +502,8 @@ impl ModalSolver {
         }
         let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
         self.roots.resize(n_modes, Roots::default());
-        decoupled_family_roots_into(&self.lambdas, sc.c, &ivs[..nv], &mut self.roots).ok()?;
+        decoupled_family_roots_into(&self.lambdas, sc.foundation, beam.loss_factor, sc.c, &ivs[..nv], &mut self.roots)
+            .ok()?;
         Some(sc.omega_ref)
     }
 
@@ -585,8 +607,10 @@ pub fn modal_observables(beam: &BeamSpec, modes: &[usize], n_modes: usize, out: 
 fn decoupled_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -> Result<ModalResult, BeamError> {
     let params = model.pencil_params();
     let pairs = eigen.lowest(model.mesh, &params, &model.k, &model.m, model.point_mass.as_ref(), n_modes)?;
-    let families =
-        pairs.iter().map(|p| family_roots(0.0, p.lambda, model.c, &model.ivs)).collect::<Result<Vec<_>, _>>()?;
+    let mut families = vec![Roots::default(); pairs.len()];
+    for (p, r) in pairs.iter().zip(families.iter_mut()) {
+        hysteretic_family_roots_into(model.foundation, p.lambda, model.c, &model.ivs, model.loss, r)?;
+    }
     Ok(assemble(&families, n_modes, model.omega_ref))
 }
 
@@ -626,6 +650,8 @@ mod tests {
             support_rotational_stiffness_right_n_m_rad: 0.0,
             point_mass: mass.map(|(mass_kg, x_nm)| PointMass { mass_kg, x_nm }),
             axial_force_n: 0.0,
+            elastic_foundation_n_m2: 0.0,
+            loss_factor: 0.0,
             shear_deformation: None,
             section: None,
         }

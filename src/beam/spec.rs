@@ -174,6 +174,27 @@ pub struct BeamSpec {
     /// beam's mesh and support (checked by [`BeamSpec::validate`]).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub axial_force_n: f64,
+    /// Winkler elastic foundation k under the whole span, N/m² (force per
+    /// length per deflection; extension, default 0): > 0 for a substrate or
+    /// an embedding matrix, < 0 for an electrostatic gate's pull (a negative
+    /// spring), which must leave the beam stable (checked by
+    /// [`BeamSpec::validate`]). Elastic (not relaxed), and Eringen's law acts
+    /// on its reaction as on every distributed transverse load (the reaction
+    /// enters through the nonlocal translational mass form: `fe::scaling`), so
+    /// when the foundation is the only extension coupling the modes it adds
+    /// k/ρA to every ω² of the undamped beam, any support.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub elastic_foundation_n_m2: f64,
+    /// Frequency-independent (hysteretic) loss factor η of the beam's own
+    /// stiffness (bending and shear, relaxed or not): the complex modulus
+    /// E(1 + iη) at ω > 0, 0 ≤ η < 1 (extension, default 0). Every mode of an
+    /// otherwise undamped beam gets ζ = sin(½·atan η) ≈ η/2. Defined in the
+    /// frequency domain only (a hysteretic loss has no causal time-domain
+    /// form), so a beam with η > 0 has no state-space model, no impulse
+    /// response and no real relaxation poles: its modes are the oscillatory
+    /// poles alone (`solve::family`).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub loss_factor: f64,
     /// Shear deformation and rotary inertia (Timoshenko beam; default off).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shear_deformation: Option<ShearDeformation>,
@@ -211,6 +232,10 @@ struct BeamSpecYaml {
     #[serde(default)]
     axial_force_n: f64,
     #[serde(default)]
+    elastic_foundation_n_m2: f64,
+    #[serde(default)]
+    loss_factor: f64,
+    #[serde(default)]
     shear_deformation: Option<ShearDeformationYaml>,
     #[serde(default)]
     section: Option<Section>,
@@ -242,6 +267,8 @@ impl From<BeamSpecYaml> for BeamSpec {
             support_rotational_stiffness_right_n_m_rad: y.support_rotational_stiffness_right_n_m_rad,
             point_mass: y.point_mass,
             axial_force_n: y.axial_force_n,
+            elastic_foundation_n_m2: y.elastic_foundation_n_m2,
+            loss_factor: y.loss_factor,
             shear_deformation: None,
             section: y.section,
         };
@@ -312,6 +339,15 @@ pub const MAX_MASS_TILDE: f64 = 1e6;
 /// beam) ζ came out −0.95. Physically ñ = 1e8 on the paper's beam is
 /// 0.08 N, an axial stress ≈ 1e17 Pa, a million times a nanotube's strength.
 pub const MAX_N_TILDE: f64 = 1e8;
+/// Largest foundation modulus k̃ = k L⁴/EI. The foundation adds k̃ to every
+/// mode's scaled ω² (module doc of `fe::scaling`), so mode r's bending share
+/// of its stiffness is ≈ (rπ)⁴/k̃, and as for [`MAX_N_TILDE`] the damping of
+/// the internal variables and e0a act on that share alone: at k̃ = 1e10 it is
+/// ≈ 1e-8 for the first mode, still far above the eigen solve's relative
+/// rounding (~1e-15). Physically k̃ = 1e10 on the paper's 8 nm beam is
+/// k ≈ 1.5e16 N/m², a million times the stiffest embedding matrix
+/// (k ≈ E_matrix, a few GPa for a polymer).
+pub const MAX_FOUNDATION_TILDE: f64 = 1e10;
 /// Range of the scaled shear stiffness g̃ = κGAL²/EI (≈ 100–450 for the
 /// paper's L/d ≈ 8). Mode r's shear share of its compliance is ≈ (rπ)²/g̃:
 /// at g̃ = 0.1 the first mode is ~99 % shear (a shear beam, no longer a
@@ -369,6 +405,8 @@ impl BeamSpec {
             support_rotational_stiffness_right_n_m_rad: 0.0,
             point_mass: None,
             axial_force_n: 0.0,
+            elastic_foundation_n_m2: 0.0,
+            loss_factor: 0.0,
             shear_deformation: None,
             section: None,
         }
@@ -472,6 +510,26 @@ impl BeamSpec {
             self.check_shear_group(sd)?;
         }
         let l = self.length_nm * 1e-9;
+        let k_unit = self.youngs_modulus_pa * self.inertia_m4() / (l * l * l * l);
+        let k = self.elastic_foundation_n_m2;
+        if !(k.is_finite() && k <= MAX_FOUNDATION_TILDE * k_unit) {
+            return Err(InputError::new(
+                "elastic_foundation_n_m2",
+                fmt_num(k),
+                format!(
+                    "<= {:e} N/m^2 (k L^4/EI <= {MAX_FOUNDATION_TILDE:e}; negative down to the loss of stability)",
+                    MAX_FOUNDATION_TILDE * k_unit
+                ),
+            ));
+        }
+        let eta = self.loss_factor;
+        if !(eta.is_finite() && (0.0..1.0).contains(&eta)) {
+            return Err(InputError::new(
+                "loss_factor",
+                fmt_num(eta),
+                "0 <= loss_factor < 1 (zeta ~ loss_factor/2 on every mode)",
+            ));
+        }
         let n_unit = self.youngs_modulus_pa * self.inertia_m4() / (l * l);
         if self.axial_force_n > MAX_N_TILDE * n_unit {
             return Err(InputError::new(

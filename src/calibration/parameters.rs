@@ -40,6 +40,10 @@ pub enum Target {
     ShearCoefficient,
     /// Poisson's ratio ν of the shear modulus G = E/(2(1 + ν)) (turns shear deformation on).
     PoissonRatio,
+    /// Winkler foundation modulus k in N/m² (substrate > 0, a gate's pull < 0).
+    ElasticFoundation,
+    /// Hysteretic loss factor η, 0 ≤ η < 1 (the complex modulus E(1 + iη)).
+    LossFactor,
 }
 
 /// Names accepted in `parameters`, with the allowed form. `delta`/`omega_rad_s`
@@ -48,7 +52,7 @@ pub const KNOWN_NAMES: &str = "nonlocal_e0a_nm, delta, omega_rad_s, delta_K, ome
 diameter_nm, beta_squared, viscous_damping_n_s_m2, support_rotational_stiffness_n_m_rad, \
 support_rotational_stiffness_left_n_m_rad, support_rotational_stiffness_right_n_m_rad, \
 point_mass_kg, point_mass_x_nm, youngs_modulus_pa, density_kg_m3, length_nm, axial_force_n, \
-shear_coefficient, poisson_ratio";
+shear_coefficient, poisson_ratio, elastic_foundation_n_m2, loss_factor";
 
 impl Target {
     pub fn from_name(name: &str) -> Option<Target> {
@@ -70,6 +74,8 @@ impl Target {
             "axial_force_n" => Target::AxialForce,
             "shear_coefficient" => Target::ShearCoefficient,
             "poisson_ratio" => Target::PoissonRatio,
+            "elastic_foundation_n_m2" => Target::ElasticFoundation,
+            "loss_factor" => Target::LossFactor,
             _ => {
                 if let Some(k) = name.strip_prefix("delta_") {
                     let k: usize = k.parse().ok().filter(|&k| k >= 2)?;
@@ -259,6 +265,8 @@ impl ParameterSet {
                 Target::AxialForce => beam.axial_force_n = v,
                 Target::ShearCoefficient => shear_mut(beam).shear_coefficient = v,
                 Target::PoissonRatio => shear_mut(beam).poisson_ratio = v,
+                Target::ElasticFoundation => beam.elastic_foundation_n_m2 = v,
+                Target::LossFactor => beam.loss_factor = v,
             }
         }
     }
@@ -303,9 +311,10 @@ fn shear_mut(beam: &mut BeamSpec) -> &mut ShearDeformation {
 }
 
 /// The prior's support must lie in the parameter's physical range: [0, ∞)
-/// for most ([`check_physical`]); any real for the axial force (the
-/// buckling bound depends on the other parameters, so draws beyond it are
-/// rejected by the model, like any invalid beam); (0, 1] for κ; (−1, 0.5] for ν.
+/// for most ([`check_physical`]); any real for the axial force and the
+/// foundation (the buckling and stability bounds depend on the other
+/// parameters, so draws beyond them are rejected by the model, like any
+/// invalid beam); (0, 1] for κ; (−1, 0.5] for ν.
 fn check_range(p: &Parameter, field: &str) -> Result<(), InputError> {
     // a normal prior: its ±4 sd range (as `check_physical` does for ≥ 0)
     let (lo, hi) = match p.prior {
@@ -322,13 +331,14 @@ fn check_range(p: &Parameter, field: &str) -> Result<(), InputError> {
         }
     };
     match p.target {
-        Target::AxialForce => Ok(()),
+        Target::AxialForce | Target::ElasticFoundation => Ok(()),
         Target::ShearCoefficient => {
             within(lo >= 0.0, hi <= 1.0, "a support within the physical range 0 < shear_coefficient <= 1")
         }
         Target::PoissonRatio => {
             within(lo >= -1.0, hi <= 0.5, "a support within the physical range -1 < poisson_ratio <= 0.5")
         }
+        Target::LossFactor => within(lo >= 0.0, hi < 1.0, "a support within the physical range 0 <= loss_factor < 1"),
         _ => check_physical(&p.prior, field),
     }
 }

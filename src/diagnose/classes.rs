@@ -21,8 +21,8 @@
 //!   spring at one end, at both alike or apart, and an end clamped that the
 //!   file declares pinned. Why two parameters and not one class per end:
 //!   left, right and both as separate classes would add two singles and 14
-//!   pairs on a simply supported beam (29 → 45 models); one class keeps the
-//!   count (29). On data that cannot tell the beam from its mirror image
+//!   pairs on a simply supported beam (46 → 66 models with the nine causes); one class keeps the
+//!   count (46). On data that cannot tell the beam from its mirror image
 //!   ([`data_mirror`]) the two ends are folded onto κ₀ ≥ κ_L
 //!   (`BeamPosterior::with_ordered_pair`, evidence unchanged), unless the
 //!   model also holds a point mass, whose position fold already uses the
@@ -84,6 +84,47 @@
 //!   The class is no candidate when the file's parameters already sample
 //!   the diameter, the modulus or the density ([`ModelClass::free_in`]): the
 //!   base model then carries it.
+//! - `elastic-foundation`: a Winkler modulus k (N/m²) under the whole span,
+//!   signed: a substrate or an embedding matrix pushes back (k > 0), a gate's
+//!   electrostatic pull is a negative spring (k < 0). Eringen's law acts on
+//!   its reaction as on the inertia (`beam::fe::scaling`), so without other
+//!   coupling it adds k/ρA to every ω² (any support; `tests/beam_foundation.rs`):
+//!   its signature is a constant added to ω_n², where a tension adds
+//!   ∝ n² and a section mismatch multiplies. Prior k/k_ref ~
+//!   asinh-U[−1, 100] with k_ref = ρA(ω₁⁰)², the nominal local beam's first
+//!   modal stiffness per length, so k/k_ref is the fraction by which it moves
+//!   ω₁². Reasoning: a pull at −k_ref takes ω₁ of the nominal beam to zero
+//!   (the pull-in instability), the physical end of a gate's softening;
+//!   draws past the model's own bound (lower with e0a) are rejected by the
+//!   model (zero likelihood), as for compression. A matrix's Winkler modulus
+//!   is of the order of its Young's modulus (the usual estimate for a fibre
+//!   in an elastic medium), 1–3 GPa for a polymer; for a tube of EI ≈
+//!   5e-26 N·m² (a (5,5) tube with the 0.34 nm wall) that is k/k_ref ≈ 1 at
+//!   L = 7 nm and, since k_ref ∝ L⁻⁴, ≈ 100 at L = 22 nm (ω₁ × 10), where
+//!   the range stops: stiffer embeddings leave the modes little of the beam
+//!   to diagnose. Uniform in asinh(k/k_ref) for the reason the axial force is
+//!   (nearly flat for |k| ≲ k_ref, log-uniform beyond). A Pasternak shear
+//!   layer G_p adds −G_p w″, the form of a tension N = G_p (with Eringen's
+//!   operator on both): `axial-force` carries it, so it is no class of its own.
+//! - `loss-factor`: frequency-independent (hysteretic) damping, the complex
+//!   modulus E(1 + iη) of the beam's own stiffness (`beam::spec`), so that
+//!   every mode of an otherwise undamped beam gets ζ = sin(½ atan η) ≈ η/2:
+//!   a damping flat in mode number, where viscous damping falls as 1/ω_n and
+//!   a relaxation peaks near its Ω. η ~ log-U[2e-4, 0.6], the viscous
+//!   class's ζ range [1e-4, 0.3] read as η = 2ζ: from unmeasurable beside the
+//!   base model's own damping to a heavily damped tube (room-temperature
+//!   suspended tubes show quality factors of order 100, η ≈ 1e-2: Sazonova et
+//!   al., Nature 431 (2004) 284).
+//! - Strain-rate (Kelvin–Voigt) damping, E(1 + τs), is no class of its own:
+//!   it is the extra relaxation's fast limit. For |s| ≪ Ω,
+//!   G(s) = 1 + Δs/(s + Ω) = 1 + (Δ/Ω)s − (Δ/Ω²)s² + …, i.e. Kelvin–Voigt
+//!   with τ = Δ/Ω, plus a stiffening Δ(ω/Ω)²/(1 + (ω/Ω)²) of Re G. The class's
+//!   prior reaches Ω = 3ω_n⁰ with Δ ≤ 1, so it holds τ ≤ 1/(3ω_n⁰), i.e.
+//!   Kelvin–Voigt damping up to ζ_n = τω_n/2 ≈ 1/6 on the highest measured
+//!   mode, with a stiffening of that mode ≤ Δ/10 that e0a and the relaxation
+//!   absorb. The steering side's draw found both of its Kelvin–Voigt sets
+//!   named `extra-relaxation` (issue 65); a strain rate beyond that range
+//!   (ζ_n > 1/6) would need Ω above the prior and reads `unexplained`.
 //! - `baseline`: the base model with β² ~ IG(9.5, 11.1) (§4.3); not a cause.
 //!
 //! Log-uniform priors are sampled in u = ln x, the axial force's in
@@ -96,124 +137,10 @@ use crate::beam::{BeamError, BeamSpec, Support};
 use crate::calibration::parameters::SHEAR_COEFFICIENT_PRIOR;
 use crate::calibration::{BeamPosterior, ModeObservation, ModeScan, Parameter, ParameterSet, Target};
 
-/// One candidate cause: an extension of the base model.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum ModelClass {
-    ExtraRelaxation,
-    ViscousDamping,
-    SupportRotationalStiffness,
-    AttachedMass,
-    AxialForce,
-    ShearDeformation,
-    SectionMismatch,
-}
-
-impl ModelClass {
-    /// The candidate causes, in report order.
-    pub const CAUSES: [ModelClass; 7] = [
-        ModelClass::ExtraRelaxation,
-        ModelClass::ViscousDamping,
-        ModelClass::SupportRotationalStiffness,
-        ModelClass::AttachedMass,
-        ModelClass::AxialForce,
-        ModelClass::ShearDeformation,
-        ModelClass::SectionMismatch,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            ModelClass::ExtraRelaxation => "extra-relaxation",
-            ModelClass::ViscousDamping => "viscous-damping",
-            ModelClass::SupportRotationalStiffness => "support-rotational-stiffness",
-            ModelClass::AttachedMass => "attached-mass",
-            ModelClass::AxialForce => "axial-force",
-            ModelClass::ShearDeformation => "shear-deformation",
-            ModelClass::SectionMismatch => "section-mismatch",
-        }
-    }
-
-    pub fn from_name(name: &str) -> Option<Self> {
-        Self::CAUSES.into_iter().find(|c| c.name() == name)
-    }
-
-    /// Why measured ω and ζ alone never decide this cause, even when no
-    /// model of the catalogue rivals it: an effect outside the catalogue
-    /// that shares its signature to first order, and the measurement that
-    /// separates the two. `None` for causes with no such known mimic.
-    ///
-    /// `section-mismatch` scales EI/ρA by one factor, which moves every
-    /// undamped λ_n by that factor and leaves every mode shape nominal. A
-    /// section or modulus that varies along the tube (a taper, a temperature
-    /// gradient, a partial coating) moves λ_n by the mode-weighted mean of
-    /// its variation, ∫(δEI·φ_n″² − λ_n δρA·φ_n²)dx / ∫EI φ_n″² dx: for a
-    /// variation smooth on the scale of the measured modes' wavelengths that
-    /// weight is nearly the same for every n, so a uniform factor fits
-    /// (the oracle fits of `tests/diagnose_catalogue.rs`: a 10–20 % taper and
-    /// an EI gradient fitted by section-mismatch alone within 0.01–0.21 sd of
-    /// noise-free data). The variation skews the mode shapes, which the
-    /// uniform factor cannot: a scan of a measured mode's shape separates them.
-    pub fn first_order_mimic(self) -> Option<&'static str> {
-        match self {
-            ModelClass::SectionMismatch => Some(
-                "a section or modulus that varies along the tube (a taper, a temperature gradient, a partial \
-                 coating) with the same mean shifts every measured ω alike to first order, so ω and ζ cannot tell it \
-                 from a uniform mismatch; the reading is that of the mean section. A scan of a measured mode's \
-                 shape (mode_scans) would separate them: a uniform mismatch leaves every shape nominal",
-            ),
-            _ => None,
-        }
-    }
-
-    /// Whether the cause changes a beam with `support` at all. The rotational
-    /// spring acts on the rotations a support leaves free (`beam::model`):
-    /// both ends of a simply supported beam, the pinned end of a
-    /// clamped–pinned one, none on a clamped–clamped or clamped–free beam.
-    /// There the class would add a parameter the likelihood ignores, its
-    /// evidence that of the model without it up to estimator noise, and it
-    /// would be listed as an alternative "within the margin" of every
-    /// selection (measured on a clamped–clamped beam with a
-    /// point mass: support-rotational-stiffness + attached-mass 0.0 nats
-    /// from the selected attached-mass; on a cantilever the same).
-    pub fn acts_on(self, support: Support) -> bool {
-        match self {
-            ModelClass::SupportRotationalStiffness => {
-                matches!(support, Support::SimplySupported | Support::ClampedPinned)
-            }
-            _ => true,
-        }
-    }
-
-    /// Whether the class is free to act given the file's parameters `base`:
-    /// `section-mismatch` samples the modulus, so it is no candidate when
-    /// the base model already samples the diameter, the modulus or the
-    /// density (the paper's Cases 2A–2C and 3 carry the diameter as a
-    /// nuisance parameter): the class would duplicate that parameter or add
-    /// one the base's already spans.
-    pub fn free_in(self, base: &ParameterSet) -> bool {
-        match self {
-            ModelClass::SectionMismatch => !base
-                .params
-                .iter()
-                .any(|p| matches!(p.target, Target::Diameter | Target::YoungsModulus | Target::Density)),
-            _ => true,
-        }
-    }
-
-    /// How many parameters the class appends to the base model on a beam
-    /// with `support` (what `add_extension` pushes; a test holds the two
-    /// together): the support spring has one per free rotation.
-    pub fn parameter_count(self, support: Support) -> usize {
-        match self {
-            ModelClass::ExtraRelaxation | ModelClass::AttachedMass => 2,
-            ModelClass::SupportRotationalStiffness => match support {
-                Support::SimplySupported => 2,
-                Support::ClampedPinned => 1,
-                Support::ClampedClamped | Support::ClampedFree => 0,
-            },
-            _ => 1,
-        }
-    }
-}
+pub use super::mirror::{data_mirror, folds_end_springs, folds_mass_position, folds_mirror_image};
+use super::mirror::{folded_end_springs, mass_position_upper_nm};
+pub use super::model::{Model, ModelClass};
+pub use super::section_reading::SectionReading;
 
 /// Which ends of a cause parameter's prior range mean a stronger effect
 /// ([lower, upper]): Δ, C, k_r and the mass at their upper end, κ at its
@@ -232,97 +159,11 @@ pub fn stronger_effect_ends(target: Target) -> [bool; 2] {
         | Target::SupportRotationalStiffness
         | Target::SupportRotationalStiffnessLeft
         | Target::SupportRotationalStiffnessRight
-        | Target::PointMassKg => [false, true],
+        | Target::PointMassKg
+        | Target::LossFactor => [false, true],
         Target::ShearCoefficient => [true, false],
-        Target::AxialForce | Target::YoungsModulus => [true, true],
+        Target::AxialForce | Target::YoungsModulus | Target::ElasticFoundation => [true, true],
         _ => [false, false],
-    }
-}
-
-/// A model compared by its evidence: the base model plus a set of causes, or
-/// the β-inflated baseline of eq. (41) (which absorbs misfit as noise and is
-/// never a cause).
-#[derive(Debug, Clone, PartialEq, Eq, Hash, PartialOrd, Ord)]
-pub enum Model {
-    /// The base model with these extensions (sorted, none = the base model itself).
-    Extended(Vec<ModelClass>),
-    /// Base + β² ~ IG(9.5, 11.1), eq. (41).
-    Baseline,
-}
-
-impl Model {
-    pub const BASE: Model = Model::Extended(Vec::new());
-
-    /// The base model with `causes` (order does not matter).
-    pub fn with(causes: &[ModelClass]) -> Self {
-        let mut c = causes.to_vec();
-        c.sort_unstable();
-        c.dedup();
-        Model::Extended(c)
-    }
-
-    /// Every model of at most `k` causes, by number of causes, then in the
-    /// order of [`ModelClass::CAUSES`] (the base first; 29 models at k = 2).
-    pub fn up_to(k: usize) -> Vec<Model> {
-        let mut models = vec![Model::BASE];
-        let mut level = vec![Model::BASE];
-        for _ in 0..k.min(ModelClass::CAUSES.len()) {
-            // extend each model only by causes after its last (causes are kept
-            // sorted, in the order of CAUSES), so each set appears once
-            level = level
-                .iter()
-                .flat_map(|m| {
-                    let last = m.causes().last().copied();
-                    ModelClass::CAUSES
-                        .into_iter()
-                        .filter(move |&c| last.is_none_or(|l| c > l))
-                        .map(move |c| Model::with(&[m.causes(), &[c]].concat()))
-                })
-                .collect();
-            models.extend(level.iter().cloned());
-        }
-        models
-    }
-
-    /// [`Model::up_to`] without the models of a cause that does not act on
-    /// `support` ([`ModelClass::acts_on`]) or is not free given the file's
-    /// parameters `base` ([`ModelClass::free_in`]): the candidates of a diagnosis.
-    pub fn candidates(k: usize, support: Support, base: &ParameterSet) -> Vec<Model> {
-        Model::up_to(k)
-            .into_iter()
-            .filter(|m| m.causes().iter().all(|c| c.acts_on(support) && c.free_in(base)))
-            .collect()
-    }
-
-    /// This model without `cause` (the model itself when it lacks it).
-    pub fn without(&self, cause: ModelClass) -> Model {
-        Model::with(&self.causes().iter().copied().filter(|&c| c != cause).collect::<Vec<_>>())
-    }
-
-    /// The causes this model adds to the base (empty for the base and the baseline).
-    pub fn causes(&self) -> &[ModelClass] {
-        match self {
-            Model::Extended(c) => c,
-            Model::Baseline => &[],
-        }
-    }
-
-    /// The inverse of [`Model::name`].
-    pub fn from_name(name: &str) -> Option<Self> {
-        match name {
-            "base" => Some(Model::BASE),
-            "baseline-beta" => Some(Model::Baseline),
-            _ => name.split('+').map(ModelClass::from_name).collect::<Option<Vec<_>>>().map(|c| Model::with(&c)),
-        }
-    }
-
-    /// `base`, `baseline-beta`, a cause's name, or causes joined by `+`.
-    pub fn name(&self) -> String {
-        match self {
-            Model::Baseline => "baseline-beta".into(),
-            Model::Extended(c) if c.is_empty() => "base".into(),
-            Model::Extended(c) => c.iter().map(|c| c.name()).collect::<Vec<_>>().join("+"),
-        }
     }
 }
 
@@ -415,75 +256,6 @@ pub fn model_parameters(
     ClassParameters { set: ParameterSet { params }, coordinates }
 }
 
-/// Upper end of the attached-mass position prior. On a beam whose supports
-/// mirror each other (simply supported, clamped–clamped; the file's springs
-/// alike at both ends, [`BeamSpec::mirrors_itself`], and the uniform mesh
-/// mirrors too; a model that samples the two end springs apart mirrors with
-/// them swapped, `BeamSpec::mirror_image`) a mass
-/// at x and one at L − x give the same frequencies and damping ratios, so the
-/// likelihood is symmetric about midspan and the posterior on x has two mirror
-/// peaks. The prior is folded onto the left half, U[0, L/2]: the evidence is
-/// unchanged (the likelihood integrates to the same value on each half and
-/// the prior density doubles), the sampler no longer has to cross between
-/// the two peaks, and the reported position is the canonical (left) one.
-fn mass_position_upper_nm(beam: &BeamSpec, scans: &[ModeScan]) -> f64 {
-    if data_mirror(beam, scans) {
-        0.5 * beam.length_nm
-    } else {
-        beam.length_nm
-    }
-}
-
-/// Whether `model`'s mass position prior on `beam` is folded onto the left
-/// half ([`mass_position_upper_nm`]). Then every posterior draw stands for
-/// itself and its mirror image, with equal weight, and a prediction that
-/// is not mirror-symmetric (a mode shape read at one point) must average
-/// over both: the folded posterior alone predicts only the left-mass half.
-pub fn folds_mass_position(model: &Model, beam: &BeamSpec, scans: &[ModeScan]) -> bool {
-    model.causes().contains(&ModelClass::AttachedMass) && data_mirror(beam, scans)
-}
-
-/// Whether data on `beam` cannot tell a beam from its mirror image about
-/// midspan: supports that mirror each other and no mode scan. A scan is
-/// driven at one point and read point by point, so it is not
-/// mirror-symmetric, and with one the mass position prior spans the whole
-/// beam (folded, a mass on the right half could not fit the scan at all:
-/// fresh hidden pairs 342, 358 and 361, tension or spring + a mass, came out
-/// `unexplained` once their truth's scan was fed back; unfolded, all three
-/// name both causes).
-pub fn data_mirror(beam: &BeamSpec, scans: &[ModeScan]) -> bool {
-    beam.mirrors_itself() && scans.is_empty()
-}
-
-/// Whether `model`'s two end springs are folded onto κ₀ ≥ κ_L (module doc):
-/// then the spring reported at x = 0 is the stiffer one, at whichever end
-/// it is, and a prediction that is not mirror-symmetric must average each
-/// draw with its mirror image, as for a folded mass position.
-pub fn folds_end_springs(model: &Model, beam: &BeamSpec, scans: &[ModeScan]) -> bool {
-    data_mirror(beam, scans)
-        && beam.support == Support::SimplySupported
-        && model.causes().contains(&ModelClass::SupportRotationalStiffness)
-        && !model.causes().contains(&ModelClass::AttachedMass)
-}
-
-/// Whether `model`'s posterior on `beam` is folded onto one of two mirror
-/// images ([`folds_mass_position`] or [`folds_end_springs`]).
-pub fn folds_mirror_image(model: &Model, beam: &BeamSpec, scans: &[ModeScan]) -> bool {
-    folds_mass_position(model, beam, scans) || folds_end_springs(model, beam, scans)
-}
-
-/// The indices of the two end springs in `params` when they are folded
-/// ([`folds_end_springs`]: both ends sampled, data that cannot tell the beam
-/// from its mirror image, and no point mass, whose position fold takes the
-/// symmetry).
-fn folded_end_springs(model: &Model, params: &ParameterSet, beam: &BeamSpec, scans: &[ModeScan]) -> Option<[usize; 2]> {
-    if !folds_end_springs(model, beam, scans) {
-        return None;
-    }
-    let at = |t: Target| params.params.iter().position(|p| p.target == t);
-    Some([at(Target::SupportRotationalStiffnessLeft)?, at(Target::SupportRotationalStiffnessRight)?])
-}
-
 /// Appends the parameters of one cause, with the priors of the module doc.
 fn add_extension(
     params: &mut Vec<Parameter>,
@@ -550,8 +322,27 @@ fn add_extension(
             let e = beam.youngs_modulus_pa;
             params.push(param("youngs_modulus_pa", Prior::LogUniform { lower: lo * e, upper: hi * e }));
         }
+        ModelClass::ElasticFoundation => {
+            let k_ref = s.rho_a_kg_m * s.omega_1_rad_s * s.omega_1_rad_s;
+            let (lo, hi) = FOUNDATION_RANGE;
+            params.push(param(
+                "elastic_foundation_n_m2",
+                Prior::AsinhUniform { lower: lo * k_ref, upper: hi * k_ref, scale: k_ref },
+            ));
+        }
+        ModelClass::LossFactor => {
+            let (lower, upper) = LOSS_FACTOR_RANGE;
+            params.push(param("loss_factor", Prior::LogUniform { lower, upper }));
+        }
     }
 }
+
+/// The prior range of the `loss-factor` class's η (log-uniform; the module doc's reasoning).
+pub const LOSS_FACTOR_RANGE: (f64, f64) = (2e-4, 0.6);
+
+/// The prior range of the `elastic-foundation` class in units of
+/// k_ref = ρA(ω₁⁰)² (a pull < 0; the module doc's reasoning).
+pub const FOUNDATION_RANGE: (f64, f64) = (-1.0, 100.0);
 
 /// The prior range of each end's κ = k L/EI of `support-rotational-stiffness`
 /// (the module doc's reasoning).
@@ -565,61 +356,6 @@ pub const AXIAL_FORCE_RANGE: (f64, f64) = (-0.5, 100.0);
 /// (the module doc's reasoning); defined beside the other priors in
 /// `calibration::parameters`, where `identify`'s numbering reads it too.
 pub use crate::calibration::parameters::SECTION_FACTOR_RANGE;
-
-/// A `section-mismatch` posterior read in the user's terms: the factor f on
-/// EI/ρA (= E/E_nominal as sampled), and what it means for each nominal value
-/// alone. Since ω ∝ √f, a factor f is a section √f times larger in every
-/// dimension (I/A ∝ d²), or E/ρ f times the nominal, or a mass per length
-/// 1/f times the nominal (an adsorbate of 1/f − 1).
-#[derive(Debug, Clone, Copy, serde::Serialize, PartialEq)]
-pub struct SectionReading {
-    /// f: posterior mean and central 95 % interval.
-    pub stiffness_to_mass_factor: f64,
-    pub stiffness_to_mass_factor_ci95: [f64; 2],
-    /// The declared diameter and the one that alone would explain f (d·√f at the mean of f).
-    pub declared_diameter_nm: f64,
-    pub equivalent_diameter_nm: f64,
-    pub equivalent_diameter_ci95_nm: [f64; 2],
-    /// (f − 1)·100: E/ρ that much above the nominal (negative: below).
-    pub e_over_rho_change_percent: f64,
-    /// (1/f − 1)·100: the mass per length that much above the nominal.
-    pub mass_per_length_change_percent: f64,
-}
-
-impl SectionReading {
-    /// From the posterior mean and central 95 % interval of `youngs_modulus_pa` on a beam declaring `nominal`.
-    pub fn new(nominal: &BeamSpec, modulus_mean_pa: f64, modulus_ci95_pa: [f64; 2]) -> Self {
-        let e0 = nominal.youngs_modulus_pa;
-        let f = modulus_mean_pa / e0;
-        let ci = [modulus_ci95_pa[0] / e0, modulus_ci95_pa[1] / e0];
-        let d = nominal.diameter_nm;
-        SectionReading {
-            stiffness_to_mass_factor: f,
-            stiffness_to_mass_factor_ci95: ci,
-            declared_diameter_nm: d,
-            equivalent_diameter_nm: d * f.sqrt(),
-            equivalent_diameter_ci95_nm: [d * ci[0].sqrt(), d * ci[1].sqrt()],
-            e_over_rho_change_percent: 100.0 * (f - 1.0),
-            mass_per_length_change_percent: 100.0 * (1.0 / f - 1.0),
-        }
-    }
-
-    /// One sentence: "behaves as if d = 1.070 nm instead of 1 nm …, or as if E/ρ were 14.5 % higher, …".
-    pub fn sentence(&self) -> String {
-        let pct = self.e_over_rho_change_percent;
-        let (word, mass_word) = if pct >= 0.0 { ("higher", "lower") } else { ("lower", "higher") };
-        format!(
-            "behaves as if d = {:.3} nm instead of {} nm (95 %: {:.3}–{:.3} nm), or as if E/ρ were {:.1} % {word}, or the \
-             mass per length {:.1} % {mass_word}",
-            self.equivalent_diameter_nm,
-            self.declared_diameter_nm,
-            self.equivalent_diameter_ci95_nm[0],
-            self.equivalent_diameter_ci95_nm[1],
-            pct.abs(),
-            self.mass_per_length_change_percent.abs(),
-        )
-    }
-}
 
 /// The posterior of one model in its sampling coordinates (log-uniform priors sampled in ln x).
 pub type ClassPosterior = Reparameterized<BeamPosterior>;
@@ -653,12 +389,12 @@ pub fn model_posterior(
 mod tests {
     use super::*;
 
-    /// `up_to(k)` lists every set of at most k causes once: C(7, 0) + … + C(7, k).
+    /// `up_to(k)` lists every set of at most k causes once: C(9, 0) + … + C(9, k).
     #[test]
     fn up_to_lists_every_set_of_causes_once() {
         // `up_to` and `Model::with` rely on CAUSES being in the enum's order
         assert!(ModelClass::CAUSES.windows(2).all(|w| w[0] < w[1]));
-        for (k, n) in [(0, 1), (1, 8), (2, 29), (3, 64), (7, 128)] {
+        for (k, n) in [(0, 1), (1, 10), (2, 46), (3, 130), (9, 512)] {
             let models = Model::up_to(k);
             assert_eq!(models.len(), n, "k = {k}");
             assert_eq!(models[0], Model::BASE);
@@ -690,7 +426,7 @@ mod tests {
             let ok = if acts { moved > 1e-3 } else { moved.abs() < 1e-12 };
             assert!(ok, "{}: ω₁ moved by {moved:e}", support.name());
             let models = Model::candidates(2, support, &ParameterSet::paper_n1());
-            let expected = if acts { 29 } else { 22 };
+            let expected = if acts { 46 } else { 37 };
             assert_eq!(models.len(), expected, "{}", support.name());
             assert!(models.iter().all(|m| m.causes().iter().all(|c| c.acts_on(support))));
         }
@@ -708,7 +444,7 @@ mod tests {
         base.params.push(param("diameter_nm", Prior::Normal { mean: 1.0, sd: 0.05 }));
         assert!(!ModelClass::SectionMismatch.free_in(&base));
         let without = Model::candidates(2, Support::SimplySupported, &base);
-        assert_eq!((all.len(), without.len()), (29, 22));
+        assert_eq!((all.len(), without.len()), (46, 37));
         assert!(without.iter().all(|m| !m.causes().contains(&ModelClass::SectionMismatch)));
         let beam = BeamSpec::elastic(8.0, 1.0, 1.0e12, 2300.0, Support::SimplySupported, 20);
         let r = SectionReading::new(&beam, 1.1449e12, [1.0e12, 1.21e12]);

@@ -78,12 +78,15 @@ pub mod classes;
 mod diagnosis;
 pub mod evidence;
 pub mod falsify;
+pub mod mirror;
+pub mod model;
 pub mod next;
 pub mod ppc;
 mod predictive;
 pub mod report;
 pub mod screen;
 mod search;
+pub mod section_reading;
 mod settings;
 mod verdict;
 

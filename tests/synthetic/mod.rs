@@ -150,11 +150,16 @@ pub fn nominal_beam() -> BeamSpec {
     BeamSpec::elastic(8.0, 1.0, 1.0e12, 2300.0, Support::SimplySupported, 20)
 }
 
-/// Effect drawn by seed: clean with probability 1/7, else one of the six causes.
+/// How many of [`ModelClass::CAUSES`] (the first) [`draw_truth`] draws: the
+/// seven the suites were drawn from before `elastic-foundation` joined the
+/// catalogue, so every earlier seed keeps its truth.
+const DRAWN_CAUSES: usize = 7;
+
+/// Effect drawn by seed: clean with probability 1/8, else one of the first seven causes.
 pub fn draw_truth(seed: u64) -> Option<ModelClass> {
     let mut rng = stream(seed, Purpose::SyntheticEffect, [0, 0]);
-    let k = rng.gen_range(0..=ModelClass::CAUSES.len());
-    ModelClass::CAUSES.get(k).copied()
+    let k = rng.gen_range(0..=DRAWN_CAUSES);
+    ModelClass::CAUSES[..DRAWN_CAUSES].get(k).copied()
 }
 
 fn log_uniform(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> f64 {
@@ -179,6 +184,10 @@ fn magnitude_range(effect: Effect) -> (f64, f64) {
         Effect::Cause(ModelClass::ShearDeformation) => (1.0, 1.0 / 0.3),
         // f − 1 of a stiffness-to-mass factor f, up to the class's prior 3/2
         Effect::Cause(ModelClass::SectionMismatch) => (0.01, 0.5),
+        // |k|/(ρAω₁⁰²): a substrate up to 5, a gate's pull up to 0.5
+        Effect::Cause(ModelClass::ElasticFoundation) => (0.02, 5.0),
+        // η (ζ ≈ η/2 on every mode), up to the class's prior 0.6
+        Effect::Cause(ModelClass::LossFactor) => (0.002, 0.6),
         // coupling g (fraction of the geometric mean of the two squared frequencies);
         // beyond 0.1 the two resonances hybridize and "the beam mode" loses its meaning
         Effect::Foreign(Foreign::ModeCoupling) => (0.005, 0.1),
@@ -188,10 +197,12 @@ fn magnitude_range(effect: Effect) -> (f64, f64) {
 }
 
 /// The growth cap of `effect` with `shape`: [`magnitude_range`]'s, but a
-/// compression is capped at half the buckling load (the class's prior).
+/// compression is capped at half the buckling load (the class's prior), a gate's pull at half
+/// the first mode's stiffness.
 fn magnitude_cap(effect: Effect, shape: [f64; 2]) -> f64 {
     let (_, cap) = magnitude_range(effect);
-    if effect == Effect::Cause(ModelClass::AxialForce) && shape[0] < 0.0 {
+    let pull = matches!(effect, Effect::Cause(ModelClass::AxialForce | ModelClass::ElasticFoundation));
+    if pull && shape[0] < 0.0 {
         cap.min(0.5)
     } else {
         cap
@@ -215,6 +226,8 @@ fn draw_shape(effect: Effect, clean: &[Mode], length_nm: f64, rng: &mut ChaCha8R
         Effect::Cause(ModelClass::AttachedMass) => [rng.gen_range(0.1..0.9) * length_nm, 0.0],
         // tension twice as likely as compression
         Effect::Cause(ModelClass::AxialForce) => [if rng.gen_range(0..3) < 2 { 1.0 } else { -1.0 }, 0.0],
+        // a substrate or a gate's pull, alike
+        Effect::Cause(ModelClass::ElasticFoundation) => [if rng.gen_range(0..2) == 0 { 1.0 } else { -1.0 }, 0.0],
         // [the coupled mode (2..=n), the clamp mode's relative detuning ±(2–8 %)]
         Effect::Foreign(Foreign::ModeCoupling) => {
             let mode = rng.gen_range(2..=clean.len()) as f64;
@@ -402,6 +415,10 @@ fn with_effect(base: &Truth, effect: Effect, shape: [f64; 2], mag: f64, s: &Nomi
             })
         }
         Effect::Cause(ModelClass::SectionMismatch) => b.youngs_modulus_pa *= 1.0 + mag,
+        Effect::Cause(ModelClass::ElasticFoundation) => {
+            b.elastic_foundation_n_m2 = shape[0] * mag * s.rho_a_kg_m * s.omega_1_rad_s * s.omega_1_rad_s
+        }
+        Effect::Cause(ModelClass::LossFactor) => b.loss_factor = mag,
         Effect::Foreign(f) => t.modal.push((f, shape, mag)),
     }
     t

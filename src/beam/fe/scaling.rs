@@ -1,5 +1,24 @@
 //! The scaled model of one beam: the scalars of the nondimensional scaling
 //! (`model`'s module doc) and the matrices every pole and FRF solver reads.
+//!
+//! # The Winkler foundation
+//! A foundation of modulus k (N/m²) loads the beam with the reaction
+//! p = −k w per length. Eringen's differential law, (1 − μ∂ₓ²)σ = E ε with
+//! μ = (e0a)², turns the equilibrium M″ = ρA ẅ + C ẇ − p into the nonlocal
+//! beam equation
+//!   EI w⁗ + (1 − μ∂ₓ²)(ρA ẅ + C ẇ + k w) = 0
+//! (Eringen's operator acts on every distributed transverse load, the
+//! reaction as the inertia and the damping). Its weak form adds to the
+//! stiffness k·(∫w v dx + μ∫w′v′ dx): k times the translational nonlocal
+//! mass form, i.e. k̃_f·M̃_beam with k̃_f = kL⁴/EI in the scaled units
+//! (M̃_beam is ρA's form divided by ρA L). The foundation is elastic: it is
+//! not multiplied by the relaxation factor G(s). Where M̃_beam = M̃ (no point
+//! mass, no rotary inertia) and D̃ ∝ M̃, every family of `modal.rs` becomes
+//! s² + c̃s + k̃_f + λG(s) = 0, so the undamped elastic beam has
+//! ω² = ω₀² + k/ρA for every mode and support. Simply supported, continuum:
+//! ω² = (EI α⁴/(1 + μα²) + k)/ρA, α = rπ/L (tested in
+//! `tests/beam_foundation.rs`). A Pasternak shear layer G_p adds −G_p w″,
+//! whose form is that of a tension N = G_p: the axial force carries it.
 
 use std::borrow::Cow;
 
@@ -28,6 +47,12 @@ pub struct ScaledModel<'a> {
     pub k_axial: Option<SymBand>,
     /// ñ = NL²/EI.
     pub axial: f64,
+    /// k̃_f = kL⁴/EI, the Winkler foundation (elastic, not relaxed); its
+    /// stiffness matrix is k̃_f·M̃_beam (module doc).
+    pub foundation: f64,
+    /// The hysteretic loss factor η: the relaxed stiffness is G(s)·(1 + iη)·K̃
+    /// in the upper half plane ([`Self::relaxation`]).
+    pub loss: f64,
     /// True for a Timoshenko beam (rotary inertia: D̃ ∝ M̃ only if c̃ = 0).
     pub has_rotary: bool,
     /// k̃_r at x = 0 and at x = L (0 = no spring; a value on an end whose
@@ -66,6 +91,8 @@ pub struct Scaling {
     pub spring: [f64; 2],
     /// ñ = NL²/EI.
     pub axial: f64,
+    /// k̃_f = kL⁴/EI.
+    pub foundation: f64,
 }
 
 impl Scaling {
@@ -83,13 +110,14 @@ impl Scaling {
             c: beam.viscous_damping_n_s_m2 / (rho_a * omega_ref),
             spring: beam.support_rotational_stiffness_at_ends_n_m_rad().map(|k| k * l / ei),
             axial: beam.axial_force_n * l * l / ei,
+            foundation: beam.elastic_foundation_n_m2 * l * l * l * l / ei,
         }
     }
 }
 
 impl<'a> ScaledModel<'a> {
     pub fn new(beam: &BeamSpec, mesh: &'a UnitMesh) -> Self {
-        let Scaling { l, ei, rho_a, omega_ref, e_tilde, c, spring, axial } = Scaling::new(beam);
+        let Scaling { l, ei, rho_a, omega_ref, e_tilde, c, spring, axial, foundation } = Scaling::new(beam);
         let shear = shear_params(beam).map_or(0.0, |(g, _)| g);
         let m_all = mesh.m0.plus_scaled(e_tilde * e_tilde, &mesh.m1);
         let m_beam = match &mesh.shear {
@@ -119,6 +147,8 @@ impl<'a> ScaledModel<'a> {
             m_beam,
             k_axial,
             axial,
+            foundation,
+            loss: beam.loss_factor,
             has_rotary: mesh.shear.is_some(),
             spring,
             spring_dofs: mesh.spring_dofs,
@@ -164,12 +194,21 @@ impl<'a> ScaledModel<'a> {
 
     /// True when the pencil decouples exactly (proof in `modal.rs`): no spring,
     /// no axial force (both are elastic stiffness not ∝ the relaxed K̃), and
-    /// D̃ ∝ M̃: no point mass and no rotary inertia unless C = 0.
+    /// D̃ ∝ M̃: no point mass and no rotary inertia unless C = 0; a foundation
+    /// only where M̃_beam = M̃ (no point mass, no rotary inertia): then its
+    /// k̃_f M̃_beam = k̃_f M̃ adds k̃_f to every family's constant term.
     pub fn decouples(&self) -> bool {
-        !self.has_spring() && self.k_axial.is_none() && (!(self.has_point_mass || self.has_rotary) || self.c == 0.0)
+        let mass_is_beam = !(self.has_point_mass || self.has_rotary);
+        !self.has_spring()
+            && self.k_axial.is_none()
+            && (mass_is_beam || self.c == 0.0)
+            && (mass_is_beam || self.foundation == 0.0)
     }
 
-    /// K̃ + K̃_spring (the elastic stiffness of the undamped, relaxed pencil).
+    /// K̃ + K̃_spring + K̃_N: the stiffness of the pencil whose eigenpairs the
+    /// cache keys on [`PencilParams`] (the foundation is left out: it is not
+    /// among those parameters; [`Self::forms`] and [`Self::unrelaxed_entry`]
+    /// carry it).
     pub fn k_total(&self) -> SymBand {
         let mut k = self.k.as_ref().clone();
         for (i, ks) in self.springs() {
@@ -181,15 +220,16 @@ impl<'a> ScaledModel<'a> {
         k
     }
 
-    /// The entry (i, j) of the unrelaxed elastic stiffness K̃_spring + K̃_N.
+    /// The entry (i, j) of the unrelaxed elastic stiffness K̃_spring + K̃_N + k̃_f M̃_beam.
     pub fn unrelaxed_entry(&self, i: usize, j: usize) -> f64 {
         let ks = if i == j { self.spring_at(i) } else { 0.0 };
-        ks + self.k_axial.as_ref().map_or(0.0, |ka| ka.get(i, j))
+        let kf = if self.foundation != 0.0 { self.foundation * self.m_beam.get(i, j) } else { 0.0 };
+        ks + self.k_axial.as_ref().map_or(0.0, |ka| ka.get(i, j)) + kf
     }
 
-    /// Bilinear forms of x: (xᵀK̃x, xᵀM̃x, xᵀM̃_beam x, xᵀ(K̃_spring + K̃_N)x), the
-    /// first three (and the axial part of the last) from element energies
-    /// (see [`UnitMesh::energy_forms`]).
+    /// Bilinear forms of x: (xᵀK̃x, xᵀM̃x, xᵀM̃_beam x, xᵀ(K̃_spring + K̃_N + k̃_f M̃_beam)x),
+    /// the first three (and the axial and foundation parts of the last) from
+    /// element energies (see [`UnitMesh::energy_forms`]).
     pub fn forms<T>(&self, x: &[T]) -> (T, T, T, T)
     where
         T: Copy + Default + std::ops::Add<Output = T> + std::ops::Mul<Output = T> + std::ops::Mul<f64, Output = T>,
@@ -212,7 +252,7 @@ impl<'a> ScaledModel<'a> {
             }
             m = m + w * w * *mu;
         }
-        let mut ks = k_n;
+        let mut ks = k_n + mb * self.foundation;
         for (i, k) in self.springs() {
             ks = ks + x[i] * x[i] * k;
         }
@@ -220,7 +260,10 @@ impl<'a> ScaledModel<'a> {
     }
 
     /// Relaxation factor G(s̃) = 1 + Σ Δᵢ s̃/(s̃ + Ω̃ᵢ) (Laplace transform of eq. 8
-    /// times s, eq. 9) and its derivative Σ Δᵢ Ω̃ᵢ/(s̃ + Ω̃ᵢ)².
+    /// times s, eq. 9) and its derivative Σ Δᵢ Ω̃ᵢ/(s̃ + Ω̃ᵢ)², both times
+    /// (1 + iη) with a loss factor η: the hysteretic modulus of positive
+    /// frequencies, valid in the upper half plane where the oscillatory poles
+    /// are taken (their conjugates are the negative frequencies').
     pub fn relaxation(&self, s: num_complex::Complex64) -> (num_complex::Complex64, num_complex::Complex64) {
         let mut g = num_complex::Complex64::new(1.0, 0.0);
         let mut dg = num_complex::Complex64::new(0.0, 0.0);
@@ -228,6 +271,10 @@ impl<'a> ScaledModel<'a> {
             let den = s + w;
             g += d * s / den;
             dg += d * w / (den * den);
+        }
+        if self.loss != 0.0 {
+            let h = num_complex::Complex64::new(1.0, self.loss);
+            return (g * h, dg * h);
         }
         (g, dg)
     }

@@ -14,7 +14,7 @@ use crate::beam::fe::scaling::ScaledModel;
 use crate::beam::linalg::band::{ldl_factor_for_inverse_iteration, ldl_solve, BandLu};
 use crate::beam::modal_result::{assemble, ModalResult};
 use crate::beam::solve::eigen::EigenPair;
-use crate::beam::solve::family::{family_roots, REAL_TOL};
+use crate::beam::solve::family::{hysteretic_family_roots_into, Roots, REAL_TOL};
 
 /// Which poles the coupled path (c) solves for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -64,6 +64,8 @@ pub(crate) fn general_path(
     pairs: &[EigenPair],
     poles: Poles,
 ) -> Result<ModalResult, BeamError> {
+    // a hysteretic loss has no real (time-domain) poles: the pairs alone
+    let poles = if model.loss != 0.0 { Poles::Oscillatory } else { poles };
     {
         let count = n_modes;
         let approx = family_approximations(model, pairs);
@@ -72,7 +74,9 @@ pub(crate) fn general_path(
         let mut found_real: Vec<(f64, Vec<f64>)> = Vec::new();
         let mut families = Vec::with_capacity(count);
         for ((a, b, c), phi, forms) in &approx {
-            let starts = family_roots(*a, *b, *c, &model.ivs)?;
+            // the one-term family's roots (with a loss factor its pair alone)
+            let mut starts = Roots::default();
+            hysteretic_family_roots_into(*a, *b, *c, &model.ivs, model.loss, &mut starts)?;
             let mut fam = Vec::with_capacity(starts.len());
             let wanted = |s: &Complex64| s.im > 0.0 || (s.im == 0.0 && poles == Poles::All);
             for s0 in starts.iter().copied().filter(wanted) {
@@ -193,6 +197,9 @@ fn complex_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64], forms: Forms) ->
         }
         if let Some(ka) = &model.k_axial {
             t.iter_mut().zip(&ka.data).for_each(|(ti, &v)| *ti += v);
+        }
+        if model.foundation != 0.0 {
+            t.iter_mut().zip(&model.m_beam.data).for_each(|(ti, &v)| *ti += model.foundation * v);
         }
         let tiny = Complex64::new(f64::EPSILON * (model.k.data[0] + s.norm_sqr() * model.m.data[0]), 0.0);
         if !ldl_factor_for_inverse_iteration(&mut t, n, model.k.kd, tiny) {
@@ -383,9 +390,10 @@ fn nonlinear_rqi(model: &ScaledModel, s0: f64, phi: &[f64], avoid: &[&[f64]]) ->
         }
         let (g, dg) = model.relaxation(Complex64::new(s, 0.0));
         let lu = BandLu::factor_kd(model.n(), model.k.kd, |i, j| {
-            let ks = if i == j { model.spring_at(i) } else { 0.0 };
-            let ka = model.k_axial.as_ref().map_or(0.0, |ka| ka.get(i, j));
-            s * s * model.m.get(i, j) + s * model.c * model.m_beam.get(i, j) + ks + ka + g.re * model.k.get(i, j)
+            s * s * model.m.get(i, j)
+                + s * model.c * model.m_beam.get(i, j)
+                + model.unrelaxed_entry(i, j)
+                + g.re * model.k.get(i, j)
         });
         // T(s) exactly singular: s is a pole and x the start of its vector
         let Some(lu) = lu else { return Ok(RealPole::Rqi(s, x)) };

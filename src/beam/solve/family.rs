@@ -3,7 +3,8 @@
 //! i.e. of the degree-(N+2) polynomial
 //!   p(s) = (s² + c s + a + b) Πᵢ(s + Ωᵢ) + b Σᵢ Δᵢ s Π_{k≠i}(s + Ωₖ)
 //! (only Δᵢ > 0 enter: a term with Δᵢ = 0 is an uncoupled factor (s + Ωᵢ)).
-//! In the decoupled case a = 0, b = λ, c = C/ρA (dimensionless units).
+//! In the decoupled case a = k̃_f (the foundation; 0 without one), b = λ, c = C/ρA
+//! (dimensionless units).
 //!
 //! Method: first the certified iterative route of [`newton_family`] (one complex
 //! Halley iteration for the oscillatory pair, the real roots from their
@@ -64,6 +65,76 @@ pub fn family_roots_into(a: f64, b: f64, c: f64, ivs: &[(f64, f64)], roots: &mut
     Ok(())
 }
 
+/// The roots of s² + c s + a + b(1 + iη)G(s) = 0, the family of a beam with
+/// the hysteretic loss factor η ≥ 0: for η = 0 those of [`family_roots_into`];
+/// for η > 0 the oscillatory pair alone (the root in the upper half plane and
+/// its conjugate, which is the negative frequency's: the hysteretic modulus
+/// is E(1 + iη sgn ω)). The real roots of η = 0 (the relaxation's) have no
+/// counterpart: a hysteretic loss is defined in the frequency domain only.
+///
+/// Method: the η = 0 pair, continued in η in steps of at most
+/// [`LOSS_STEP`] by Newton on f(s) = s² + cs + a + b(1 + iη)G(s), each
+/// step from the last root. Along the path the root moves by ≈ b·Δη/(2|s|)
+/// per step, ≈ Δη/2 relative, so a step of 0.05 starts Newton within 2.5 %
+/// of its root, well inside its quadratic basin (the pair is simple and far
+/// from the real axis for η < 1 unless the η = 0 family is near-critical,
+/// where the continuation fails and the caller falls back). Converged when a
+/// step is at round-off (4 eps·|s|, as in `coupled::functional_root`).
+/// Undamped elastic check: s² = −b(1 + iη), so ω = √b(1 + η²)^¼ and
+/// ζ = sin(½ atan η) (`tests/beam_loss_factor.rs`).
+pub fn hysteretic_family_roots_into(
+    a: f64,
+    b: f64,
+    c: f64,
+    ivs: &[(f64, f64)],
+    eta: f64,
+    roots: &mut Roots,
+) -> Result<(), BeamError> {
+    family_roots_into(a, b, c, ivs, roots)?;
+    if eta == 0.0 {
+        return Ok(());
+    }
+    let Some(mut s) = roots.iter().copied().filter(|s| s.im > 0.0).max_by(|p, q| p.norm_sqr().total_cmp(&q.norm_sqr()))
+    else {
+        return Err(BeamError::numerical("an overdamped family has no pair to carry a loss factor"));
+    };
+    let steps = (eta / LOSS_STEP).ceil().max(1.0) as usize;
+    for k in 1..=steps {
+        let bc = Complex64::new(b, b * eta * k as f64 / steps as f64);
+        let mut converged = false;
+        for _ in 0..30 {
+            let mut g = Complex64::new(1.0, 0.0);
+            let mut dg = Complex64::new(0.0, 0.0);
+            for &(d, w) in ivs {
+                let den = s + w;
+                g += d * s / den;
+                dg += d * w / (den * den);
+            }
+            let f = s * s + c * s + a + bc * g;
+            let df = 2.0 * s + c + bc * dg;
+            let step = f / df;
+            if !step.is_finite() {
+                break;
+            }
+            s -= step;
+            if step.norm_sqr() <= 16.0 * f64::EPSILON * f64::EPSILON * s.norm_sqr() {
+                converged = true;
+                break;
+            }
+        }
+        if !converged || s.im <= 0.0 {
+            return Err(BeamError::numerical("the loss factor's continuation did not converge"));
+        }
+    }
+    roots.clear();
+    roots.push(s);
+    roots.push(s.conj());
+    Ok(())
+}
+
+/// The largest step in η of [`hysteretic_family_roots_into`]'s continuation.
+pub const LOSS_STEP: f64 = 0.05;
+
 /// The N + 2 roots of one family, on the stack (no allocation per call).
 #[derive(Debug, Clone, Copy)]
 pub struct Roots {
@@ -81,6 +152,10 @@ impl Default for Roots {
 }
 
 impl Roots {
+    pub(crate) fn clear(&mut self) {
+        self.len = 0;
+    }
+
     pub(crate) fn push(&mut self, s: Complex64) {
         self.buf[self.len] = s;
         self.len += 1;
@@ -261,9 +336,10 @@ fn advance(s: &mut Complex64, step: Complex64, prev: &mut f64) -> Option<Option<
 /// Families handled together by [`decoupled_family_roots_into`].
 const LANES: usize = 8;
 
-/// [`family_roots_into`]`(0.0, λ, c, ivs, ·)` for every λ of `lambdas` (the
-/// decoupled families of one beam: same damping and internal variables) into
-/// `roots`, bitwise the same roots. For one internal variable the families'
+/// [`family_roots_into`]`(a, λ, c, ivs, ·)` for every λ of `lambdas` (the
+/// decoupled families of one beam: same foundation, damping and internal
+/// variables) into `roots`, bitwise the same roots. For one internal variable
+/// and no foundation (a = 0) the families'
 /// Halley iterations run interleaved, up to [`LANES`] at a time: each
 /// family's solve is a chain of dependent divisions and square roots, so one
 /// at a time the CPU waits on latency; side by side the chains overlap
@@ -275,14 +351,16 @@ const LANES: usize = 8;
 /// family order is returned.
 pub fn decoupled_family_roots_into(
     lambdas: &[f64],
+    a: f64,
+    eta: f64,
     c: f64,
     ivs: &[(f64, f64)],
     roots: &mut [Roots],
 ) -> Result<(), BeamError> {
     debug_assert_eq!(lambdas.len(), roots.len());
-    if ivs.len() != 1 {
+    if ivs.len() != 1 || a != 0.0 || eta != 0.0 {
         for (&lambda, r) in lambdas.iter().zip(roots.iter_mut()) {
-            family_roots_into(0.0, lambda, c, ivs, r)?;
+            hysteretic_family_roots_into(a, lambda, c, ivs, eta, r)?;
         }
         return Ok(());
     }
@@ -684,7 +762,7 @@ mod tests {
             let iv = (log_uniform(1e-3, 10.0), log_uniform(1e-3, 1e6));
             let lambdas: Vec<f64> = (0..families).map(|_| log_uniform(1e-2, 1e6)).collect();
             let mut batch = vec![Roots::default(); families];
-            let batched = decoupled_family_roots_into(&lambdas, c, &[iv], &mut batch);
+            let batched = decoupled_family_roots_into(&lambdas, 0.0, 0.0, c, &[iv], &mut batch);
             let scalar: Result<Vec<Roots>, BeamError> =
                 lambdas.iter().map(|&l| family_roots(0.0, l, c, &[iv])).collect();
             // the same failure (an Aberth non-convergence at a near-double root) or the same bits

@@ -71,6 +71,11 @@ pub fn scaled_poles(model: &ScaledModel) -> Result<Vec<Complex64>, BeamError> {
 
 /// The augmented state matrix (A15) in scaled units.
 pub fn state_matrix(model: &ScaledModel) -> Result<DMatrix<f64>, BeamError> {
+    if model.loss != 0.0 {
+        return Err(BeamError::numerical(
+            "a hysteretic loss factor has no state-space (time-domain) form: its modes come from the frequency domain",
+        ));
+    }
     let n = model.n();
     let nv = model.ivs_all.len();
     let dim = (2 + nv) * n;
@@ -83,6 +88,9 @@ pub fn state_matrix(model: &ScaledModel) -> Result<DMatrix<f64>, BeamError> {
     }
     if let Some(ka) = &model.k_axial {
         k_el += ka.to_dense();
+    }
+    if model.foundation != 0.0 {
+        k_el += model.m_beam.to_dense() * model.foundation;
     }
     let minv_kel = chol.solve(&k_el);
     let minv_k = chol.solve(&k);

@@ -78,7 +78,10 @@ pub(crate) fn state_space_modal(model: &ScaledModel, n_modes: usize) -> Result<M
 
 /// (a, b, c) of every family from a dense symmetric eigen-decomposition.
 fn dense_family_approximations(model: &ScaledModel) -> Result<Vec<(f64, f64, f64)>, BeamError> {
-    let kt = model.k_total().to_dense();
+    let mut kt = model.k_total().to_dense();
+    if model.foundation != 0.0 {
+        kt += model.m_beam.to_dense() * model.foundation;
+    }
     let chol = nalgebra::Cholesky::new(model.m.to_dense())
         .ok_or_else(|| BeamError::numerical("mass matrix is not positive definite"))?;
     let l = chol.l();
