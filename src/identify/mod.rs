@@ -57,7 +57,8 @@
 //!   fallbacks), [`decay`] (a free decay's missed poles);
 //! - the noise model: [`noise`];
 //! - what is reported: [`assemble`]; the phases in order: [`pipeline`];
-//!   the record's scaling: [`scaled`].
+//!   the record's scaling: [`scaled`]; the sampling step of a time record,
+//!   the same for every time origin: [`step`].
 //!
 //! Numbering the modes as physical modes needs the beam model and lives in
 //! `calibration::identified`.
@@ -77,6 +78,7 @@ pub mod refine;
 mod scaled;
 mod select;
 pub mod stabilisation;
+pub mod step;
 pub mod thermal;
 
 use num_complex::Complex64;

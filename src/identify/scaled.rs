@@ -35,7 +35,8 @@ pub(super) fn scale(m: &Measurement, stop: &Stop) -> Scaled {
         }
         Measurement::Time { time_s, displacement_m } => {
             let n = time_s.len();
-            let dt = (time_s[n - 1] - time_s[0]) / (n - 1) as f64;
+            // the canonical step: the same bits for every time origin (`step`)
+            let dt = super::step::sampling_step(time_s);
             // t̃ = π t/Δt: the Nyquist frequency is 1 in the scaled units.
             let x = (0..n).map(|k| std::f64::consts::PI * k as f64).collect();
             (FitKind::Time, x, displacement_m.iter().map(|&v| c(v)).collect(), dt / std::f64::consts::PI, (0.0, 1.0))

@@ -70,7 +70,8 @@ pub fn is_thermal(header: &[String]) -> bool {
 /// each as long as `time_s`), the PSD record `data` then builds.
 pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64>), InputError> {
     let n = time_s.len();
-    let dt = (time_s[n - 1] - time_s[0]) / (n - 1) as f64;
+    // the canonical step: the same bits for every time origin (`step`)
+    let dt = super::step::sampling_step(time_s);
     let record_s = n as f64 * dt;
     let averages = |seg: usize| columns.len() * welch_count(n, seg);
     let mut finest = 0;
