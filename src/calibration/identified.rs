@@ -129,6 +129,7 @@ pub fn number_modes_with_sd(
     }
     let n = predicted_count(k, first_mode);
     let family = Family::new(beam, n)?;
+    check_scale(&family, omegas_rad_s)?;
     let ids: Vec<f64> = omegas_rad_s.iter().map(|w| w.ln()).collect();
     let all = fits(&family, &ids, 0..n);
     let best = all
@@ -176,6 +177,42 @@ pub fn number_modes_with_sd(
     }
     check_unique(&from_n, best_n, Some(f), omegas_rad_s, &family.text, &margin)?;
     Ok(Numbered { numbers: best_n.modes.iter().map(|j| j + 1).collect(), warning })
+}
+
+/// Decades beyond the family's modes (mode 1 of its softest beam, the last
+/// predicted mode of its stiffest) that a record's lines may all lie before
+/// they are refused as a record in another unit.
+pub const SCALE_TOLERANCE_DECADES: f64 = 1.0;
+
+/// The field of [`check_scale`]'s error; the CLI names the record's column.
+pub const SCALE_FIELD: &str = "omega_rad_s";
+
+/// Issue 69, defect 6: a record whose every line lies more than
+/// [`SCALE_TOLERANCE_DECADES`] below mode 1 of every beam of the prior, or
+/// above its last predicted mode, is in another unit (LAMMPS step numbers or
+/// picoseconds left in `time_s` put the cc7 tube's lines 12–15 decades below
+/// its modes), and any numbering of it is arbitrary: refused, with the decades.
+fn check_scale(family: &Family, omegas_rad_s: &[f64]) -> Result<(), InputError> {
+    let (lo, hi) = family.ln_span();
+    let low = omegas_rad_s.iter().copied().fold(f64::INFINITY, f64::min);
+    let high = omegas_rad_s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let ln10 = 10f64.ln();
+    let (decades, side) = if high.ln() < lo - SCALE_TOLERANCE_DECADES * ln10 {
+        ((lo - high.ln()) / ln10, "below")
+    } else if low.ln() > hi + SCALE_TOLERANCE_DECADES * ln10 {
+        ((low.ln() - hi) / ln10, "above")
+    } else {
+        return Ok(());
+    };
+    Err(InputError::new(
+        SCALE_FIELD,
+        format!("lines at {low:.3e} to {high:.3e} rad/s"),
+        format!(
+            "lines near the --beam model's modes ({:.3e} to {:.3e} rad/s over its prior); these are {decades:.1} decades {side} them",
+            lo.exp(),
+            hi.exp()
+        ),
+    ))
 }
 
 /// Refuses `chosen` when another numbering of `all` fits a beam of the

@@ -320,6 +320,16 @@ fn interpolate_log(
 }
 
 impl Family {
+    /// The least ln ω of mode 1 and the greatest of the last predicted mode
+    /// over the grid, the section's offsets included: where the family's
+    /// modes lie (issue 69, defect 6: a record's lines decades from them).
+    pub(crate) fn ln_span(&self) -> (f64, f64) {
+        let points = self.pred.chunks(self.n);
+        let lo = points.clone().map(|p| p[0]).fold(f64::INFINITY, f64::min) + self.offset.0;
+        let hi = points.map(|p| p[self.n - 1]).fold(f64::NEG_INFINITY, f64::max) + self.offset.1;
+        (lo, hi)
+    }
+
     pub(crate) fn new(beam: &BeamSpec, n: usize) -> Result<Self, InputError> {
         let ranges = Ranges::of(beam);
         let text = ranges.text();
