@@ -35,13 +35,13 @@ pub struct IdentifyArgs {
     #[arg(long)]
     pub beam: PathBuf,
     /// Report the K lowest modes the record shows clearly, in order (default: every clear mode in the band).
-    #[arg(long)]
+    #[arg(long, value_parser = |s: &str| crate::cli::clap_error::whole_number(s, ">= 1"))]
     pub modes: Option<usize>,
     /// Physical number of the lowest identified mode (when the numbering is ambiguous); checked against the --beam model's prior.
-    #[arg(long)]
+    #[arg(long, value_parser = |s: &str| crate::cli::clap_error::whole_number(s, ">= 1, at most the --beam mesh's free DOFs"))]
     pub first_mode: Option<usize>,
     /// Highest model order of the stabilisation diagram.
-    #[arg(long, default_value_t = DEFAULT_MAX_ORDER)]
+    #[arg(long, default_value_t = DEFAULT_MAX_ORDER, value_parser = |s: &str| crate::cli::clap_error::whole_number(s, ">= 4"))]
     pub max_order: usize,
     /// Write the measured-data file here (atomically) instead of stdout.
     #[arg(long)]
