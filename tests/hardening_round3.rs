@@ -131,6 +131,17 @@ fn cases() -> Vec<Case> {
         vec!["identify", "rec.csv", "--beam", "beam.yaml"],
         "invalid column 8 of 8 = '': allowed a named column".into(),
     ));
+    // thermal values of 1e-300 m are not "constant": the column and its largest value
+    let tiny: String = std::iter::once("time_s,thermal_a_m,thermal_b_m".to_string())
+        .chain((0..200).map(|i| format!("{i}e-14,{}e-300,1e-11", 1 + i % 3)))
+        .collect::<Vec<String>>()
+        .join("\n");
+    out.push((
+        "vanishing thermal column",
+        vec![("beam.yaml", BEAM.into()), ("rec.csv", tiny)],
+        vec!["identify", "rec.csv", "--beam", "beam.yaml"],
+        "invalid thermal_a_m (row 3, its largest |value|) = 3e-300: allowed displacements in metres".into(),
+    ));
     // values under the user's column name, in the user's unit
     let mut rows = NINE;
     rows[0] = "-1e9,1";

@@ -276,6 +276,7 @@ impl Measurement {
                 check_not_all_zero(names[1], y.iter().all(|&v| v == 0.0), y.len())?;
                 if thermal {
                     let segments: Vec<Vec<f64>> = std::iter::once(y).chain(cols).collect();
+                    check_not_vanishing(&names[1..], &segments)?;
                     let (omega_rad_s, psd_m2_s_per_rad) = super::thermal::psd_of(&x, &segments)?;
                     return Ok(Self::Psd { omega_rad_s, psd_m2_s_per_rad });
                 }
@@ -368,6 +369,34 @@ fn check_uniform(t: &[f64]) -> Result<(), InputError> {
             fmt_num(last),
             format!("a span time_s(row {n}) − time_s(row 1) <= {:e} s (finite; row 1 is {first:e})", f64::MAX),
         ));
+    }
+    Ok(())
+}
+
+/// Below this no displacement (m) is physical (65 decades below the Planck
+/// length), and the PSD of values this small underflows to 0 (x²·Δt ≈
+/// 1e-200·1e-14 is still normal, 1e-300² is not).
+pub const MIN_DISPLACEMENT_M: f64 = 1e-100;
+
+/// Issue 69: a thermal column of values like 1e-300 (not constant) was
+/// refused as "a displacement column is constant": name the column, its
+/// largest |value| and the unit. All-zero columns are left to the PSD's own check.
+fn check_not_vanishing(names: &[&str], columns: &[Vec<f64>]) -> Result<(), InputError> {
+    for (name, column) in names.iter().zip(columns) {
+        let (row, largest) = column.iter().enumerate().map(|(r, v)| (r, v.abs())).fold((0, 0.0f64), |best, (r, v)| {
+            if v > best.1 {
+                (r, v)
+            } else {
+                best
+            }
+        });
+        if largest > 0.0 && largest < MIN_DISPLACEMENT_M {
+            return Err(InputError::new(
+                format!("{name} (row {}, its largest |value|)", row + 1),
+                fmt_num(column[row]),
+                format!("displacements in metres, some |value| >= {MIN_DISPLACEMENT_M:e} (thermal motion is ~1e-11 m)"),
+            ));
+        }
     }
     Ok(())
 }
