@@ -19,6 +19,20 @@ fn record(column: &str, rows: &[&str]) -> String {
 
 const NINE: [&str; 9] = ["1e11,1", "2e11,1", "3e11,1", "4e11,1", "5e11,1", "6e11,1", "7e11,1", "8e11,1", "9e11,1"];
 
+/// A two-mode ring-down, ω = 9.3e11 and 3.8e12 rad/s (modes 1 and 2 of
+/// BEAM), ζ = 0.02 and 0.01, 20 samples per period of the upper mode.
+fn ring_down() -> String {
+    let modes = [(9.3e11_f64, 0.02_f64, 1e-11_f64), (3.8e12, 0.01, 4e-12)];
+    let dt = std::f64::consts::TAU / 3.8e12 / 20.0;
+    let mut text = String::from("time_s,displacement_m\n");
+    for i in 0..3000 {
+        let t = i as f64 * dt;
+        let x: f64 = modes.iter().map(|&(w, z, a)| a * (-z * w * t).exp() * (w * (1.0 - z * z).sqrt() * t).cos()).sum();
+        text.push_str(&format!("{t:e},{x:e}\n"));
+    }
+    text
+}
+
 /// (exit code, stderr) of `nanobeam args…` in `dir`.
 fn nanobeam(args: &[&str], dir: &Path) -> (i32, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_nanobeam")).args(args).current_dir(dir).output().unwrap();
@@ -173,6 +187,16 @@ fn cases() -> Vec<Case> {
         vec!["identify", "rec.csv", "--beam", "beam.yaml"],
         "invalid psd_one_sided_m2_per_hz (row 2) = -1: allowed > 0".into(),
     ));
+    // the numbering's refusals: two lines fit two numberings (546 characters
+    // with the prior's description), a stated first mode no beam fits (396)
+    for (extra, start) in [
+        (vec![], "invalid --first-mode = absent: allowed a numbering the prior decides: lines from 9.300e11 rad/s fit both modes 1, 2 and 1, 3 of its beams; "),
+        (vec!["--first-mode", "9"], "invalid --first-mode = 9: allowed a lowest-mode number some beam of the prior fits, e.g. 1 "),
+    ] {
+        let mut args = vec!["identify", "rec.csv", "--beam", "beam.yaml"];
+        args.extend(extra);
+        out.push(("numbering refused", vec![("beam.yaml", BEAM.into()), ("rec.csv", ring_down())], args, start.into()));
+    }
     // beam files: no Rust type names, lists cut
     out.push((
         "shear_deformation not a mapping",

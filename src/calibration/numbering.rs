@@ -267,8 +267,6 @@ pub(crate) struct Family {
     /// Interpolation bound of each mode's ln ω.
     interp: Vec<f64>,
     offset: (f64, f64),
-    /// The prior searched, as text for messages.
-    pub text: String,
     /// The elastic interpolant: nodes in e0a² and compliance, 1/ω² at the
     /// Euler–Bernoulli nodes (first [`NODES`]) and the Timoshenko ones (from `timoshenko`).
     u_nodes: Vec<f64>,
@@ -447,7 +445,6 @@ impl Family {
             dims: [ne, ns, nd, nw],
             interp,
             offset: ranges.offset,
-            text,
             u_nodes,
             s_nodes,
             inverse,
