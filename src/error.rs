@@ -30,14 +30,16 @@ impl InputError {
 }
 
 /// A number as a user wrote it, short: plain when that takes at most 12
-/// characters, otherwise scientific with the digits that round-trip
-/// (`1e308`, not 309 digits; `2.5e-300`).
+/// characters and no more than 3 beyond the scientific form, otherwise
+/// scientific with the digits that round-trip (`1e308`, not 309 digits;
+/// `2.5e-300`; `-1e9`, not `-1000000000`, issue 69).
 pub fn fmt_num(value: f64) -> String {
     let plain = value.to_string();
-    if plain.len() <= 12 {
+    let scientific = format!("{value:e}");
+    if plain.len() <= 12 && plain.len() <= scientific.len() + 3 {
         plain
     } else {
-        format!("{value:e}")
+        scientific
     }
 }
 
@@ -94,6 +96,47 @@ pub fn from_yaml_value<T: serde::de::DeserializeOwned>(
 /// Largest finite `f64`, as written in messages.
 const F64_MAX_TEXT: &str = "1.7976931348623157e308";
 
+/// The field of an error about the whole YAML document (a CSV given as a
+/// beam file, a list where a mapping belongs); the CLI names the file.
+pub const TOP_LEVEL: &str = "YAML document";
+
+/// Most characters of a value as written in a message (issue 69: a CSV given
+/// to `--beam` printed its 889 characters).
+pub const VALUE_CHARS: usize = 40;
+
+/// Most characters of a list of accepted names in a message.
+pub const LIST_CHARS: usize = 110;
+
+/// `value` cut to [`VALUE_CHARS`] characters, with `…` and its length when cut.
+pub fn clip(value: &str) -> String {
+    let n = value.chars().count();
+    if n <= VALUE_CHARS {
+        value.to_string()
+    } else {
+        format!("{}… ({n} characters)", value.chars().take(VALUE_CHARS).collect::<String>())
+    }
+}
+
+/// A list of accepted names (serde's "one of `a`, `b`, …") cut to about
+/// `max` characters: the first names, then `…` and how many there are.
+pub fn clip_list(list: &str, max: usize) -> String {
+    if list.chars().count() <= max {
+        return list.to_string();
+    }
+    let items: Vec<&str> = list.split(", ").collect();
+    let mut out = String::new();
+    for item in &items {
+        if out.chars().count() + item.chars().count() + 2 > max {
+            break;
+        }
+        if !out.is_empty() {
+            out.push_str(", ");
+        }
+        out.push_str(item);
+    }
+    format!("{out}, … ({} in all)", items.len())
+}
+
 /// One serde_yaml message → `invalid <path> = <value>: allowed <range>`.
 ///
 /// serde_yaml writes `[path: ]<what>[ at line L column C]`, where `path` is
@@ -112,28 +155,28 @@ pub fn serde_error(prefix: &str, msg: &str) -> InputError {
         }
         let joined = parts.join(".").replace(".[", "[");
         if joined.is_empty() {
-            "<document>".to_string()
+            TOP_LEVEL.to_string()
         } else {
             joined
         }
     };
     let here = join(path, None);
     if let Some(name) = backticked(what, "unknown field `") {
-        let allowed = format!("a known field: {}", expected(what));
+        let allowed = format!("a known field: {}", clip_list(&expected(what), LIST_CHARS));
         return InputError::new(join(path, Some(&name)), name, allowed);
     }
     if let Some(name) = backticked(what, "missing field `") {
         return InputError::new(join(path, Some(&name)), "(missing)", "a value: this field is required");
     }
     if let Some(name) = backticked(what, "duplicate field `") {
-        return InputError::new(join(path, Some(&name)), "(given twice)", "each field once");
+        return InputError::new(join(path, Some(&name)), format!("{name} twice"), "each field once");
     }
     if let Some(name) = backticked(what, "unknown variant `") {
-        return InputError::new(here, name, expected(what));
+        return InputError::new(here, clip(&name), clip_list(&expected(what), LIST_CHARS));
     }
     if let Some(rest) = what.strip_prefix("invalid type: ").or_else(|| what.strip_prefix("invalid value: ")) {
         let (found, exp) = rest.split_once(", expected ").unwrap_or((rest, ""));
-        let value = found_value(found);
+        let value = clip(&found_value(found));
         if exp == "f64" && looks_like_overflowing_number(&value) {
             return InputError::new(here, value, format!("a finite number, |x| <= {F64_MAX_TEXT}"));
         }
@@ -205,7 +248,8 @@ fn expected_kind(exp: &str) -> String {
         "i64" | "i32" => "a whole number".to_string(),
         "a boolean" | "bool" => "true or false".to_string(),
         "a string" => "a string".to_string(),
-        e if e.starts_with("struct ") => format!("a mapping of fields ({})", &e["struct ".len()..]),
+        // the Rust type's name is no help to the user (issue 69: "(ShearDeformationYaml)")
+        e if e.starts_with("struct ") => "a mapping of fields (name: value)".to_string(),
         e if e.starts_with("a sequence") => "a list".to_string(),
         "" => "a value of the documented type".to_string(),
         e => e.to_string(),

@@ -34,7 +34,7 @@ fn bad(cmd: &str, text: &str, field: &str) -> String {
     assert!(line.starts_with(&format!("invalid {field} = ")), "expected field {field}: {line}");
     assert!(!line.contains("(see message)"), "{line}");
     // serde's location suffix is dropped where the field path says it all
-    assert!(field == "<document>" || !line.contains(" at line "), "{line}");
+    assert!(field == "BEAM.yaml" || !line.contains(" at line "), "{line}");
     line
 }
 
@@ -51,8 +51,9 @@ fn serde_errors_name_the_full_path_the_value_and_the_range() {
         "internal_variables[0].omega_rad_s",
     );
     bad("modal", &format!("{BEAM}length_nm: 9\n"), "length_nm");
-    bad("modal", "[1, 2]\n", "<document>");
-    bad("modal", "{\n", "<document>");
+    // the whole document is named by its file (issue 69: `<document>` was an internal name)
+    bad("modal", "[1, 2]\n", "BEAM.yaml");
+    bad("modal", "{\n", "BEAM.yaml");
     // an alias bomb (1e9 expanded nodes) inside a field that takes any mapping is named as one
     let mut bomb = String::from("parameters:\n  a0: &a0 [1,1,1,1,1,1,1,1,1,1]\n");
     for i in 1..9 {
@@ -278,7 +279,8 @@ fn clap_errors_are_one_line() {
         (vec!["frf", p], "invalid --input-x-nm"),
         (vec!["bogus"], "invalid command = bogus"),
         (vec![], "invalid command = (missing)"),
-        (vec!["modal", p, "--foo"], "invalid --foo"),
+        // issue 69: the argument as written in the value slot, not "(unknown argument)"
+        (vec!["modal", p, "--foo"], "invalid argument = --foo: "),
     ] {
         let out = run(&args);
         assert_eq!(out.status.code(), Some(2), "{args:?}");

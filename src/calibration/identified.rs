@@ -55,8 +55,24 @@ pub fn number_modes(
     number_modes_checked(beam, omegas_rad_s, first_mode).map(|n| n.numbers)
 }
 
+/// 0-based mode indices as 1-based numbers, runs of three or more as
+/// `a-b` (`1-6, 8`), so that two numberings fit a one-line message.
 fn one_based(m: &[usize]) -> String {
-    m.iter().map(|j| (j + 1).to_string()).collect::<Vec<_>>().join(", ")
+    let mut parts: Vec<String> = vec![];
+    let mut i = 0;
+    while i < m.len() {
+        let mut j = i;
+        while j + 1 < m.len() && m[j + 1] == m[j] + 1 {
+            j += 1;
+        }
+        if j >= i + 2 {
+            parts.push(format!("{}-{}", m[i] + 1, m[j] + 1));
+        } else {
+            parts.extend((i..=j).map(|k| (m[k] + 1).to_string()));
+        }
+        i = j + 1;
+    }
+    parts.join(", ")
 }
 
 /// Physical mode numbers for identified frequencies (sorted ascending),
@@ -129,6 +145,7 @@ pub fn number_modes_with_sd(
     }
     let n = predicted_count(k, first_mode);
     let family = Family::new(beam, n)?;
+    check_scale(&family, omegas_rad_s)?;
     let ids: Vec<f64> = omegas_rad_s.iter().map(|w| w.ln()).collect();
     let all = fits(&family, &ids, 0..n);
     let best = all
@@ -136,7 +153,7 @@ pub fn number_modes_with_sd(
         .filter(|b| b.cost.is_finite())
         .ok_or_else(|| InputError::new("--beam", format!("{n} predicted modes"), "a beam model with enough modes"))?;
     let Some(f) = first_mode else {
-        check_unique(&all, best, None, omegas_rad_s, &family.text, &margin)?;
+        check_unique(&all, best, None, omegas_rad_s, &margin)?;
         return Ok(Numbered { numbers: best.modes.iter().map(|j| j + 1).collect(), warning: None });
     };
     let from_n: Vec<Fit> = all.iter().filter(|x| x.first() == f - 1).cloned().collect();
@@ -152,12 +169,12 @@ pub fn number_modes_with_sd(
         return Err(InputError::new(
             "--first-mode",
             f,
+            // one line of at most 200 characters (issue 69): the prior is docs/identify.md's
             format!(
-                "a lowest-mode number some beam of the prior fits, e.g. {} (modes {} fit; from {f}, modes {} misfit every beam of the prior by {x:.3} more in root summed squared ln omega, tolerance {FIRST_MODE_TOLERANCE}; prior: {})",
+                "a lowest-mode number some beam of the prior fits, e.g. {} (modes {} fit; modes {} misfit every --beam prior beam by {x:.3} in rms ln omega)",
                 best.first() + 1,
                 one_based(&best.modes),
                 one_based(&best_n.modes),
-                family.text
             ),
         ));
     }
@@ -174,8 +191,44 @@ pub fn number_modes_with_sd(
             return Ok(Numbered { numbers: c.modes.iter().map(|j| j + 1).collect(), warning });
         }
     }
-    check_unique(&from_n, best_n, Some(f), omegas_rad_s, &family.text, &margin)?;
+    check_unique(&from_n, best_n, Some(f), omegas_rad_s, &margin)?;
     Ok(Numbered { numbers: best_n.modes.iter().map(|j| j + 1).collect(), warning })
+}
+
+/// Decades beyond the family's modes (mode 1 of its softest beam, the last
+/// predicted mode of its stiffest) that a record's lines may all lie before
+/// they are refused as a record in another unit.
+pub const SCALE_TOLERANCE_DECADES: f64 = 1.0;
+
+/// The field of [`check_scale`]'s error; the CLI names the record's column.
+pub const SCALE_FIELD: &str = "omega_rad_s";
+
+/// Issue 69, defect 6: a record whose every line lies more than
+/// [`SCALE_TOLERANCE_DECADES`] below mode 1 of every beam of the prior, or
+/// above its last predicted mode, is in another unit (LAMMPS step numbers or
+/// picoseconds left in `time_s` put the cc7 tube's lines 12–15 decades below
+/// its modes), and any numbering of it is arbitrary: refused, with the decades.
+fn check_scale(family: &Family, omegas_rad_s: &[f64]) -> Result<(), InputError> {
+    let (lo, hi) = family.ln_span();
+    let low = omegas_rad_s.iter().copied().fold(f64::INFINITY, f64::min);
+    let high = omegas_rad_s.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let ln10 = 10f64.ln();
+    let (decades, side) = if high.ln() < lo - SCALE_TOLERANCE_DECADES * ln10 {
+        ((lo - high.ln()) / ln10, "below")
+    } else if low.ln() > hi + SCALE_TOLERANCE_DECADES * ln10 {
+        ((low.ln() - hi) / ln10, "above")
+    } else {
+        return Ok(());
+    };
+    Err(InputError::new(
+        SCALE_FIELD,
+        format!("lines at {low:.3e} to {high:.3e} rad/s"),
+        format!(
+            "lines near the --beam model's modes ({:.3e} to {:.3e} rad/s over its prior); these are {decades:.1} decades {side} them",
+            lo.exp(),
+            hi.exp()
+        ),
+    ))
 }
 
 /// Refuses `chosen` when another numbering of `all` fits a beam of the
@@ -186,7 +239,6 @@ fn check_unique(
     chosen: &Fit,
     first: Option<usize>,
     omegas_rad_s: &[f64],
-    prior: &str,
     margins: &Margins,
 ) -> Result<(), InputError> {
     // an alternative with more skipped modes than the chosen numbering counts
@@ -198,22 +250,19 @@ fn check_unique(
     else {
         return Ok(());
     };
-    let margin_of = |o: &Fit| margins.between(chosen, o);
     let decide = if other.first() != chosen.first() {
-        "a lower mode in the record, a mode-shape scan of the lowest mode, or a known e0a would decide; or state --first-mode N"
+        "state --first-mode N, or a lower line would decide"
     } else {
         let i = (0..chosen.modes.len()).find(|&i| chosen.modes[i] != other.modes[i]).unwrap_or(0);
         return Err(InputError::new(
             "--first-mode",
             first.map_or("absent".to_string(), |f| f.to_string()),
             format!(
-                "a numbering the prior decides: the modes identified from {:.4e} rad/s up fit both modes {} and modes {} (they differ from the mode at {:.4e} rad/s on; the second misfits by {:.3} more in root summed squared ln omega, margin {:.3}) of beams of the --beam model's prior ({prior}); a mode-shape scan of that mode or a known e0a would decide",
+                "a numbering the prior decides: lines from {:.3e} rad/s fit both modes {} and {} of its beams; a shape scan of line {} or e0a would decide",
                 omegas_rad_s[0],
                 one_based(&chosen.modes),
                 one_based(&other.modes),
-                omegas_rad_s[i],
-                extra(chosen, other),
-                margin_of(other)
+                i + 1,
             ),
         ));
     };
@@ -221,12 +270,10 @@ fn check_unique(
         "--first-mode",
         first.map_or("absent".to_string(), |f| f.to_string()),
         format!(
-            "a numbering the prior decides: the modes identified from {:.4e} rad/s up fit both modes {} and modes {} (the second misfits by {:.3} more in root summed squared ln omega, margin {:.3}) of beams of the --beam model's prior ({prior}); {decide}",
+            "a numbering the prior decides: lines from {:.3e} rad/s fit both modes {} and {} of its beams; {decide}",
             omegas_rad_s[0],
             one_based(&chosen.modes),
             one_based(&other.modes),
-            extra(chosen, other),
-            margin_of(other)
         ),
     ))
 }

@@ -267,8 +267,6 @@ pub(crate) struct Family {
     /// Interpolation bound of each mode's ln ω.
     interp: Vec<f64>,
     offset: (f64, f64),
-    /// The prior searched, as text for messages.
-    pub text: String,
     /// The elastic interpolant: nodes in e0a² and compliance, 1/ω² at the
     /// Euler–Bernoulli nodes (first [`NODES`]) and the Timoshenko ones (from `timoshenko`).
     u_nodes: Vec<f64>,
@@ -320,6 +318,16 @@ fn interpolate_log(
 }
 
 impl Family {
+    /// The least ln ω of mode 1 and the greatest of the last predicted mode
+    /// over the grid, the section's offsets included: where the family's
+    /// modes lie (issue 69, defect 6: a record's lines decades from them).
+    pub(crate) fn ln_span(&self) -> (f64, f64) {
+        let points = self.pred.chunks(self.n);
+        let lo = points.clone().map(|p| p[0]).fold(f64::INFINITY, f64::min) + self.offset.0;
+        let hi = points.map(|p| p[self.n - 1]).fold(f64::NEG_INFINITY, f64::max) + self.offset.1;
+        (lo, hi)
+    }
+
     pub(crate) fn new(beam: &BeamSpec, n: usize) -> Result<Self, InputError> {
         let ranges = Ranges::of(beam);
         let text = ranges.text();
@@ -437,7 +445,6 @@ impl Family {
             dims: [ne, ns, nd, nw],
             interp,
             offset: ranges.offset,
-            text,
             u_nodes,
             s_nodes,
             inverse,

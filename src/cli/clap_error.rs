@@ -19,22 +19,36 @@ pub fn one_line(e: &clap::Error, command: &clap::Command) -> Option<String> {
     let line = match e.kind() {
         ErrorKind::DisplayHelp | ErrorKind::DisplayVersion => return None,
         ErrorKind::InvalidValue | ErrorKind::ValueValidation => {
-            let value = ctx(ContextKind::InvalidValue).unwrap_or_else(|| "(empty)".into());
-            let allowed = match ctx(ContextKind::ValidValue) {
+            let name = arg.unwrap_or_else(|| "argument".into());
+            let value = ctx(ContextKind::InvalidValue).unwrap_or_default();
+            let allowed = match ctx(ContextKind::ValidValue).filter(|v| !v.is_empty()) {
                 Some(v) => format!("one of: {v}"),
-                None => match std::error::Error::source(e) {
-                    Some(src) => format!("a value of the option's type ({src})"),
-                    None => "a value of the option's type".into(),
+                None => match std::error::Error::source(e).and_then(|s| s.downcast_ref::<Allowed>()) {
+                    Some(a) => a.0.clone(),
+                    // no value after the flag: what its parser allows (issue 69: "allowed one of: ")
+                    None if value.is_empty() => {
+                        allowed_of(command, &name).unwrap_or_else(|| "a non-empty value".into())
+                    }
+                    None => match std::error::Error::source(e) {
+                        Some(src) => format!("a value of the option's type ({src})"),
+                        None => "a value of the option's type".into(),
+                    },
                 },
             };
-            format!("invalid {} = {value}: allowed {allowed}", arg.unwrap_or_else(|| "argument".into()))
+            let value = if value.is_empty() { "''".to_string() } else { value };
+            format!("invalid {name} = {value}: allowed {allowed}")
+        }
+        ErrorKind::ArgumentConflict => {
+            let name = arg.unwrap_or_else(|| "argument".into());
+            let prior = ctx(ContextKind::PriorArg).map(|a| arg_name(&a)).unwrap_or_default();
+            format!("invalid {name} = {name} {prior}: allowed one of {name}, {prior}, not both")
         }
         ErrorKind::MissingRequiredArgument => {
             format!("invalid {} = (missing): allowed a value (required)", arg.unwrap_or_else(|| "argument".into()))
         }
         ErrorKind::UnknownArgument => format!(
-            "invalid {} = (unknown argument): allowed the command's options (see --help)",
-            arg.unwrap_or_else(|| "argument".into())
+            "invalid argument = {}: allowed the command's options (see --help)",
+            arg.unwrap_or_else(|| "''".into())
         ),
         ErrorKind::InvalidSubcommand => {
             let value = ctx(ContextKind::InvalidSubcommand).unwrap_or_default();
@@ -46,13 +60,45 @@ pub fn one_line(e: &clap::Error, command: &clap::Command) -> Option<String> {
         _ => {
             let first = e.render().to_string();
             let first = first.lines().next().unwrap_or("").trim_start_matches("error: ").to_string();
-            format!(
-                "invalid {} = ({first}): allowed the usage shown by --help",
-                arg.unwrap_or_else(|| "arguments".into())
-            )
+            let name = arg.unwrap_or_else(|| "arguments".into());
+            let value = ctx(ContextKind::InvalidValue).filter(|v| !v.is_empty()).unwrap_or_else(|| name.clone());
+            format!("invalid {name} = {value}: allowed the usage shown by --help ({first})")
         }
     };
     Some(line)
+}
+
+/// What a flag allows, carried from its value parser's error into the one
+/// line (issue 69: integer flags given `-1`, `abc`, `1e3` or `3x` said
+/// "allowed a value of the option's type" with no range).
+#[derive(Debug)]
+pub struct Allowed(pub String);
+
+impl std::fmt::Display for Allowed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for Allowed {}
+
+/// The parser of a whole-number flag: digits only; anything else is refused
+/// with "a whole number `range`" (the range itself is checked after
+/// parsing, where the bound may depend on the input, e.g. the mesh).
+pub fn whole_number(text: &str, range: &str) -> Result<usize, Allowed> {
+    text.parse::<usize>().map_err(|_| Allowed(format!("a whole number {range}")))
+}
+
+/// What `flag` (e.g. `--samples`) of `command` or one of its subcommands
+/// allows, as its value parser states it for an empty value.
+fn allowed_of(command: &clap::Command, flag: &str) -> Option<String> {
+    let long = flag.strip_prefix("--")?;
+    let commands = std::iter::once(command).chain(command.get_subcommands());
+    let owner = commands.into_iter().find(|c| c.get_arguments().any(|a| a.get_long() == Some(long)))?;
+    // the flag given an empty value: its parser's error, before any check of the rest
+    let err = owner.clone().no_binary_name(true).try_get_matches_from([flag, ""]).err()?;
+    let allowed = std::error::Error::source(&err)?.downcast_ref::<Allowed>()?;
+    Some(allowed.0.clone())
 }
 
 fn context_text(v: &ContextValue) -> String {

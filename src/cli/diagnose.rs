@@ -19,7 +19,7 @@ pub struct DiagnoseArgs {
     #[arg(long)]
     pub json: bool,
     /// TMCMC samples per stage per model [default: 400, or 1000 with --thorough].
-    #[arg(long)]
+    #[arg(long, value_parser = |s: &str| crate::cli::clap_error::whole_number(s, &format!("in {}..={}", DiagnoseSettings::MIN_SAMPLES, DiagnoseSettings::MAX_SAMPLES)))]
     pub samples: Option<usize>,
     /// The longer runs of the library's defaults (1000 samples, 4 MH steps per stage, 400 MAP
     /// iterations; about 3 times the forward solves) instead of the settings the hidden-effect
@@ -33,7 +33,7 @@ pub struct DiagnoseArgs {
     /// The most causes of every model compared, 1..=3 [default: 2]. On records of six or more
     /// modes a selected model of that many causes is also extended by one more; 3 compares
     /// every model of three causes, screened like the pairs.
-    #[arg(long)]
+    #[arg(long, value_parser = |s: &str| crate::cli::clap_error::whole_number(s, &format!("in 1..={}", DiagnoseSettings::MAX_CAUSES)))]
     pub max_causes: Option<usize>,
 }
 

@@ -27,7 +27,7 @@ pub struct FrfArgs {
     #[arg(long)]
     pub to_rad_s: f64,
     /// Number of frequencies (>= 2).
-    #[arg(long)]
+    #[arg(long, value_parser = |s: &str| crate::cli::clap_error::whole_number(s, &format!("in 2..={MAX_POINTS}")))]
     pub points: usize,
     /// Logarithmic spacing (default linear).
     #[arg(long)]

@@ -13,7 +13,7 @@ use serde::Serialize;
 
 use crate::bayes::Control;
 use crate::beam::BeamSpec;
-use crate::calibration::identified::{measured_file, number_modes_with_sd, to_yaml};
+use crate::calibration::identified::{measured_file, number_modes_with_sd, to_yaml, SCALE_FIELD};
 use crate::calibration::measured::MeasuredFile;
 use crate::calibration::numbering::predicted_count;
 use crate::calibration::ModeObservation;
@@ -35,13 +35,13 @@ pub struct IdentifyArgs {
     #[arg(long)]
     pub beam: PathBuf,
     /// Report the K lowest modes the record shows clearly, in order (default: every clear mode in the band).
-    #[arg(long)]
+    #[arg(long, value_parser = |s: &str| crate::cli::clap_error::whole_number(s, ">= 1"))]
     pub modes: Option<usize>,
     /// Physical number of the lowest identified mode (when the numbering is ambiguous); checked against the --beam model's prior.
-    #[arg(long)]
+    #[arg(long, value_parser = |s: &str| crate::cli::clap_error::whole_number(s, ">= 1, at most the --beam mesh's free DOFs"))]
     pub first_mode: Option<usize>,
     /// Highest model order of the stabilisation diagram.
-    #[arg(long, default_value_t = DEFAULT_MAX_ORDER)]
+    #[arg(long, default_value_t = DEFAULT_MAX_ORDER, value_parser = |s: &str| crate::cli::clap_error::whole_number(s, ">= 4"))]
     pub max_order: usize,
     /// Write the measured-data file here (atomically) instead of stdout.
     #[arg(long)]
@@ -138,6 +138,24 @@ fn record_error(e: InputError, record: &Measurement) -> CliError {
     CliError::Input(e)
 }
 
+/// Lines decades from the beam's modes (issue 69, defect 6) are a unit left
+/// in the record's abscissa: the error names its column as the header
+/// writes it (a thermal record is read as a PSD, a `frequency_hz` column as
+/// rad/s) and its unit.
+fn scale_error(e: InputError, text: &str) -> CliError {
+    if e.field != SCALE_FIELD || !e.value.starts_with("lines at ") {
+        return e.into();
+    }
+    let header = text.strip_prefix('\u{feff}').unwrap_or(text).lines().next().unwrap_or("");
+    let column = header.split(',').next().unwrap_or("").trim().trim_matches('"');
+    let unit = match column {
+        "time_s" => "seconds",
+        "frequency_hz" => "Hz",
+        _ => "rad/s",
+    };
+    InputError::new(column, e.value, format!("a column in {unit}: {}", e.allowed)).into()
+}
+
 /// A lab record identified, numbered against the nominal beam and turned into
 /// a measured-data file: what `nanobeam identify` writes and the Python front
 /// returns, computed by [`identify_record`] for both.
@@ -202,7 +220,7 @@ pub fn identify_record(
             id.modes.iter().chain(&id.background_modes).find(|m| m.omega_rad_s == w).map_or(0.0, |m| m.omega_sd_rad_s)
         })
         .collect();
-    let numbered = number_modes_with_sd(&beam, found, Some(&sds), first_mode)?;
+    let numbered = number_modes_with_sd(&beam, found, Some(&sds), first_mode).map_err(|e| scale_error(e, text))?;
     let all_numbers = numbered.numbers;
     let numbers: Vec<usize> = id
         .modes

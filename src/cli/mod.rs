@@ -127,11 +127,19 @@ pub fn run(cli: Cli, out: &mut dyn std::io::Write) -> Result<(), CliError> {
     }
 }
 
+/// An error about the whole document names the file (`BEAM.yaml`) instead.
+fn name_file(mut e: InputError, file: &str) -> InputError {
+    if e.field == crate::error::TOP_LEVEL {
+        e.field = file.to_string();
+    }
+    e
+}
+
 /// Reads and validates a beam YAML file.
 pub fn read_beam(path: &Path) -> Result<BeamSpec, CliError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| InputError::new("BEAM.yaml", path.display(), format!("a readable YAML file ({e})")))?;
-    BeamSpec::from_yaml(&text).map_err(|e| CliError::Input(name_serde_value(e)))
+    BeamSpec::from_yaml(&text).map_err(|e| CliError::Input(name_file(name_serde_value(e), "BEAM.yaml")))
 }
 
 /// serde reports unknown variants/fields inside its message; lift the
@@ -149,6 +157,7 @@ pub fn name_serde_value(mut e: InputError) -> InputError {
                 .map(|i| rest[i + "expected ".len()..].split(" at line").next().unwrap_or("").to_string())
                 .unwrap_or_default();
             e.value = value;
+            let expected = crate::error::clip_list(&expected, crate::error::LIST_CHARS);
             if key == "unknown field `" {
                 e.allowed = format!("a known field: {expected}");
             } else {
@@ -167,5 +176,6 @@ pub(crate) fn write_out(out: &mut dyn std::io::Write, text: &str) -> Result<(), 
 pub fn read_measured(path: &Path) -> Result<crate::calibration::MeasuredData, CliError> {
     let text = std::fs::read_to_string(path)
         .map_err(|e| InputError::new("MEASURED.yaml", path.display(), format!("a readable YAML file ({e})")))?;
-    crate::calibration::MeasuredData::from_yaml(&text).map_err(|e| CliError::Input(name_serde_value(e)))
+    crate::calibration::MeasuredData::from_yaml(&text)
+        .map_err(|e| CliError::Input(name_file(name_serde_value(e), "MEASURED.yaml")))
 }

@@ -14,7 +14,7 @@ pub struct ModalArgs {
     /// Beam description (YAML).
     pub beam: PathBuf,
     /// Number of modes to report.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, value_parser = |s: &str| crate::cli::clap_error::whole_number(s, "in 1..=the free DOFs of the beam's mesh"))]
     pub modes: usize,
     /// Print JSON instead of a table.
     #[arg(long)]

@@ -114,6 +114,54 @@ pub fn diagnose(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<Diag
     diagnose_run(data, settings).map(|r| r.diagnosis)
 }
 
+/// Issue 69, defect 12: a compression the nominal beam carries but the base
+/// model's prior does not. The nonlocal buckling load of a simply supported
+/// beam, N_cr = −EIα₁²/(1 + (e0a·α₁)²), falls as e0a grows, so a force
+/// valid at the file's e0a (0.9999 of the local Euler load) buckles every
+/// draw but those of e0a ≈ 0, and TMCMC's first stage found no finite
+/// likelihood (exit 1). Refused before any sampling: the force must stay
+/// above the buckling load at the largest e0a the base prior reaches (its
+/// support's upper end; mean + 4 sd for a normal prior, as
+/// `calibration::parameters` bounds it), so every draw of the base is a
+/// stable beam. A base prior that samples the axial force itself sets the
+/// force of every draw, and one without e0a leaves the file's own beam,
+/// which `MeasuredData` has already checked.
+fn check_base_prior_stable(data: &MeasuredData) -> Result<(), InputError> {
+    use crate::bayes::prior::Prior;
+    use crate::calibration::parameters::Target;
+    let params = &data.parameters.params;
+    if data.beam.axial_force_n >= 0.0 || params.iter().any(|p| p.target == Target::AxialForce) {
+        return Ok(());
+    }
+    let Some(e0a) = params.iter().find(|p| p.target == Target::NonlocalE0a) else {
+        return Ok(());
+    };
+    let e0a_max = match e0a.prior {
+        Prior::Normal { mean, sd } => mean + 4.0 * sd,
+        ref prior => prior.support().1,
+    };
+    let mut widest = data.beam.clone();
+    widest.nonlocal_e0a_nm = e0a_max;
+    match crate::beam::buckling_load_n(&widest) {
+        Ok(n_cr) if data.beam.axial_force_n <= n_cr => Err(InputError::new(
+            "axial_force_n",
+            crate::error::fmt_num(data.beam.axial_force_n),
+            format!(
+                "> {} N, the buckling load at e0a = {} nm, the largest the base prior (parameters.{}) reaches",
+                crate::error::fmt_num(float_short(n_cr)),
+                crate::error::fmt_num(e0a_max),
+                e0a.name
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// `x` to 6 significant digits (a bound in a message, not a value as written).
+fn float_short(x: f64) -> f64 {
+    format!("{x:.5e}").parse().unwrap_or(x)
+}
+
 /// [`diagnose`] keeping the per-model runs.
 pub fn diagnose_run(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<DiagnosisRun, DiagnoseError> {
     settings.validate()?;
@@ -125,6 +173,7 @@ pub fn diagnose_run(data: &MeasuredData, settings: &DiagnoseSettings) -> Result<
         )
         .into());
     }
+    check_base_prior_stable(data)?;
     let n_modes = data.max_mode();
     let scales = NominalScales::of(&data.beam, n_modes).map_err(|e| {
         InputError::new("modes", format!("highest mode {n_modes}"), format!("modes the beam model can compute ({e})"))

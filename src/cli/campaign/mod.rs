@@ -45,10 +45,10 @@ pub struct CampaignArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// TMCMC samples per stage per model of every diagnosis (diagnose's --samples).
-    #[arg(long)]
+    #[arg(long, value_parser = |s: &str| crate::cli::clap_error::whole_number(s, &format!("in {}..={}", crate::diagnose::DiagnoseSettings::MIN_SAMPLES, crate::diagnose::DiagnoseSettings::MAX_SAMPLES)))]
     pub samples: Option<usize>,
     /// The most causes of a model (diagnose's --max-causes).
-    #[arg(long)]
+    #[arg(long, value_parser = |s: &str| crate::cli::clap_error::whole_number(s, &format!("in 1..={}", crate::diagnose::DiagnoseSettings::MAX_CAUSES)))]
     pub max_causes: Option<usize>,
     /// diagnose's --thorough for every record.
     #[arg(long)]

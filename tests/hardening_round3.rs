@@ -1,0 +1,243 @@
+//! Issue 69 (hardening, round three), the user-hostile messages: every bad
+//! input gets ONE line of at most 200 characters, `invalid <field> = <value>:
+//! allowed <range>`, naming the flag, column, row or field in the user's
+//! units, the value as written (no prose in its slot) and what is allowed,
+//! with no internal name (a Rust type, `f64::MAX`, `<document>`). Each case
+//! runs the binary; the replay with the old and new lines is in
+//! `tests/hardening_round3.md`.
+
+use std::path::Path;
+use std::process::Command;
+
+const BEAM: &str = "length_nm: 8.0\ndiameter_nm: 1.0\nyoungs_modulus_pa: 1.0e12\ndensity_kg_m3: 2300.0\nsupport: simply-supported\nelements: 20\n";
+
+/// A magnitude record of nine rows whose frequency column is `column` and
+/// whose rows are `rows` (one `x,|H|` per line).
+fn record(column: &str, rows: &[&str]) -> String {
+    format!("{column},h_abs_m_per_n\n{}\n", rows.join("\n"))
+}
+
+const NINE: [&str; 9] = ["1e11,1", "2e11,1", "3e11,1", "4e11,1", "5e11,1", "6e11,1", "7e11,1", "8e11,1", "9e11,1"];
+
+/// A two-mode ring-down, ω = 9.3e11 and 3.8e12 rad/s (modes 1 and 2 of
+/// BEAM), ζ = 0.02 and 0.01, 20 samples per period of the upper mode.
+fn ring_down() -> String {
+    let modes = [(9.3e11_f64, 0.02_f64, 1e-11_f64), (3.8e12, 0.01, 4e-12)];
+    let dt = std::f64::consts::TAU / 3.8e12 / 20.0;
+    let mut text = String::from("time_s,displacement_m\n");
+    for i in 0..3000 {
+        let t = i as f64 * dt;
+        let x: f64 = modes.iter().map(|&(w, z, a)| a * (-z * w * t).exp() * (w * (1.0 - z * z).sqrt() * t).cos()).sum();
+        text.push_str(&format!("{t:e},{x:e}\n"));
+    }
+    text
+}
+
+/// (exit code, stderr) of `nanobeam args…` in `dir`.
+fn nanobeam(args: &[&str], dir: &Path) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_nanobeam")).args(args).current_dir(dir).output().unwrap();
+    (out.status.code().expect("exited normally"), String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// What no line may contain: prose or nothing in the value or range slot,
+/// and internal names.
+const BANNED: [&str; 10] = [
+    "(given)",
+    "(not given)",
+    "(unreadable)",
+    "cannot be used",
+    "allowed one of: \n",
+    "Yaml)",
+    "(Tube)",
+    "f64::MAX",
+    "<document>",
+    "option's type",
+];
+
+/// Each case: (what, files to write, arguments, the line's start).
+type Case = (&'static str, Vec<(&'static str, String)>, Vec<&'static str>, String);
+
+fn cases() -> Vec<Case> {
+    let mut out: Vec<Case> = vec![];
+    let files = || vec![("beam.yaml", BEAM.to_string()), ("rec.csv", record("omega_rad_s", &NINE))];
+    // integer flags given text that is no whole number: the range is stated
+    for bad in ["-1", "abc", "1e3", "3x"] {
+        for (flag, range) in [("--samples", "in 50..=100000"), ("--max-causes", "in 1..=3")] {
+            out.push((
+                "integer flag",
+                files(),
+                vec!["diagnose", "m.yaml", flag, bad],
+                format!("invalid {flag} = {bad}: allowed a whole number {range}"),
+            ));
+        }
+        for (flag, range) in [("--first-mode", ">= 1"), ("--modes", ">= 1"), ("--max-order", ">= 4")] {
+            out.push((
+                "integer flag",
+                files(),
+                vec!["identify", "rec.csv", "--beam", "beam.yaml", flag, bad],
+                format!("invalid {flag} = {bad}: allowed a whole number {range}"),
+            ));
+        }
+    }
+    // the other whole-number flags
+    out.push((
+        "integer flag",
+        files(),
+        vec!["modal", "beam.yaml", "--modes", "2.5"],
+        "invalid --modes = 2.5: allowed a whole number in 1..=the free DOFs".into(),
+    ));
+    out.push((
+        "integer flag",
+        files(),
+        vec!["frf", "beam.yaml", "--points", "1e3"],
+        "invalid --points = 1e3: allowed a whole number in 2..=1000000".into(),
+    ));
+    out.push((
+        "integer flag",
+        files(),
+        vec!["campaign", "rec.csv", "--samples", "-5"],
+        "invalid --samples = -5: allowed a whole number in 50..=100000".into(),
+    ));
+    out.push((
+        "flag without its value",
+        files(),
+        vec!["diagnose", "m.yaml", "--samples"],
+        "invalid --samples = '': allowed a whole number in 50..=100000".into(),
+    ));
+    out.push((
+        "empty path",
+        files(),
+        vec!["identify", "rec.csv", "--beam", "beam.yaml", "--out", ""],
+        "invalid --out = '': allowed a non-empty value".into(),
+    ));
+    out.push(("conflicting flags", files(), vec!["diagnose", "m.yaml", "--thorough", "--quick"], "invalid --".into()));
+    out.push(("unknown flag", files(), vec!["diagnose", "m.yaml", "--fast"], "invalid argument = --fast: ".into()));
+    // a CSV given as the beam file: its first 40 characters and its length
+    let long: Vec<String> = (1..=200).map(|i| format!("{i}e10,1")).collect();
+    let long: Vec<&str> = long.iter().map(String::as_str).collect();
+    out.push((
+        "CSV as --beam",
+        vec![("rec.csv", record("omega_rad_s", &long))],
+        vec!["identify", "rec.csv", "--beam", "rec.csv"],
+        "invalid BEAM.yaml = omega_rad_s,h_abs_m_per_n 1e10,1 2e10,1 … (".into(),
+    ));
+    out.push((
+        "CSV as MEASURED.yaml",
+        vec![("rec.csv", record("omega_rad_s", &long))],
+        vec!["diagnose", "rec.csv"],
+        "invalid MEASURED.yaml = omega_rad_s,h_abs_m_per_n".into(),
+    ));
+    // headers
+    out.push((
+        "unknown header",
+        vec![("beam.yaml", BEAM.into()), ("rec.csv", "foo,bar\n1,2\n".into())],
+        vec!["identify", "rec.csv", "--beam", "beam.yaml"],
+        "invalid column 1 = `foo`: allowed a record kind's header, e.g. ".into(),
+    ));
+    let thermal: String =
+        std::iter::once("time_s,thermal_a_m,thermal_b_m,thermal_c_m,thermal_d_m,thermal_e_m,thermal_f_m,".into())
+            .chain((0..20).map(|i| format!("{i}e-14,1e-11,2e-11,1e-11,1e-11,1e-11,1e-11,")))
+            .collect::<Vec<String>>()
+            .join("\n");
+    out.push((
+        "trailing comma on a thermal header",
+        vec![("beam.yaml", BEAM.into()), ("rec.csv", thermal)],
+        vec!["identify", "rec.csv", "--beam", "beam.yaml"],
+        "invalid column 8 of 8 = '': allowed a named column".into(),
+    ));
+    // thermal values of 1e-300 m are not "constant": the column and its largest value
+    let tiny: String = std::iter::once("time_s,thermal_a_m,thermal_b_m".to_string())
+        .chain((0..200).map(|i| format!("{i}e-14,{}e-300,1e-11", 1 + i % 3)))
+        .collect::<Vec<String>>()
+        .join("\n");
+    out.push((
+        "vanishing thermal column",
+        vec![("beam.yaml", BEAM.into()), ("rec.csv", tiny)],
+        vec!["identify", "rec.csv", "--beam", "beam.yaml"],
+        "invalid thermal_a_m (row 3, its largest |value|) = 3e-300: allowed displacements in metres".into(),
+    ));
+    // values under the user's column name, in the user's unit
+    let mut rows = NINE;
+    rows[0] = "-1e9,1";
+    out.push((
+        "negative frequency in Hz",
+        vec![("beam.yaml", BEAM.into()), ("rec.csv", record("frequency_hz", &rows))],
+        vec!["identify", "rec.csv", "--beam", "beam.yaml"],
+        "invalid frequency_hz (row 1) = -1e9: allowed >= 0".into(),
+    ));
+    let mut rows = NINE;
+    rows[8] = "1.7e308,1";
+    out.push((
+        "frequency in Hz whose rad/s overflow",
+        vec![("beam.yaml", BEAM.into()), ("rec.csv", record("frequency_hz", &rows))],
+        vec!["identify", "rec.csv", "--beam", "beam.yaml"],
+        "invalid frequency_hz (row 9) = 1.7e308: allowed |value| <= 2.8611e307 (finite as omega_rad_s)".into(),
+    ));
+    out.push((
+        "negative PSD per Hz",
+        vec![
+            ("beam.yaml", BEAM.into()),
+            (
+                "rec.csv",
+                NINE.iter().enumerate().fold("omega_rad_s,psd_one_sided_m2_per_hz\n".to_string(), |s, (i, r)| {
+                    s + &if i == 1 { "2e11,-1".to_string() } else { r.to_string() } + "\n"
+                }),
+            ),
+        ],
+        vec!["identify", "rec.csv", "--beam", "beam.yaml"],
+        "invalid psd_one_sided_m2_per_hz (row 2) = -1: allowed > 0".into(),
+    ));
+    // the numbering's refusals: two lines fit two numberings (546 characters
+    // with the prior's description), a stated first mode no beam fits (396)
+    for (extra, start) in [
+        (vec![], "invalid --first-mode = absent: allowed a numbering the prior decides: lines from 9.300e11 rad/s fit both modes 1, 2 and 1, 3 of its beams; "),
+        (vec!["--first-mode", "9"], "invalid --first-mode = 9: allowed a lowest-mode number some beam of the prior fits, e.g. 1 "),
+    ] {
+        let mut args = vec!["identify", "rec.csv", "--beam", "beam.yaml"];
+        args.extend(extra);
+        out.push(("numbering refused", vec![("beam.yaml", BEAM.into()), ("rec.csv", ring_down())], args, start.into()));
+    }
+    // beam files: no Rust type names, lists cut
+    out.push((
+        "shear_deformation not a mapping",
+        vec![("b.yaml", format!("{BEAM}shear_deformation: 3\n"))],
+        vec!["modal", "b.yaml"],
+        "invalid shear_deformation = 3: allowed a mapping of fields".into(),
+    ));
+    out.push((
+        "tube not a mapping",
+        vec![("b.yaml", format!("{BEAM}section: {{ tube: 3 }}\n"))],
+        vec!["modal", "b.yaml"],
+        "invalid section.tube = 3: allowed a mapping of fields".into(),
+    ));
+    out.push((
+        "unknown beam field",
+        vec![("b.yaml", format!("{BEAM}tube: 3\n"))],
+        vec!["modal", "b.yaml"],
+        "invalid tube = tube: allowed a known field: one of `length_nm`".into(),
+    ));
+    out
+}
+
+#[test]
+fn every_bad_input_gets_one_short_line_naming_its_field() {
+    let mut failures = vec![];
+    for (what, files, args, start) in cases() {
+        let dir = tempfile::tempdir().unwrap();
+        for (name, text) in &files {
+            std::fs::write(dir.path().join(name), text).unwrap();
+        }
+        let (code, err) = nanobeam(&args, dir.path());
+        let line = err.trim_end();
+        let ok = code == 2
+            && err.lines().count() == 1
+            && line.chars().count() <= 200
+            && line.starts_with(&start)
+            && !BANNED.iter().any(|b| err.contains(b))
+            && !line.ends_with("allowed one of:");
+        if !ok {
+            failures.push(format!("{what} {args:?}: exit {code}, {} chars: {err}", line.chars().count()));
+        }
+    }
+    assert!(failures.is_empty(), "{} cases:\n{}", failures.len(), failures.join("\n"));
+}
