@@ -9,9 +9,9 @@
 //!    test ([`ppc`]). Misfit is detected when some p-value falls below the Šidák
 //!    level 1 − (1 − α_FW)^(1/J) (family-wise α_FW = 1 % over J observables).
 //! 2. **Search.** Every model of at most [`DiagnoseSettings::max_causes`]
-//!    causes (29 at the default two: the base, seven singles, twenty-one pairs;
-//!    22 on a clamped–clamped or clamped–free beam, where no rotation is
-//!    left for a support spring, [`ModelClass::acts_on`]; 22 and 16 when the
+//!    causes (46 at the default two: the base, nine singles, thirty-six pairs;
+//!    37 on a clamped–clamped or clamped–free beam, where no rotation is
+//!    left for a support spring, [`ModelClass::acts_on`]; 37 and 29 when the
 //!    file's parameters already sample the section, [`ModelClass::free_in`]) gets its
 //!    evidence ([`evidence`]), in one parallel batch per number of causes
 //!    (a multimodal model's MAP search also starts from its sub-models'
@@ -55,9 +55,10 @@
 //!
 //! # Files
 //! `mod.rs` (module doc: the procedure; the entry points `diagnose`, `diagnose_run`; re-exports),
-//! `settings` (`DiagnoseSettings`, `DiagnoseError`), `classes` (seven causes, `section-mismatch`
+//! `settings` (`DiagnoseSettings`, `DiagnoseError`), `classes` (the priors of the nine causes, `section-mismatch`
 //! among them, each with its out-of-catalogue first-order mimic if one is known
-//! (`first_order_mimic`), `Model` = base + causes or the β baseline, priors, `model_posterior`),
+//! (`first_order_mimic`, in `model`), `Model` = base + causes or the β baseline (`model`), priors,
+//! `model_posterior`; the mirror-image folds in `mirror`, the section reading in `section_reading`),
 //! `evidence` (`ModelRun`: `bayes::evidence` per model with the diagnosis's settings; which
 //! posteriors are multimodal by construction and get the global and nested MAP searches, the sub-
 //! models' MAPs), `search` (evidence of every model of at most two causes (`--max-causes`) that act
