@@ -23,17 +23,12 @@
 //! moves the root by ≲ 1/40 of its shift, well inside Newton's basin), and
 //! checked by its residual. Noise as the hidden suites': ω 0.3 %, ζ 3 %.
 
-use nanobeam::beam::{BeamSpec, Support};
-use nanobeam::calibration::measured::MeasuredFile;
-use nanobeam::calibration::{DramSettings, MeasuredData, ModeObservation};
+mod closed_form_records;
+
+use closed_form_records::{data, file, observations};
+use nanobeam::calibration::ModeObservation;
 use nanobeam::diagnose::{diagnose, DiagnoseSettings, Diagnosis};
 use num_complex::Complex64;
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
-use rand_distr::{Distribution, StandardNormal};
-
-const OMEGA_REL_SD: f64 = 0.003;
-const ZETA_REL_SD: f64 = 0.03;
 
 /// One truth: the base beam plus the effects (zero = absent).
 #[derive(Debug, Clone, Copy, Default)]
@@ -131,36 +126,7 @@ impl Truth {
     }
 
     fn observations(&self, modes: &[usize], seed: u64) -> Vec<ModeObservation> {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        modes
-            .iter()
-            .map(|&n| {
-                let (omega, zeta) = self.mode(n);
-                let (e1, e2): (f64, f64) = (StandardNormal.sample(&mut rng), StandardNormal.sample(&mut rng));
-                ModeObservation {
-                    mode: n,
-                    omega_rad_s: omega * (1.0 + OMEGA_REL_SD * e1),
-                    omega_sd_rad_s: OMEGA_REL_SD * omega,
-                    zeta: zeta * (1.0 + ZETA_REL_SD * e2),
-                    zeta_sd: ZETA_REL_SD * zeta,
-                }
-            })
-            .collect()
-    }
-}
-
-fn data(modes: Vec<ModeObservation>, seed: u64) -> MeasuredData {
-    MeasuredData::from_file(file(modes, seed)).expect("generated data are valid")
-}
-
-fn file(modes: Vec<ModeObservation>, seed: u64) -> MeasuredFile {
-    MeasuredFile {
-        beam: BeamSpec::elastic(8.0, 1.0, 1.0e12, 2300.0, Support::SimplySupported, 20),
-        modes,
-        held_out_modes: vec![],
-        mode_scans: vec![],
-        parameters: None,
-        sampler: Some(DramSettings { seed, ..DramSettings::default() }),
+        observations(|n| self.mode(n), modes, seed)
     }
 }
 

@@ -21,18 +21,12 @@
 //! With the class, every foundation of `explore_foundations` is named
 //! `elastic-foundation` (`tests/diagnose_falsify.md`).
 
-use nalgebra::Matrix3;
-use nanobeam::beam::{BeamSpec, Support};
-use nanobeam::calibration::measured::MeasuredFile;
-use nanobeam::calibration::{DramSettings, MeasuredData, ModeObservation};
-use nanobeam::diagnose::{diagnose, DiagnoseSettings, Diagnosis};
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
-use rand_distr::{Distribution, StandardNormal};
+mod closed_form_records;
 
-/// The hidden suites' measurement sds, relative: ω 0.3 %, ζ 3 %.
-const OMEGA_REL_SD: f64 = 0.003;
-const ZETA_REL_SD: f64 = 0.03;
+use closed_form_records::{data, observations};
+use nalgebra::Matrix3;
+use nanobeam::calibration::ModeObservation;
+use nanobeam::diagnose::{diagnose, DiagnoseSettings, Diagnosis};
 
 /// The truth: the nominal beam of the file (L = 8 nm, d = 1 nm, E = 1 TPa,
 /// ρ = 2300 kg/m³) with e0a, one relaxation and a foundation κ = k/ρA as a
@@ -76,34 +70,8 @@ impl Truth {
 
     /// Measured modes `modes` with the suites' sds, noise drawn from `seed`.
     fn observations(&self, modes: &[usize], seed: u64) -> Vec<ModeObservation> {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        modes
-            .iter()
-            .map(|&n| {
-                let (omega, zeta) = self.mode(n);
-                let (e1, e2): (f64, f64) = (StandardNormal.sample(&mut rng), StandardNormal.sample(&mut rng));
-                ModeObservation {
-                    mode: n,
-                    omega_rad_s: omega * (1.0 + OMEGA_REL_SD * e1),
-                    omega_sd_rad_s: OMEGA_REL_SD * omega,
-                    zeta: zeta * (1.0 + ZETA_REL_SD * e2),
-                    zeta_sd: ZETA_REL_SD * zeta,
-                }
-            })
-            .collect()
+        observations(|n| self.mode(n), modes, seed)
     }
-}
-
-fn data(modes: Vec<ModeObservation>, seed: u64) -> MeasuredData {
-    let file = MeasuredFile {
-        beam: BeamSpec::elastic(8.0, 1.0, 1.0e12, 2300.0, Support::SimplySupported, 20),
-        modes,
-        held_out_modes: vec![],
-        mode_scans: vec![],
-        parameters: None,
-        sampler: Some(DramSettings { seed, ..DramSettings::default() }),
-    };
-    MeasuredData::from_file(file).expect("generated data are valid")
 }
 
 fn summary(d: &Diagnosis) -> String {
