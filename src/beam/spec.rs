@@ -344,9 +344,10 @@ pub const MAX_N_TILDE: f64 = 1e8;
 /// of its stiffness is ≈ (rπ)⁴/k̃, and as for [`MAX_N_TILDE`] the damping of
 /// the internal variables and e0a act on that share alone: at k̃ = 1e10 it is
 /// ≈ 1e-8 for the first mode, still far above the eigen solve's relative
-/// rounding (~1e-15). Physically k̃ = 1e10 on the paper's 8 nm beam is
-/// k ≈ 1.5e16 N/m², a million times the stiffest embedding matrix
-/// (k ≈ E_matrix, a few GPa for a polymer).
+/// rounding (~1e-15) (derived by that argument, not measured as the force's
+/// bound was). Physically k̃ = 1e10 on the paper's 8 nm beam (EI/L⁴ ≈
+/// 1.2e7 N/m²) is k ≈ 1.2e17 N/m², some 4e7 times a polymer matrix's
+/// (k ≈ E_matrix, a few GPa).
 pub const MAX_FOUNDATION_TILDE: f64 = 1e10;
 /// Range of the scaled shear stiffness g̃ = κGAL²/EI (≈ 100–450 for the
 /// paper's L/d ≈ 8). Mode r's shear share of its compliance is ≈ (rπ)²/g̃:
