@@ -73,6 +73,24 @@ pub struct ScaledModel<'a> {
     pub e_tilde: f64,
 }
 
+/// G(s) = 1 + Σ Δᵢ s/(s + Ωᵢ) and G′(s) = Σ Δᵢ Ωᵢ/(s + Ωᵢ)² of the internal
+/// variables `ivs` = (Δᵢ, Ωᵢ) (any consistent units of s and Ωᵢ): what
+/// [`ScaledModel::relaxation`] and the families' loss-factor continuation
+/// (`solve::family`) evaluate.
+pub fn relaxation_factor(
+    s: num_complex::Complex64,
+    ivs: &[(f64, f64)],
+) -> (num_complex::Complex64, num_complex::Complex64) {
+    let mut g = num_complex::Complex64::new(1.0, 0.0);
+    let mut dg = num_complex::Complex64::new(0.0, 0.0);
+    for &(d, w) in ivs {
+        let den = s + w;
+        g += d * s / den;
+        dg += d * w / (den * den);
+    }
+    (g, dg)
+}
+
 /// The scalars of the nondimensional scaling (module doc), without any matrix:
 /// what [`ScaledModel::new`] and the interpolated fast path of `modal.rs` share.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -265,13 +283,7 @@ impl<'a> ScaledModel<'a> {
     /// frequencies, valid in the upper half plane where the oscillatory poles
     /// are taken (their conjugates are the negative frequencies').
     pub fn relaxation(&self, s: num_complex::Complex64) -> (num_complex::Complex64, num_complex::Complex64) {
-        let mut g = num_complex::Complex64::new(1.0, 0.0);
-        let mut dg = num_complex::Complex64::new(0.0, 0.0);
-        for &(d, w) in &self.ivs {
-            let den = s + w;
-            g += d * s / den;
-            dg += d * w / (den * den);
-        }
+        let (g, dg) = relaxation_factor(s, &self.ivs);
         if self.loss != 0.0 {
             let h = num_complex::Complex64::new(1.0, self.loss);
             return (g * h, dg * h);

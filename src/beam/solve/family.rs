@@ -22,6 +22,7 @@
 use num_complex::Complex64;
 
 use crate::beam::error::BeamError;
+use crate::beam::fe::scaling::relaxation_factor;
 use crate::beam::linalg::dual::Dual;
 
 /// Imaginary part (relative to |s|) below which a root counts as real.
@@ -103,13 +104,7 @@ pub fn hysteretic_family_roots_into(
         let bc = Complex64::new(b, b * eta * k as f64 / steps as f64);
         let mut converged = false;
         for _ in 0..30 {
-            let mut g = Complex64::new(1.0, 0.0);
-            let mut dg = Complex64::new(0.0, 0.0);
-            for &(d, w) in ivs {
-                let den = s + w;
-                g += d * s / den;
-                dg += d * w / (den * den);
-            }
+            let (g, dg) = relaxation_factor(s, ivs);
             let f = s * s + c * s + a + bc * g;
             let df = 2.0 * s + c + bc * dg;
             let step = f / df;
@@ -126,7 +121,7 @@ pub fn hysteretic_family_roots_into(
             // where the terms cancel the steps stay at the round-off of f,
             // above 4 eps·|s|: a root whose residual is at that round-off
             // (8 eps times the terms' sizes) is as exact as f can tell
-            let g: Complex64 = ivs.iter().fold(Complex64::new(1.0, 0.0), |g, &(d, w)| g + d * s / (s + w));
+            let (g, _) = relaxation_factor(s, ivs);
             let terms = [s * s, c * s, Complex64::new(a, 0.0), bc * g];
             let f: Complex64 = terms.iter().sum();
             converged = f.norm() <= 8.0 * f64::EPSILON * terms.iter().map(|t| t.norm()).sum::<f64>();
