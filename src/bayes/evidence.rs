@@ -127,9 +127,11 @@ pub struct Evidence {
     /// Standard error of `log_evidence`.
     pub log_evidence_se: f64,
     /// The TMCMC result; with several runs, their combined evidence and the
-    /// population of the run that came closest to the peak ([`combine`]).
-    pub tmcmc: TmcmcResult,
-    /// ln Ẑ of each TMCMC run (one unless replicated).
+    /// population of the run that came closest to the peak ([`combine`]);
+    /// `None` for an evidence estimated from an optimum without TMCMC
+    /// ([`estimate_at_optimum`]).
+    pub tmcmc: Option<TmcmcResult>,
+    /// ln Ẑ of each TMCMC run (one unless replicated; none from [`estimate_at_optimum`]).
     pub log_evidence_runs: Vec<f64>,
     /// Posterior draws (the posterior's coordinates): TMCMC's final
     /// population, or, when that population lies below the MAP by more than
@@ -261,7 +263,7 @@ pub fn estimate<P: Posterior>(
         log_evidence_se,
         log_evidence_runs,
         draws: posterior_draws(&t, resampled),
-        tmcmc: t,
+        tmcmc: Some(t),
         map: map.theta,
         log_evidence_laplace,
         missed_peak,
@@ -270,6 +272,82 @@ pub fn estimate<P: Posterior>(
         forward_evaluations,
         elapsed_s: started.elapsed().as_secs_f64(),
     })
+}
+
+/// What [`estimate_at_optimum`] found: the evidence, or the solves it spent
+/// on finding that its importance evidence is not reliable.
+#[derive(Debug, Clone)]
+pub enum AtOptimum {
+    /// The importance evidence is reliable (ESS ≥ [`IMPORTANCE_MIN_ESS`]): it is the evidence.
+    Reliable(Box<Evidence>),
+    /// It is not: the caller runs [`estimate`], which costs these solves more.
+    Unreliable { forward_evaluations: u64 },
+}
+
+/// The evidence of `posterior` by importance sampling alone, from an
+/// optimum found elsewhere (`optimum`, with scales `scales` per coordinate,
+/// e.g. a posterior sd): the Laplace evidence at `optimum` (FD steps 0.05,
+/// then 0.01 and 0.002 of `scales`, as [`estimate`]'s), and the importance
+/// evidence from the mixture of a Student-t there (the Laplace covariance)
+/// and a kernel density of `population` (≥ d + 2 points that cover the
+/// posterior's bulk: e.g. a sub-model's posterior draws with prior draws of
+/// the parameters this posterior adds), [`IMPORTANCE_DRAWS_PER_SAMPLE`] ×
+/// samples draws and more up to [`IMPORTANCE_MAX_DRAW_FACTOR`] × as in
+/// [`estimate`] (stream `(seed, ImportanceDraw, [2, 0])`). When its ESS
+/// reaches [`IMPORTANCE_MIN_ESS`] it is the evidence, the posterior draws are
+/// min(samples, ⌊ESS⌋) resampled from its weighted draws, and no TMCMC runs;
+/// otherwise [`AtOptimum::Unreliable`].
+///
+/// Why: [`estimate`] already takes the importance evidence as the evidence
+/// whenever it is reliable; TMCMC there contributes the population the
+/// mixture's kernel density covers and the MAP search's start, at 10–20 ×
+/// the solves of the importance draws (a 5-mode diagnosis: 40–70 thousand
+/// solves a model against 2–13 thousand). A caller that has an optimum and a
+/// population already (a model that adds a cause to a fitted sub-model)
+/// needs only the draws. The estimate is unbiased whatever the proposal
+/// (self-normalised weights), and its se is ≈ 1/√ESS; what the ESS cannot
+/// see is a mode neither component reaches, the blind spot [`estimate`]'s
+/// importance evidence shares. So a posterior multimodal by construction is
+/// not for this estimator: the caller runs [`estimate`] with its global and
+/// nested searches.
+#[allow(clippy::too_many_arguments)]
+pub fn estimate_at_optimum<P: Posterior>(
+    posterior: &P,
+    s: &EvidenceSettings,
+    seed: u64,
+    optimum: &[f64],
+    scales: &[f64],
+    population: &[Vec<f64>],
+    control: &Control,
+) -> Result<AtOptimum, BayesError> {
+    s.validate()?;
+    let started = std::time::Instant::now();
+    let counted_all = Counted::new(posterior);
+    let counted = Controlled::new(&counted_all, control);
+    control.check()?;
+    let laplace =
+        [0.05, 0.01, 0.002].into_iter().find_map(|h| laplace_log_evidence_with_step(&counted, optimum, scales, h).ok());
+    control.check()?;
+    let (importance, draws) = importance_at(&counted, optimum, laplace.as_ref(), population, s, seed, [2, 0], true);
+    control.check()?;
+    let forward_evaluations = counted_all.count();
+    let Some(is) = importance.filter(|is| is.ess >= IMPORTANCE_MIN_ESS && !draws.is_empty()) else {
+        return Ok(AtOptimum::Unreliable { forward_evaluations });
+    };
+    Ok(AtOptimum::Reliable(Box::new(Evidence {
+        log_evidence: is.log_evidence,
+        log_evidence_se: is.log_evidence_se,
+        tmcmc: None,
+        log_evidence_runs: vec![],
+        draws,
+        map: optimum.to_vec(),
+        log_evidence_laplace: laplace.map(|l| l.log_evidence),
+        missed_peak: false,
+        importance: Some(is),
+        seed,
+        forward_evaluations,
+        elapsed_s: started.elapsed().as_secs_f64(),
+    })))
 }
 
 /// [`estimate`], then [`replicate`] when [`Evidence::needs_replicates`] at
@@ -467,6 +545,11 @@ pub fn replicate<P: Posterior>(
     let Evidence { tmcmc: first, mut map, seed, .. } = run;
     let d = posterior.dim();
     let counted_tmcmc = Counted::new(posterior);
+    // an evidence from an optimum has no TMCMC run yet: its first is run here
+    let first = match first {
+        Some(t) => t,
+        None => tmcmc_controlled(&counted_tmcmc, &s.tmcmc_config(d, seed), control)?,
+    };
     let mut runs = vec![first];
     for r in 1..EVIDENCE_REPLICATES {
         let seed = child_seed(seed, Purpose::EvidenceReplicate, [r as u64, 0]);
@@ -497,7 +580,7 @@ pub fn replicate<P: Posterior>(
         log_evidence_se,
         log_evidence_runs,
         draws: posterior_draws(&t, resampled),
-        tmcmc: t,
+        tmcmc: Some(t),
         map,
         log_evidence_laplace,
         missed_peak: true,

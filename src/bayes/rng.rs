@@ -54,6 +54,10 @@ pub enum Purpose {
     /// sub-model, screened at that sub-model's MAP (`diagnose::evidence`; and
     /// by likelihood, under the evidence-bound seed, in `diagnose::screen`).
     NestedMapSearch = 17,
+    /// Prior draws of the parameters a diagnosed model adds to its `[k, 0]`-th
+    /// sub-model, paired with that sub-model's posterior draws in the
+    /// population of an evidence from an optimum (`diagnose::evidence`).
+    ImportancePopulation = 18,
 }
 
 /// The stream keyed by `(seed, purpose, index)`.

@@ -39,7 +39,9 @@ pub struct Candidate {
     pub log_evidence_se: f64,
     /// ln Ẑ of every TMCMC run: one, or `bayes::evidence::EVIDENCE_REPLICATES` when
     /// the first run missed the posterior's peak (`log_evidence` combines them,
-    /// or is `log_evidence_importance` when that one is reliable).
+    /// or is `log_evidence_importance` when that one is reliable); none when
+    /// the evidence was estimated by importance sampling from the screening
+    /// search's optimum alone (`evidence::run_from_optimum`).
     pub log_evidence_runs: Vec<f64>,
     /// Importance-sampling evidence (`evidence` module doc; `null` when its
     /// proposal could not be built); it is `log_evidence` when its `ess` ≥

@@ -6,7 +6,8 @@
 //! a model's sub-models (one cause fewer) for the nested MAP search, and,
 //! in `search`, the bar a flagged model must reach to be replicated.
 
-use crate::bayes::evidence::{self, Evidence, EvidenceSettings, SubModelMap};
+use crate::bayes::evidence::{self, AtOptimum, Evidence, EvidenceSettings, SubModelMap};
+use crate::bayes::rng::{stream, Purpose};
 use crate::bayes::{BayesError, Posterior};
 use crate::calibration::{ParameterSet, Target};
 
@@ -79,6 +80,64 @@ pub fn run_model(
     let multimodal = multimodal_by_construction(posterior.inner().parameters());
     let e = evidence::estimate(&posterior, &evidence_settings(s), seed, multimodal, &subs, &s.control)?;
     Ok(ModelRun::new(model, posterior, e))
+}
+
+/// The evidence of a model that adds causes to fitted sub-models, by
+/// importance sampling from an optimum found by its screening search
+/// (`optimum`, `scales`: [`super::screen::Bound::optimum`]) without TMCMC
+/// ([`evidence::estimate_at_optimum`]); `Ok(Err(solves))` when that
+/// evidence is not reliable (the caller runs [`run_model`]) or `sub_models`
+/// is empty. The population of the proposal's kernel density: `samples`
+/// points shared out among the sub-models, each a sub-model's posterior draw
+/// (cycled) for the parameters both share, by name, and a prior draw (stream
+/// `(seed, ImportancePopulation, [k, 0])` for the k-th sub-model) for the
+/// ones this model adds.
+///
+/// Why that population: where an added cause is not needed, this posterior
+/// is the sub-model's posterior times the prior of the added parameters
+/// over the range where they change nothing, which the population covers;
+/// where it is needed, the Student-t at the optimum covers the peak. The
+/// caller keeps posteriors multimodal by construction on [`run_model`].
+pub fn run_from_optimum(
+    model: Model,
+    posterior: ClassPosterior,
+    s: &DiagnoseSettings,
+    seed: u64,
+    (optimum, scales): (&[f64], &[f64]),
+    sub_models: &[&ModelRun],
+) -> Result<Result<ModelRun, u64>, BayesError> {
+    if sub_models.is_empty() {
+        return Ok(Err(0));
+    }
+    let names = posterior.names();
+    let k_subs = sub_models.len();
+    let mut population = Vec::with_capacity(s.samples);
+    for (k, sub) in sub_models.iter().enumerate() {
+        let sub_names = sub.posterior.names();
+        let shared: Vec<Option<usize>> = names.iter().map(|n| sub_names.iter().position(|m| m == n)).collect();
+        let mut rng = stream(seed, Purpose::ImportancePopulation, [k as u64, 0]);
+        let n = s.samples / k_subs + usize::from(k < s.samples % k_subs);
+        if sub.draws.is_empty() {
+            return Ok(Err(0));
+        }
+        for j in 0..n {
+            let draw = &sub.draws[j % sub.draws.len()];
+            let prior = posterior.sample_prior(&mut rng);
+            population.push(shared.iter().zip(prior).map(|(i, x)| i.map_or(x, |i| draw[i])).collect());
+        }
+    }
+    match evidence::estimate_at_optimum(
+        &posterior,
+        &evidence_settings(s),
+        seed,
+        optimum,
+        scales,
+        &population,
+        &s.control,
+    )? {
+        AtOptimum::Reliable(e) => Ok(Ok(ModelRun::new(model, posterior, *e))),
+        AtOptimum::Unreliable { forward_evaluations } => Ok(Err(forward_evaluations)),
+    }
 }
 
 /// `run` with [`evidence::EVIDENCE_REPLICATES`] TMCMC runs in all

@@ -17,7 +17,13 @@
 //!    (a multimodal model's MAP search also starts from its sub-models'
 //!    MAPs); a model of the most causes is left uncomputed when its evidence
 //!    bound, its best likelihood found from its sub-models' MAPs, shows that
-//!    it can change no decision ([`screen`]; listed as screened). A cause
+//!    it can change no decision ([`screen`]; listed as screened). Every
+//!    model with causes gets that search first: one not multimodal by
+//!    construction takes its evidence by importance sampling from the
+//!    search's optimum when that estimate is reliable, without TMCMC
+//!    ([`evidence::run_from_optimum`]), and one whose bound lies
+//!    [`screen::HOPELESS_NATS`] below every evidence a decision could need
+//!    runs TMCMC at a quarter of the samples. A cause
 //!    earns its place in a model when the model's ln B against the same
 //!    model without it is ≥ 3 ("strong" on the Kass–Raftery scale, B ≥ 20,
 //!    and more than ten times the TMCMC log-evidence spread between seeds,

@@ -98,6 +98,33 @@ pub const OPTIMISER_MARGIN_NATS: f64 = 15.0;
 /// `tests/diagnose_hidden.md`, "Screening").
 pub const LAPLACE_MARGIN_NATS: f64 = 20.0;
 
+/// How far, in nats, a model's evidence bound ([`Bound::log_evidence_bound`])
+/// must lie below a layer's reference evidence for its own evidence to be
+/// estimated at a quarter of the TMCMC samples ([`HOPELESS_SAMPLE_DIVISOR`]):
+/// 20. The reference (`search::Problem::run_layer`) is the best evidence
+/// computed of a model selectable by rule 1 when it beats the base's by the
+/// threshold, else the base's.
+///
+/// Why that changes no decision (threshold 3, margin 3, the defaults):
+/// rule 2 of the search ends at most a threshold below the reference (a
+/// better model of more causes replaces the selection only when it beats it
+/// by the threshold), and rule 3 moves down by at most the margin, so every
+/// decision the model could take part in (selected, the misfit fallback, an
+/// alternative, the gain's model) needs ln Z ≥ reference − threshold −
+/// 2·margin = reference − 9, 11 nats above any model hopeless by this
+/// constant. The one place its value enters is rule 1 of a model P that adds
+/// a cause to it: ln Z(P) − ln Z(it) ≥ the threshold, where P matters only
+/// at ln Z(P) ≥ reference − 9; the difference is then above 11 nats, and the
+/// cheaper estimate would have to overestimate ln Z by 8 nats to flip it.
+/// TMCMC's ln Ẑ is biased low, not high (Jensen on an unbiased Ẑ), and the
+/// bound caps it. What it costs: the evidence's se, reported with it, is
+/// about twice the full run's.
+pub const HOPELESS_NATS: f64 = 20.0;
+
+/// The TMCMC samples of a hopeless model ([`HOPELESS_NATS`]) are the
+/// diagnosis's samples divided by this (at least `DiagnoseSettings::MIN_SAMPLES`).
+pub const HOPELESS_SAMPLE_DIVISOR: usize = 4;
+
 /// What the screening search found for one model.
 #[derive(Debug, Clone)]
 pub struct Bound {
@@ -109,6 +136,11 @@ pub struct Bound {
     pub log_evidence_laplace: Option<f64>,
     /// Forward solves the search spent.
     pub forward_evaluations: u64,
+    /// The best optimum found (sampling coordinates) and the simplex steps
+    /// of its search, one per coordinate (the scales of the Laplace
+    /// evidence there): where the model's evidence from an optimum starts
+    /// (`evidence::run_from_optimum`). `None` when no search found a finite posterior.
+    pub optimum: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 impl Bound {
@@ -164,7 +196,7 @@ pub fn likelihood_max(
             polish_best(&counted, &scales, starts, SCREEN_KEEP, s.map_iters).into_iter().next().map(|m| (m, scales))
         })
         .max_by(|a, b| a.0.log_posterior.total_cmp(&b.0.log_posterior));
-    let (log_likelihood_max_found, log_evidence_laplace) = match best {
+    let (log_likelihood_max_found, log_evidence_laplace, optimum) = match best {
         Some((m, scales)) => (
             counted.log_likelihood(&m.theta),
             [0.05, 0.01, 0.002]
@@ -172,10 +204,11 @@ pub fn likelihood_max(
                 .find_map(|h| laplace_log_evidence_with_step(&counted, &m.theta, &scales, h).ok())
                 .map(|l| l.log_evidence)
                 .filter(|l| l.is_finite()),
+            m.log_posterior.is_finite().then_some((m.theta, scales)),
         ),
-        None => (f64::NEG_INFINITY, None),
+        None => (f64::NEG_INFINITY, None, None),
     };
-    Bound { model, log_likelihood_max_found, log_evidence_laplace, forward_evaluations: counted.count() }
+    Bound { model, log_likelihood_max_found, log_evidence_laplace, forward_evaluations: counted.count(), optimum }
 }
 
 /// For a model of the top layer whose evidence was computed: how the

@@ -63,6 +63,61 @@ impl Problem<'_> {
     /// replicating every flagged model costs several times the whole
     /// diagnosis (`tests/evidence.md`).
     pub(super) fn run(&self, models: Vec<Model>, done: &[ModelRun]) -> Result<Vec<ModelRun>, DiagnoseError> {
+        self.run_bounded(models.into_iter().map(|m| (m, None, false)).collect(), done)
+    }
+
+    /// The evidence of every model of one layer below the top (`models`, of
+    /// one number of causes), each sub-model's run among `done`: first
+    /// every model's screening search ([`screen::likelihood_max`]), then the
+    /// full evidence of the models whose bound reaches the layer's best bound
+    /// less [`screen::HOPELESS_NATS`], then the rest, each at a quarter of
+    /// the samples when its bound lies [`screen::HOPELESS_NATS`] below the
+    /// reference: the best evidence computed of a model selectable by rule 1
+    /// if it beats the base by the threshold, else the base's (the
+    /// derivation is on [`screen::HOPELESS_NATS`]). Returns the runs in
+    /// the order of `models`.
+    fn run_layer(&self, models: Vec<Model>, done: &[ModelRun]) -> Result<Vec<ModelRun>, DiagnoseError> {
+        let bounds = self.bounds(&models, done)?;
+        let top = bounds.iter().map(|b| b.log_evidence_bound()).fold(f64::NEG_INFINITY, f64::max);
+        let (first, rest): (Vec<_>, Vec<_>) =
+            bounds.into_iter().partition(|b| b.log_evidence_bound() >= top - screen::HOPELESS_NATS);
+        let mut runs =
+            self.run_bounded(first.into_iter().map(|b| (b.model.clone(), Some(b), false)).collect(), done)?;
+        let z_base = log_evidence_of(done, &Model::BASE);
+        let threshold = self.settings.log_bayes_factor_threshold;
+        // the best model selectable by rule 1 among those computed, when it
+        // beats the base by the threshold
+        let all: Vec<&ModelRun> = done.iter().chain(&runs).filter(|r| r.model != Model::Baseline).collect();
+        let z = |m: &Model| all.iter().find(|r| &r.model == m).map_or(f64::NAN, |r| r.log_evidence);
+        let selectable =
+            |r: &&&ModelRun| r.model.causes().iter().all(|&c| r.log_evidence - z(&r.model.without(c)) >= threshold);
+        let best = all.iter().filter(selectable).map(|r| r.log_evidence).fold(f64::NEG_INFINITY, f64::max);
+        let reference = if best >= z_base + threshold { best } else { z_base };
+        let rest = rest
+            .into_iter()
+            .map(|b| {
+                let hopeless = b.log_evidence_bound() < reference - screen::HOPELESS_NATS;
+                (b.model.clone(), Some(b), hopeless)
+            })
+            .collect();
+        runs.extend(self.run_bounded(rest, done)?);
+        runs.sort_by_key(|r| models.iter().position(|m| *m == r.model));
+        Ok(runs)
+    }
+
+    /// [`Problem::run`] on models some of which come with their screening
+    /// search's bound (`screen`). A model with causes that is not
+    /// multimodal by construction and has sub-models among `done` takes its
+    /// evidence from that search's optimum ([`evidence::run_from_optimum`]);
+    /// one without a bound gets its search first ([`screen::likelihood_max`],
+    /// under the bound's seed). Where that evidence is not reliable, and for
+    /// every other model, the full estimator runs ([`evidence::run_model`]).
+    /// Each run's forward solves count its search's and the failed attempt's.
+    fn run_bounded(
+        &self,
+        models: Vec<(Model, Option<screen::Bound>, bool)>,
+        done: &[ModelRun],
+    ) -> Result<Vec<ModelRun>, DiagnoseError> {
         fn err(m: &Model) -> impl FnOnce(BayesError) -> DiagnoseError {
             let model = m.name();
             move |source| match source {
@@ -74,18 +129,56 @@ impl Problem<'_> {
         // Ok(Err(model)): a model no prior draw can explain
         let outcomes: Vec<Result<ModelRun, Model>> = models
             .into_par_iter()
-            .map(|m| {
+            .map(|(m, bound, hopeless)| {
                 control.check()?;
                 let seed = child_seed(self.seed, Purpose::ModelClass, [model_key(&m), 0]);
                 let subs: Vec<&ModelRun> =
                     m.causes().iter().filter_map(|&c| done.iter().find(|r| r.model == m.without(c))).collect();
-                let run = evidence::run_model(m.clone(), self.posterior(&m), self.settings, seed, &subs);
+                let posterior = self.posterior(&m);
+                let mut spent = 0;
+                let mut settings = self.settings.clone();
+                if !m.causes().is_empty() && !subs.is_empty() {
+                    let bound = bound.unwrap_or_else(|| {
+                        let seed = child_seed(self.seed, Purpose::ModelClass, [model_key(&m), 1]);
+                        screen::likelihood_max(m.clone(), &posterior, &subs, self.settings, seed)
+                    });
+                    spent += bound.forward_evaluations;
+                    if hopeless {
+                        settings.samples =
+                            (settings.samples / screen::HOPELESS_SAMPLE_DIVISOR).max(DiagnoseSettings::MIN_SAMPLES);
+                    }
+                    let from_optimum = !evidence::multimodal_by_construction(posterior.inner().parameters());
+                    if let Some((optimum, scales)) = bound.optimum.as_ref().filter(|_| from_optimum) {
+                        let run = evidence::run_from_optimum(
+                            m.clone(),
+                            posterior.clone(),
+                            self.settings,
+                            seed,
+                            (optimum, scales),
+                            &subs,
+                        );
+                        match run.map_err(err(&m))? {
+                            Ok(mut run) => {
+                                run.evidence.forward_evaluations += spent;
+                                control.advance(1);
+                                return Ok(Ok(run));
+                            }
+                            Err(solves) => spent += solves,
+                        }
+                    }
+                }
+                let run = evidence::run_model(m.clone(), posterior, &settings, seed, &subs);
                 control.advance(1);
                 match run {
                     // a candidate no prior draw can explain; the base and the
                     // β baseline have no such excuse: their failure ends the run
                     Err(BayesError::NoFiniteLikelihood { .. }) if !m.causes().is_empty() => Ok(Err(m)),
-                    run => run.map(Ok).map_err(err(&m)),
+                    run => run
+                        .map(|mut r| {
+                            r.evidence.forward_evaluations += spent;
+                            Ok(r)
+                        })
+                        .map_err(err(&m)),
                 }
             })
             .collect::<Result<_, _>>()?;
@@ -146,8 +239,8 @@ impl Problem<'_> {
         bounds: Vec<screen::Bound>,
         done: &[ModelRun],
     ) -> Result<(Vec<ModelRun>, Vec<screen::Check>), DiagnoseError> {
-        let models: Vec<Model> = bounds.iter().map(|b| b.model.clone()).collect();
-        let mut runs = self.run(models, done)?;
+        let models = bounds.iter().map(|b| (b.model.clone(), Some(b.clone()), false)).collect();
+        let mut runs = self.run_bounded(models, done)?;
         let checks = runs
             .iter_mut()
             .filter_map(|r| {
@@ -155,7 +248,7 @@ impl Problem<'_> {
                 Some((r, b))
             })
             .map(|(r, b)| {
-                r.evidence.forward_evaluations += b.forward_evaluations + 1;
+                r.evidence.forward_evaluations += 1;
                 screen::Check {
                     extension: b.model.name(),
                     log_likelihood_max_found: b.log_likelihood_max_found,
@@ -237,7 +330,7 @@ pub(super) fn search(problem: &Problem, runs: &mut Vec<ModelRun>) -> Result<Sear
     let models = Model::candidates(max_causes, problem.data.beam.support, &problem.data.parameters);
     let layer = |k: usize| -> Vec<Model> { models.iter().filter(|m| m.causes().len() == k).cloned().collect() };
     for k in 1..max_causes {
-        let done = problem.run(layer(k), runs)?;
+        let done = problem.run_layer(layer(k), runs)?;
         runs.extend(done);
     }
     // the top layer: screened by its evidence bounds (`screen`), the others
