@@ -305,18 +305,23 @@ impl ModalSolver {
             }
         }
         // a foundation takes the plain decoupled families below (its constant
-        // term) or, coupled, the general path: no block or continuum path has it
+        // term), the Euler–Bernoulli wavenumber-block paths (axial force,
+        // springs, a point mass: k̃_f M̃ joins each block's elastic N_j,
+        // `axial_spectrum.rs`) or, coupled, the general path; the springs
+        // with a point mass together, the Timoshenko and continuum paths and
+        // a loss factor beside a coupling do not have it
         if sc.foundation != 0.0 {
-            let plain = mesh.shear.is_none()
-                && beam.point_mass.is_none()
-                && mesh.springs(&sc.spring).next().is_none()
-                && sc.axial == 0.0;
-            if !plain {
+            let (spring, mass) = (mesh.springs(&sc.spring).next().is_some(), beam.point_mass.is_some());
+            let plain = mesh.shear.is_none() && !mass && !spring && sc.axial == 0.0;
+            let on_blocks = mesh.shear.is_none() && !(mass && spring) && beam.loss_factor == 0.0;
+            if !plain && !on_blocks {
                 return None;
             }
         }
         if let Some(pm) = beam.point_mass.as_ref().filter(|_| {
-            mesh.shear.is_none() && mesh.springs(&sc.spring).next().is_none() && (sc.c != 0.0 || sc.axial != 0.0)
+            mesh.shear.is_none()
+                && mesh.springs(&sc.spring).next().is_none()
+                && (sc.c != 0.0 || sc.axial != 0.0 || sc.foundation != 0.0)
         }) {
             let Self { axial_blocks, mass_scratch, roots, .. } = self;
             let blocks = axial_blocks.get_or_insert_with(|| AxialBlocks::new(mesh)).as_ref()?;
@@ -325,7 +330,8 @@ impl ModalSolver {
             // μ̃ and x̃ exactly as `ScaledModel::new` forms them
             let mass = (pm.mass_kg / (sc.rho_a * sc.l), pm.x_nm / beam.length_nm);
             let all = poles == Poles::All;
-            if !blocks.mass_family_roots(t, sc.axial, mass, sc.c, &ivs[..nv], n_modes, all, mass_scratch, roots) {
+            let forces = (sc.axial, sc.foundation);
+            if !blocks.mass_family_roots(t, forces, mass, sc.c, &ivs[..nv], n_modes, all, mass_scratch, roots) {
                 return None;
             }
             self.last_mass_blocks = true;
@@ -448,7 +454,8 @@ impl ModalSolver {
             // the springs that act (a spring on a rotation the support fixes acts on nothing)
             let spring: [f64; 2] =
                 std::array::from_fn(|e| if mesh.spring_dofs[e].is_some() { sc.spring[e] } else { 0.0 });
-            if !blocks.spring_family_roots(t, sc.axial, spring, sc.c, &ivs[..nv], n_modes, all, spring_scratch, roots) {
+            let forces = (sc.axial, sc.foundation);
+            if !blocks.spring_family_roots(t, forces, spring, sc.c, &ivs[..nv], n_modes, all, spring_scratch, roots) {
                 return None;
             }
             self.last_spring_blocks = true;
@@ -465,7 +472,7 @@ impl ModalSolver {
             let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
             let t = sc.e_tilde * sc.e_tilde;
             let all = poles == Poles::All;
-            if !blocks.family_roots(t, sc.axial, sc.c, &ivs[..nv], n_modes, all, axial_scratch, roots) {
+            if !blocks.family_roots(t, sc.axial, sc.foundation, sc.c, &ivs[..nv], n_modes, all, axial_scratch, roots) {
                 return None;
             }
             self.last_axial_blocks = true;

@@ -29,7 +29,12 @@
 //! space, and the vectors of different j are W-orthogonal. Hence
 //!   det T̃(s) ∝ Π_j det T_j(s),  T_j(s) = s(s + c̃)M_j + G(s)K_j + N_j,
 //! M_j = m₀_j + ẽ²m₁_j, K_j = k_j, N_j = ñ(m₁_j + ẽ²k_j), for any damping,
-//! any internal variables and any force. That the subspaces are invariant is
+//! any internal variables and any force. A Winkler foundation adds k̃_f M̃
+//! (`fe::scaling`), elastic like the force, which the same basis splits into
+//! k̃_f M_j: it joins N_j = ñ(m₁_j + ẽ²k_j) + k̃_f M_j, here and in the paths
+//! built on these blocks (`spring_spectrum.rs`, `mass_blocks.rs`; checked
+//! against the coupled reference in `tests/beam_foundation_blocks.rs`).
+//! That the subspaces are invariant is
 //! not assumed: [`AxialBlocks::new`] computes the residual ‖A U_j − W U_j B_j‖
 //! of every block on the assembled mesh and disables the path if any exceeds
 //! [`INVARIANCE_TOL`]. Clamped and free ends break the mirror (residuals of
@@ -198,7 +203,7 @@ impl AxialBlocks {
     /// j = 1..n_e − 1, and their eigenvectors, for t = ẽ² and ñ; `None` unless
     /// the lowest `n_modes` eigenvalues of the whole pencil are bending ones,
     /// all positive. Sorted ascending: entry r is physical mode r + 1.
-    fn bending(&self, t: f64, axial: f64, n_modes: usize, out: &mut Vec<Bending>) -> Option<()> {
+    fn bending(&self, t: f64, axial: f64, foundation: f64, n_modes: usize, out: &mut Vec<Bending>) -> Option<()> {
         out.clear();
         if n_modes > self.blocks.len() {
             return None;
@@ -206,11 +211,11 @@ impl AxialBlocks {
         let mut floor = f64::INFINITY;
         for rot in &self.rotation {
             let (k, m0, m1) = (rot[0], rot[1], rot[2]);
-            floor = floor.min((k + axial * (m1 + t * k)) / (m0 + t * m1));
+            floor = floor.min((k + axial * (m1 + t * k)) / (m0 + t * m1) + foundation);
         }
         for (j, [k, m0, m1]) in self.blocks.iter().enumerate() {
             let m = m0.plus(t, *m1);
-            let nn = m1.plus(t, *k).scaled(axial);
+            let nn = m1.plus(t, *k).scaled(axial).plus(foundation, m);
             let s = k.plus(1.0, nn);
             // det(S − λM) = aλ² − bλ + c
             let a = m.uu * m.vv - m.uv * m.uv;
@@ -239,9 +244,9 @@ impl AxialBlocks {
     /// The lowest `n_modes` eigenvalues of the undamped relaxed pencil
     /// (K̃ + K̃_N, M̃) at t = ẽ² and ñ, from the blocks; `None` where the path
     /// declines (see the module doc).
-    pub fn eigenvalues(&self, t: f64, axial: f64, n_modes: usize) -> Option<Vec<f64>> {
+    pub fn eigenvalues(&self, t: f64, axial: f64, foundation: f64, n_modes: usize) -> Option<Vec<f64>> {
         let mut b = Vec::new();
-        self.bending(t, axial, n_modes, &mut b)?;
+        self.bending(t, axial, foundation, n_modes, &mut b)?;
         Some(b.iter().map(|b| b.lambda).collect())
     }
 
@@ -255,6 +260,7 @@ impl AxialBlocks {
         &self,
         t: f64,
         axial: f64,
+        foundation: f64,
         c: f64,
         ivs: &[(f64, f64)],
         n_modes: usize,
@@ -262,7 +268,7 @@ impl AxialBlocks {
         scratch: &mut Vec<Bending>,
         roots: &mut Vec<Roots>,
     ) -> bool {
-        if self.bending(t, axial, n_modes, scratch).is_none() {
+        if self.bending(t, axial, foundation, n_modes, scratch).is_none() {
             return false;
         }
         roots.resize(n_modes, Roots::default());
@@ -515,7 +521,7 @@ mod tests {
             let t = e * e;
             // the scaled force as a multiple of the local Euler load π² (ñ = NL²/EI)
             let axial = ratio * ncr / (1.0 + t * ncr);
-            let fast = blocks.eigenvalues(t, axial, 6).unwrap();
+            let fast = blocks.eigenvalues(t, axial, 0.0, 6).unwrap();
             let p = PencilParams { e_tilde: e, point_mass: None, spring: [0.0; 2], axial, shear: 0.0 };
             let (k, m) = mesh.pencil(&p);
             let direct = lowest_eigenpairs(&k, &m, 6, &mut Vec::new(), &|x| mesh.pencil_stiffness(&p, x)).unwrap();

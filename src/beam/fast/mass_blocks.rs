@@ -281,7 +281,7 @@ impl AxialBlocks {
     pub(crate) fn mass_setup(
         &self,
         t: f64,
-        axial: f64,
+        (axial, foundation): (f64, f64),
         mass: f64,
         x: f64,
         n_modes: usize,
@@ -291,7 +291,7 @@ impl AxialBlocks {
         if !(mass > 0.0 && mass.is_finite() && (0.0..=1.0).contains(&x)) {
             return false;
         }
-        if !self.wavenumber_blocks(t, axial, &mut scratch.blocks, &mut scratch.mu) {
+        if !self.wavenumber_blocks(t, axial, foundation, &mut scratch.blocks, &mut scratch.mu) {
             return false;
         }
         if n_modes > scratch.mu.len() || !scratch.mu.iter().all(|&(m, _)| m.is_finite()) || !(scratch.mu[0].0 > 0.0) {
@@ -333,7 +333,7 @@ impl AxialBlocks {
     pub fn mass_family_roots(
         &self,
         t: f64,
-        axial: f64,
+        (axial, foundation): (f64, f64),
         (mass, x): (f64, f64),
         c: f64,
         ivs: &[(f64, f64)],
@@ -342,7 +342,7 @@ impl AxialBlocks {
         scratch: &mut MassScratch,
         roots: &mut Vec<Roots>,
     ) -> bool {
-        if n_modes == 0 || !self.mass_setup(t, axial, mass, x, n_modes, scratch) {
+        if n_modes == 0 || !self.mass_setup(t, (axial, foundation), mass, x, n_modes, scratch) {
             return false;
         }
         scratch.family_roots(c, ivs, n_modes, all, roots)
@@ -351,9 +351,15 @@ impl AxialBlocks {
     /// The lowest `n_modes` eigenvalues of the undamped relaxed pencil
     /// (K̃ + K̃_N, M̃ + μ̃NNᵀ) from the secular equation (module doc); `None`
     /// where the path declines.
-    pub fn mass_eigenvalues(&self, t: f64, axial: f64, (mass, x): (f64, f64), n_modes: usize) -> Option<Vec<f64>> {
+    pub fn mass_eigenvalues(
+        &self,
+        t: f64,
+        (axial, foundation): (f64, f64),
+        (mass, x): (f64, f64),
+        n_modes: usize,
+    ) -> Option<Vec<f64>> {
         let mut scratch = MassScratch::default();
-        if !self.mass_setup(t, axial, mass, x, n_modes, &mut scratch) {
+        if !self.mass_setup(t, (axial, foundation), mass, x, n_modes, &mut scratch) {
             return None;
         }
         (0..n_modes).map(|r0| scratch.eigenvalue(r0).map(|e| e.0)).collect()
@@ -398,7 +404,7 @@ mod tests {
                 (0.15, 0.7, 0.9, 40.0),
             ] {
                 let t: f64 = e * e;
-                let fast = blocks.mass_eigenvalues(t, axial, (mass, x), 6).unwrap();
+                let fast = blocks.mass_eigenvalues(t, (axial, 0.0), (mass, x), 6).unwrap();
                 let p = PencilParams { e_tilde: e, point_mass: Some((mass, x)), spring: [0.0; 2], axial, shear: 0.0 };
                 let (k, m) = mesh.pencil(&p);
                 let direct = lowest_eigenpairs(&k, &m, 6, &mut Vec::new(), &|v| mesh.pencil_stiffness(&p, v)).unwrap();

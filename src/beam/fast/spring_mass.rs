@@ -496,7 +496,7 @@ impl AxialBlocks {
             }
         }
         let na = scratch.springs.len();
-        if na == 0 || !self.mass_setup(t, 0.0, mass, x, n_modes + na, &mut scratch.mass) {
+        if na == 0 || !self.mass_setup(t, (0.0, 0.0), mass, x, n_modes + na, &mut scratch.mass) {
             return false;
         }
         scratch.m = na + 1;

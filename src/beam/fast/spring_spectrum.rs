@@ -542,6 +542,7 @@ impl AxialBlocks {
         &self,
         t: f64,
         axial: f64,
+        foundation: f64,
         blocks: &mut Vec<Block>,
         mu: &mut Vec<(f64, usize)>,
     ) -> bool {
@@ -554,13 +555,13 @@ impl AxialBlocks {
             let (k, m0, m1) = (rot[0], rot[1], rot[2]);
             let m = Sym2 { vv: m0 + t * m1, ..zero };
             let kk = Sym2 { vv: k, ..zero };
-            let n = Sym2 { vv: axial * (m1 + t * k), ..zero };
+            let n = Sym2 { vv: axial * (m1 + t * k) + foundation * (m0 + t * m1), ..zero };
             blocks.push(Block { m, k: kk, n, d: ne as f64, sign: sign(j), single: true });
         }
         for (i, [k, m0, m1]) in self.blocks.iter().enumerate() {
             let j = i + 1;
             let m = m0.plus(t, *m1);
-            let n = m1.plus(t, *k).scaled(axial);
+            let n = m1.plus(t, *k).scaled(axial).plus(foundation, m);
             blocks.push(Block { m, k: *k, n, d: 0.5 * ne as f64, sign: sign(j), single: false });
         }
         block_spectrum(blocks, mu)
@@ -571,7 +572,14 @@ impl AxialBlocks {
     /// all finite (not necessarily positive: under compression the beam
     /// without its springs may be past buckling while the beam is not; the
     /// count and λ_r > 0 decide).
-    fn spring_setup(&self, t: f64, axial: f64, spring: [f64; 2], n_modes: usize, scratch: &mut SpringScratch) -> bool {
+    fn spring_setup(
+        &self,
+        t: f64,
+        (axial, foundation): (f64, f64),
+        spring: [f64; 2],
+        n_modes: usize,
+        scratch: &mut SpringScratch,
+    ) -> bool {
         scratch.tail = None;
         scratch.ends.clear();
         for (e, &k) in spring.iter().enumerate() {
@@ -582,7 +590,7 @@ impl AxialBlocks {
         if scratch.ends.is_empty() {
             return false;
         }
-        if !self.wavenumber_blocks(t, axial, &mut scratch.blocks, &mut scratch.mu) {
+        if !self.wavenumber_blocks(t, axial, foundation, &mut scratch.blocks, &mut scratch.mu) {
             return false;
         }
         scratch.partial_fractions();
@@ -598,7 +606,7 @@ impl AxialBlocks {
     pub fn spring_family_roots(
         &self,
         t: f64,
-        axial: f64,
+        (axial, foundation): (f64, f64),
         spring: [f64; 2],
         c: f64,
         ivs: &[(f64, f64)],
@@ -607,7 +615,7 @@ impl AxialBlocks {
         scratch: &mut SpringScratch,
         roots: &mut Vec<Roots>,
     ) -> bool {
-        if n_modes == 0 || !self.spring_setup(t, axial, spring, n_modes, scratch) {
+        if n_modes == 0 || !self.spring_setup(t, (axial, foundation), spring, n_modes, scratch) {
             return false;
         }
         scratch.family_roots(c, ivs, n_modes, all, roots)
@@ -616,9 +624,15 @@ impl AxialBlocks {
     /// The lowest `n_modes` eigenvalues of the undamped relaxed pencil
     /// (K̃ + K̃_N + K̃_spring, M̃) from the secular equation (module doc);
     /// `None` where the path declines.
-    pub fn spring_eigenvalues(&self, t: f64, axial: f64, spring: [f64; 2], n_modes: usize) -> Option<Vec<f64>> {
+    pub fn spring_eigenvalues(
+        &self,
+        t: f64,
+        (axial, foundation): (f64, f64),
+        spring: [f64; 2],
+        n_modes: usize,
+    ) -> Option<Vec<f64>> {
         let mut scratch = SpringScratch::default();
-        if !self.spring_setup(t, axial, spring, n_modes, &mut scratch) {
+        if !self.spring_setup(t, (axial, foundation), spring, n_modes, &mut scratch) {
             return None;
         }
         (0..n_modes).map(|r0| scratch.eigenvalue(r0).map(|e| e.0)).collect()
@@ -659,7 +673,7 @@ mod tests {
         let blocks = AxialBlocks::new(&mesh).unwrap();
         let mut scratch = SpringScratch::default();
         for (e, spring) in [(0.0, [1.0, 1.0]), (0.1, [1e-2, 0.0]), (0.2, [0.0, 30.0])] {
-            assert!(blocks.spring_setup(e * e, 0.0, spring, 5, &mut scratch));
+            assert!(blocks.spring_setup(e * e, (0.0, 0.0), spring, 5, &mut scratch));
             assert_eq!(scratch.terms.len(), scratch.mu.len());
             for (p, q) in
                 [(Complex64::new(-50.0, 30.0), 1.0), (Complex64::new(-3e3, -1e2), 1.3), (Complex64::new(2.0, 5e4), 0.9)]
@@ -680,7 +694,7 @@ mod tests {
             }
         }
         // an axial force keeps the block form
-        assert!(blocks.spring_setup(0.01, 5.0, [1.0, 1.0], 5, &mut scratch));
+        assert!(blocks.spring_setup(0.01, (5.0, 0.0), [1.0, 1.0], 5, &mut scratch));
         assert!(scratch.terms.is_empty());
     }
 
@@ -702,7 +716,7 @@ mod tests {
             (0.15, [7.0, 1e3], 40.0),
         ] {
             let t: f64 = e * e;
-            let fast = blocks.spring_eigenvalues(t, axial, spring, 6).unwrap();
+            let fast = blocks.spring_eigenvalues(t, (axial, 0.0), spring, 6).unwrap();
             let p = PencilParams { e_tilde: e, point_mass: None, spring, axial, shear: 0.0 };
             let (k, m) = mesh.pencil(&p);
             let direct = lowest_eigenpairs(&k, &m, 6, &mut Vec::new(), &|x| mesh.pencil_stiffness(&p, x)).unwrap();
