@@ -82,13 +82,24 @@ pub fn run_model(
     Ok(ModelRun::new(model, posterior, e))
 }
 
+/// How far below the best of a model's sub-models another sub-model's
+/// evidence may lie and still give points to the population of
+/// [`run_from_optimum`]: 10 nats. The population's kernels share one
+/// covariance (Silverman's rule on the whole population, `bayes::importance`),
+/// so draws of a sub-model that misfits by far sit far from this posterior
+/// and widen every kernel until the density covers nothing; a sub-model
+/// 10 nats behind holds e⁻¹⁰ of the mass its better sibling does, too little
+/// for the estimate to need its region.
+pub const POPULATION_SUB_NATS: f64 = 10.0;
+
 /// The evidence of a model that adds causes to fitted sub-models, by
 /// importance sampling from an optimum found by its screening search
 /// (`optimum`, `scales`: [`super::screen::Bound::optimum`]) without TMCMC
 /// ([`evidence::estimate_at_optimum`]); `Ok(Err(solves))` when that
 /// evidence is not reliable (the caller runs [`run_model`]) or `sub_models`
 /// is empty. The population of the proposal's kernel density: `samples`
-/// points shared out among the sub-models, each a sub-model's posterior draw
+/// points shared out among the sub-models within [`POPULATION_SUB_NATS`] of
+/// the best one, each a sub-model's posterior draw
 /// (cycled) for the parameters both share, by name, and a prior draw (stream
 /// `(seed, ImportancePopulation, [k, 0])` for the k-th sub-model) for the
 /// ones this model adds.
@@ -106,6 +117,12 @@ pub fn run_from_optimum(
     (optimum, scales): (&[f64], &[f64]),
     sub_models: &[&ModelRun],
 ) -> Result<Result<ModelRun, u64>, BayesError> {
+    // the sub-models that can hold this posterior's bulk: within
+    // POPULATION_SUB_NATS of the best one (a sub-model far behind sits where
+    // this posterior has no mass, and its draws would only widen the kernels)
+    let best = sub_models.iter().map(|r| r.log_evidence).fold(f64::NEG_INFINITY, f64::max);
+    let sub_models: Vec<&ModelRun> =
+        sub_models.iter().copied().filter(|r| r.log_evidence >= best - POPULATION_SUB_NATS).collect();
     if sub_models.is_empty() {
         return Ok(Err(0));
     }
