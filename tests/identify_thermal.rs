@@ -201,6 +201,42 @@ fn identify_on_the_cc7_md_record_finds_six_modes_numbered_1_to_6() {
     assert_numbered_at_the_peaks(&modes, &peaks_ghz);
 }
 
+/// `--modes K` on the committed cc7 record (made by LAMMPS, not by `identify`;
+/// its six lines are the PSD peaks of `docs/md.md` §4, read by numpy): K ≤ 6
+/// gives the K lowest, numbered from 1 (K = 3 run); K = 7, more than the six
+/// resonances the record holds, exit 2 naming `--modes` and 6. Before (issue 69,
+/// defect 7) every K > 6 filled up from a diagram pole of 240 GHz narrower than
+/// the bins with ζ sd 37.8, refused under the name `omega_rad_s (identified
+/// modes[0])` (and, with split poles 0.2–0.6 noise sd high as modes 7–8, the
+/// numbering asked for `--first-mode`; K = 10 fails the same way). Two
+/// identifications, about 4 s each in the debug build. Tolerance: that of the
+/// six-mode cc7 test below (the bath's half-power half-width plus half a bin).
+#[test]
+fn modes_k_on_the_cc7_md_record_never_reports_a_background_pole() {
+    use nanobeam::identify::{identify, IdentifyError, IdentifySettings};
+    use std::io::Read;
+    let path = format!("{}/data/md/cc7.langevin.csv.gz", env!("CARGO_MANIFEST_DIR"));
+    let mut text = String::new();
+    flate2::read::GzDecoder::new(std::fs::File::open(path).unwrap()).read_to_string(&mut text).unwrap();
+    let record = Measurement::from_csv(&text).unwrap();
+    let run = |k: usize| identify(&record, &IdentifySettings { modes: Some(k), ..IdentifySettings::default() });
+    let modes = run(3).unwrap().modes;
+    let peaks_ghz = [305.0, 751.0, 1318.0];
+    assert_eq!(modes.len(), 3, "{modes:?}");
+    for (m, peak) in modes.iter().zip(peaks_ghz) {
+        let f_ghz = m.omega_rad_s / (2.0 * std::f64::consts::PI) / 1e9;
+        assert!((f_ghz - peak).abs() < 15.9 + 3.05, "{f_ghz:.1} GHz vs the PSD peak {peak} GHz");
+    }
+    match run(7) {
+        Err(IdentifyError::Input(e)) => {
+            let line = e.to_string();
+            assert!(line.starts_with("invalid --modes = 7: allowed <= 6 "), "{line}");
+            assert!(!line.contains('\n') && line.len() <= 200, "{line}");
+        }
+        other => panic!("--modes 7: {other:?}"),
+    }
+}
+
 /// identify → diagnose on the committed cc7 record, untouched, defaults
 /// (issue 43 item 4). The data are LAMMPS's (`data/md/README.md`); the
 /// truth is the record's provenance: a Langevin bath, which is exactly
