@@ -204,7 +204,7 @@ fn langevin_cantilever(n: usize, seed: u64) -> Vec<Vec<f64>> {
 /// cannot resolve is refused naming the record length it needs at least
 /// (before: the committed cl7 record went through the fit and was refused
 /// for a pole at 2 572 GHz "narrower than the sampling", its ζ sds
-/// 1.4–1 200). On `langevin_cantilever` records of cl7's 10 001 samples
+/// up to 1 230). On `langevin_cantilever` records of cl7's 10 001 samples
 /// (finest resolution of 8 averages: 12.2-GHz bins; the 49-GHz line of
 /// Q ≈ 1.5 reaches below 4 bins at half power, 20.6 GHz by the closed-form
 /// Lorentzian) the refusal names `time_s` and a length above 2e-10 s; a

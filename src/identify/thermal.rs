@@ -69,10 +69,11 @@ pub const UNRESOLVED_LINE_BINS: f64 = 3.2;
 /// [`MIN_AVERAGES`] averages puts the line's peak 1.5 bins past this (a
 /// necessary length: a line of Q < 1.2 shows no lower half-power edge at
 /// any resolution, hence "or a weaker bath"): the line is not resolved, and
-/// it dominates the PSD that every other line is fitted in. Measured on the committed cantilever record `cl7.langevin` (200 ps,
-/// fundamental near 49 GHz at Q ≈ 1.6, bins of 12.2 GHz): the fit that
-/// followed returned poles of ζ sd 13–1 200 and a refusal naming a pole at
-/// 2 572 GHz narrower than the sampling (`tests/identify_md.md`, round 8).
+/// it dominates the PSD that every other line is fitted in. Measured on the
+/// committed cantilever record `cl7.langevin` (200 ps, fundamental near
+/// 49 GHz at Q ≈ 1.5, bins of 12.2 GHz): the fit that followed returned
+/// poles of ζ sd up to 1 230 and a refusal naming a pole at 2 572 GHz
+/// narrower than the sampling (`tests/identify_md.md`, round 8).
 pub const LOW_EDGE_BINS: f64 = 4.0;
 
 /// Shortest segment considered, in samples.
@@ -111,7 +112,10 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
         ));
     }
     let psd = welch(columns, finest);
-    if let Some((peak, edge)) = strongest_line_edge(&psd).filter(|&(_, edge)| edge < LOW_EDGE_BINS) {
+    // (an estimate with an empty bin, a constant column, is refused below as such)
+    let empty_bin = psd[1..].iter().any(|&v| !(v > 0.0));
+    let low = if empty_bin { None } else { strongest_line_edge(&psd) };
+    if let Some((peak, edge)) = low.filter(|&(_, edge)| edge < LOW_EDGE_BINS) {
         // a necessary length, not a sufficient one: segments that put the
         // line's peak LOW_EDGE_BINS + 1.5 bins up (room for the 3 samples of
         // a half-power band above the distorted bins); the edge itself, a
@@ -349,7 +353,8 @@ fn narrowest_line(raw: &[f64]) -> Option<(usize, f64)> {
 /// `narrowest_line`, bin 0 left out), the crossing interpolated linearly:
 /// 0 when the estimate does not fall to half the line's height between it
 /// and bin 1 (its lowest bins hold the top of the line, or a spectrum rising
-/// towards 0 Hz). None when the estimate has fewer than 3 bins.
+/// towards 0 Hz). None when the estimate has fewer than 3 bins or its
+/// largest value stands under 10× its median (no line).
 fn strongest_line_edge(raw: &[f64]) -> Option<(usize, f64)> {
     let n = raw.len();
     if n < 3 {
@@ -362,6 +367,15 @@ fn strongest_line_edge(raw: &[f64]) -> Option<(usize, f64)> {
         })
         .collect();
     let peak = (1..n).max_by(|&a, &b| p[a].total_cmp(&p[b]))?;
+    // a line stands 10× over the estimate's median (as in `narrowest_line`:
+    // a white estimate of ≥ 8 averages exceeds that with probability < 1e-9);
+    // a constant column's round-off or a white record has none
+    let mut sorted: Vec<f64> = p[1..].to_vec();
+    let mid = sorted.len() / 2;
+    let median = *sorted.select_nth_unstable_by(mid, f64::total_cmp).1;
+    if !(p[peak] > 0.0 && p[peak] >= 10.0 * median) {
+        return None;
+    }
     let half = p[peak] / 2.0;
     let mut j = peak;
     while j > 1 {
