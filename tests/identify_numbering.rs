@@ -366,3 +366,129 @@ fn a_relaxation_between_modes_1_and_2_is_numbered_and_first_mode_is_checked() {
         Ok(n) => assert!(n.warning.is_some(), "--first-mode 2 taken silently: {n:?}"),
     }
 }
+
+/// Issue 69, defect 11: one sweep of a simply supported tube, written as each
+/// frequency-record kind (complex receptance, magnitude, magnitude with its
+/// first frequency set to 0 Hz, a PSD |H|²·Gamma(10, 1/10)), all in lab units
+/// (`frequency_hz`), is numbered by `nanobeam identify --beam` without
+/// `--first-mode` whatever the kind, and every line any kind reports gets the
+/// number the complex record gives the line within 1 % of it (modes 1–4).
+/// Generator (no `src/` code): the closed-form modal sum of a simply
+/// supported Euler–Bernoulli tube, H(ω) = Σₙ sin(nπa/L) sin(nπb/L) /
+/// (ρAL/2 · (ωₙ² − ω² + 2iζₙωₙω)), ωₙ = (nπ/L)²√(EI/ρA), A = πdt,
+/// I = πdt(d² + t²)/8 (mean diameter d, wall t), ζₙ = c/(2ρAωₙ), modes
+/// 1–8, a = b = 2.1 nm; 2 000 log-spaced points from 1e11 to 2.1e13 rad/s
+/// (modes 1–4), complex noise of sd 1e-3·max|H| per component (ChaCha8, seed
+/// 11).
+///
+/// Fails at this commit (defect 11 open, `tests/hardening_round3.md`): the
+/// PSD reports one line (mode 3) and asks for `--first-mode`. Traced: mode 4's
+/// diagram pole comes out at 0.6 of its ζ and is dropped as narrower than the
+/// samples after its declared peak had been merged into it, and modes 1–2
+/// leave the fit. Filtering the diagram before the merge gives modes 1–3
+/// numbered 1–3 here, but loses mode 3 of the committed cc11 MD record (10
+/// modes instead of 11), so it was not kept. 18 s in the debug build at load
+/// 4 on 2 cores (four identifications).
+#[test]
+#[ignore = "reproduces issue 69 defect 11, still open: the PSD kind asks for --first-mode (see the doc)"]
+fn one_sweep_is_numbered_alike_as_every_record_kind() {
+    use rand_distr::{Distribution, Gamma, StandardNormal};
+    let (l, d, t) = (7.393e-9, 0.678e-9, 0.34e-9);
+    let (e, rho, c) = (1e12, 2213.0, 2e-4);
+    let (area, inertia) = (std::f64::consts::PI * d * t, std::f64::consts::PI * d * t * (d * d + t * t) / 8.0);
+    let rho_a = rho * area;
+    let x = 2.1e-9;
+    let n_pts = 2000;
+    let omegas: Vec<f64> = (0..n_pts).map(|i| 1e11 * (2.1e13f64 / 1e11).powf(i as f64 / (n_pts - 1) as f64)).collect();
+    let h: Vec<(f64, f64)> = omegas
+        .iter()
+        .map(|&w| {
+            (1..=8).fold((0.0, 0.0), |(re, im), n| {
+                let k = n as f64 * std::f64::consts::PI / l;
+                let wn = k * k * (e * inertia / rho_a).sqrt();
+                let zeta = c / (2.0 * rho_a * wn);
+                let num = (k * x).sin().powi(2) / (rho_a * l / 2.0);
+                let (dr, di) = (wn * wn - w * w, 2.0 * zeta * wn * w);
+                let den = dr * dr + di * di;
+                (re + num * dr / den, im - num * di / den)
+            })
+        })
+        .collect();
+    let sd = 1e-3 * h.iter().map(|(a, b)| a.hypot(*b)).fold(0.0, f64::max);
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let noisy: Vec<(f64, f64)> = h
+        .iter()
+        .map(|(a, b)| {
+            let (na, nb): (f64, f64) = (StandardNormal.sample(&mut rng), StandardNormal.sample(&mut rng));
+            (a + sd * na, b + sd * nb)
+        })
+        .collect();
+    let gamma = Gamma::new(10.0, 0.1).unwrap();
+    let psd: Vec<f64> = h.iter().map(|(a, b)| (a * a + b * b) * gamma.sample(&mut rng)).collect();
+    let hz = |w: f64| w / (2.0 * std::f64::consts::PI);
+    let rows = |f: &dyn Fn(usize) -> String| (0..n_pts).map(f).collect::<Vec<_>>().join("\n");
+    let records = [
+        (
+            "complex",
+            format!(
+                "frequency_hz,h_re_m_per_n,h_im_m_per_n\n{}",
+                rows(&|i| format!("{:e},{:e},{:e}", hz(omegas[i]), noisy[i].0, noisy[i].1))
+            ),
+        ),
+        (
+            "magnitude",
+            format!(
+                "frequency_hz,h_abs_m_per_n\n{}",
+                rows(&|i| format!("{:e},{:e}", hz(omegas[i]), noisy[i].0.hypot(noisy[i].1)))
+            ),
+        ),
+        (
+            "magnitude from 0 Hz",
+            format!(
+                "frequency_hz,h_abs_m_per_n\n{}",
+                rows(&|i| format!("{:e},{:e}", if i == 0 { 0.0 } else { hz(omegas[i]) }, noisy[i].0.hypot(noisy[i].1)))
+            ),
+        ),
+        (
+            "psd",
+            format!("frequency_hz,psd_one_sided_m2_per_hz\n{}", rows(&|i| format!("{:e},{:e}", hz(omegas[i]), psd[i]))),
+        ),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    let beam = dir.path().join("beam.yaml");
+    std::fs::write(
+        &beam,
+        "length_nm: 7.393\ndiameter_nm: 0.678\nsection: { tube: { wall_nm: 0.34 } }\nyoungs_modulus_pa: 1.0e12\n\
+         density_kg_m3: 2213\nsupport: simply-supported\nelements: 40\n",
+    )
+    .unwrap();
+    let mut reference: Vec<(f64, u64)> = Vec::new();
+    for (kind, text) in records {
+        let path = dir.path().join("record.csv");
+        std::fs::write(&path, &text).unwrap();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_nanobeam"))
+            .args(["identify", "--beam"])
+            .arg(&beam)
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{kind}: {}", String::from_utf8_lossy(&out.stderr));
+        let yaml: serde_yaml::Value = serde_yaml::from_slice(&out.stdout).unwrap();
+        let modes: Vec<(f64, u64)> = yaml["modes"]
+            .as_sequence()
+            .unwrap()
+            .iter()
+            .map(|m| (m["omega_rad_s"].as_f64().unwrap(), m["mode"].as_u64().unwrap()))
+            .collect();
+        if reference.is_empty() {
+            assert_eq!(modes.iter().map(|m| m.1).collect::<Vec<_>>(), [1, 2, 3, 4], "{kind}");
+            reference = modes;
+            continue;
+        }
+        assert!(modes.len() >= 3, "{kind}: {modes:?}");
+        for (w, n) in &modes {
+            let same = reference.iter().find(|(r, _)| (w / r - 1.0).abs() < 0.01);
+            assert_eq!(same.map(|r| r.1), Some(*n), "{kind}: the line at {w:e} rad/s; complex {reference:?}");
+        }
+    }
+}

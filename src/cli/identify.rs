@@ -125,14 +125,26 @@ fn check_first_mode_fits(first: Option<usize>, k: usize, beam: &BeamSpec) -> Res
 }
 
 /// A mode the record puts where the measured-data file cannot take it is a
-/// property of the record: name the record's column, not the output field.
-fn record_error(e: InputError, record: &Measurement) -> CliError {
-    if e.field.starts_with("modes[") {
-        let field = e.field.split('.').next().unwrap_or("modes").to_string();
+/// property of the record: name the quantity the file refused (`zeta_sd`, not
+/// the record's abscissa: issue 69, defect 7) and the mode by the frequency
+/// the record shows it at.
+fn record_error(e: InputError, observations: &[ModeObservation]) -> CliError {
+    if let Some(rest) = e.field.strip_prefix("modes[") {
+        let (index, quantity) = rest.split_once(']').unwrap_or((rest, ""));
+        let quantity = quantity.trim_start_matches('.');
+        let mode = index.parse::<usize>().ok().and_then(|i| observations.get(i));
+        let field = match mode {
+            Some(m) => format!(
+                "{} (the mode identified at {:.4e} rad/s)",
+                if quantity.is_empty() { "mode" } else { quantity },
+                m.omega_rad_s
+            ),
+            None => e.field.clone(),
+        };
         return CliError::Input(InputError::new(
-            format!("{} (identified {field})", record.abscissa_name()),
+            field,
             e.value,
-            format!("a record whose modes a measured-data file takes: {} {}", e.field, e.allowed),
+            format!("a mode a measured-data file takes: {}", e.allowed),
         ));
     }
     CliError::Input(e)
@@ -240,7 +252,7 @@ pub fn identify_record(
             zeta_sd: m.zeta_sd,
         })
         .collect();
-    let file = measured_file(beam, observations.clone()).map_err(|e| record_error(e, &record))?;
+    let file = measured_file(beam, observations.clone()).map_err(|e| record_error(e, &observations))?;
     Ok(Identified { identification: id, observations, file, numbering_warning: numbered.warning })
 }
 

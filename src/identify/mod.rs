@@ -37,7 +37,8 @@
 //! its initial amplitude at least [`MIN_RELATIVE_AMPLITUDE`] of the record's
 //! largest sample), or
 //! with `modes = Some(K)` the K lowest stable modes of the diagram that are
-//! clear, in order (fewer clear than K: the clearest of the rest fill up; the others, and the refinement's out-of-band pseudo-modes, stay
+//! clear, in order (fewer clear than K: the clearest of the rest that the record holds, resolved with a bounded ζ and
+//! standing ≥ 1 noise sd, fill up, and fewer of those than K is an input error naming `--modes`; the others, and the refinement's out-of-band pseudo-modes, stay
 //! in the fit as background). No clear mode is an input error naming the
 //! clearest one's height. Fewer stable modes than K, fewer
 //! than [`MIN_POINTS_PER_RESONANCE`] samples in a mode's half-power band, or

@@ -18,7 +18,10 @@
 //! most averages, the least variance). A record whose narrowest line measures
 //! no wider than a line of half a bin ([`UNRESOLVED_LINE_BINS`]) even then
 //! is refused, naming the record length that would resolve it; lines between
-//! that and three bins are judged after the fit, on their fitted widths.
+//! that and three bins are judged after the fit, on their fitted widths. So
+//! is a record whose strongest line reaches within [`LOW_EDGE_BINS`] of 0 Hz
+//! at half power (a cantilever's fundamental in a short record), naming the
+//! least record length that could resolve it.
 //! The PSD handed on stops where the floor under the lines stops falling
 //! (`flexural_band`): the beam's lines sit in the lowest few per cent of a
 //! molecular-dynamics record's Welch band.
@@ -54,6 +57,24 @@ pub const MIN_LINE_BINS: f64 = 4.0;
 /// their fitted half-power band holds fewer than `MIN_POINTS_PER_RESONANCE`
 /// bins.
 pub const UNRESOLVED_LINE_BINS: f64 = 3.2;
+
+/// Bins from 0 Hz within which a Welch estimate does not hold a line: each
+/// segment's mean removal empties bin 0 and, through the Hann window's ±2-bin
+/// main lobe, the bins up to 2; bin 3 still carries the leakage of that
+/// notch. A record whose strongest line (a thermal record's fundamental,
+/// which equipartition makes the largest) has its lower half-power edge
+/// below this at the finest resolution of [`MIN_AVERAGES`] averages, or
+/// whose largest bin (from bin 1) lies below it with no edge seen, is
+/// refused, naming the record length without which no segment of
+/// [`MIN_AVERAGES`] averages puts the line's peak 1.5 bins past this (a
+/// necessary length: a line of Q < 1.2 shows no lower half-power edge at
+/// any resolution, hence "or a weaker bath"): the line is not resolved, and
+/// it dominates the PSD that every other line is fitted in. Measured on the
+/// committed cantilever record `cl7.langevin` (200 ps, fundamental near
+/// 49 GHz at Q ≈ 1.5, bins of 12.2 GHz): the fit that followed returned
+/// poles of ζ sd up to 1 230 and a refusal naming a pole at 2 572 GHz
+/// narrower than the sampling (`tests/identify_md.md`, round 8).
+pub const LOW_EDGE_BINS: f64 = 4.0;
 
 /// Shortest segment considered, in samples.
 const MIN_SEGMENT: usize = 64;
@@ -91,6 +112,31 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
         ));
     }
     let psd = welch(columns, finest);
+    // (an estimate with an empty bin, a constant column, is refused below as such)
+    let empty_bin = psd[1..].iter().any(|&v| !(v > 0.0));
+    let low = if empty_bin { None } else { strongest_line_edge(&psd) };
+    if let Some((peak, edge)) = low.filter(|&(_, edge)| edge < LOW_EDGE_BINS) {
+        // a necessary length, not a sufficient one: segments that put the
+        // line's peak LOW_EDGE_BINS + 1.5 bins up (room for the 3 samples of
+        // a half-power band above the distorted bins); the edge itself, a
+        // noisy crossing that a line of Q < 1.2 never shows, gives no bound
+        let mut seg = finest;
+        while (seg as f64) < finest as f64 * (LOW_EDGE_BINS + 1.5) / peak as f64 {
+            seg *= 2;
+        }
+        let rows = seg * (MIN_AVERAGES.div_ceil(columns.len()) + 1) / 2;
+        return Err(InputError::new(
+            "time_s",
+            format!("a record of {record_s:.3e} s"),
+            format!(
+                "a record resolving its strongest line ({:.3e} Hz: half-power band from {edge:.1} bins of {:.3e} Hz, \
+                 < {LOW_EDGE_BINS}): at least {:.3e} s, or a weaker bath",
+                peak as f64 / (finest as f64 * dt),
+                1.0 / (finest as f64 * dt),
+                rows as f64 * dt
+            ),
+        ));
+    }
     let narrowest = narrowest_line(&psd);
     let chosen = match narrowest {
         Some((bin, width)) if width < UNRESOLVED_LINE_BINS => {
@@ -300,6 +346,45 @@ fn narrowest_line(raw: &[f64]) -> Option<(usize, f64)> {
         }
     }
     best
+}
+
+/// The strongest line of a Welch estimate `raw` (bin 0 at 0 Hz) and the bin
+/// of its lower half-power edge, on the three-bin average (as
+/// `narrowest_line`, bin 0 left out), the crossing interpolated linearly:
+/// 0 when the estimate does not fall to half the line's height between it
+/// and bin 1 (its lowest bins hold the top of the line, or a spectrum rising
+/// towards 0 Hz). None when the estimate has fewer than 3 bins or its
+/// largest value stands under 10× its median (no line).
+fn strongest_line_edge(raw: &[f64]) -> Option<(usize, f64)> {
+    let n = raw.len();
+    if n < 3 {
+        return None;
+    }
+    let p: Vec<f64> = (0..n)
+        .map(|i| {
+            let s = &raw[i.saturating_sub(1).max(1)..(i + 2).min(n)];
+            s.iter().sum::<f64>() / s.len() as f64
+        })
+        .collect();
+    let peak = (1..n).max_by(|&a, &b| p[a].total_cmp(&p[b]))?;
+    // a line stands 10× over the estimate's median (as in `narrowest_line`:
+    // a white estimate of ≥ 8 averages exceeds that with probability < 1e-9);
+    // a constant column's round-off or a white record has none
+    let mut sorted: Vec<f64> = p[1..].to_vec();
+    let mid = sorted.len() / 2;
+    let median = *sorted.select_nth_unstable_by(mid, f64::total_cmp).1;
+    if !(p[peak] > 0.0 && p[peak] >= 10.0 * median) {
+        return None;
+    }
+    let half = p[peak] / 2.0;
+    let mut j = peak;
+    while j > 1 {
+        if p[j - 1] < half {
+            return Some((peak, (j - 1) as f64 + (half - p[j - 1]) / (p[j] - p[j - 1])));
+        }
+        j -= 1;
+    }
+    Some((peak, 0.0))
 }
 
 /// In-place radix-2 FFT (length a power of two). Written here rather than
