@@ -477,3 +477,45 @@ fn the_largest_length_scale_gives_finite_modes_on_every_support() {
         assert_eq!(b.validate().unwrap_err().field, "elements");
     }
 }
+
+/// The static receptance (ω = 0) through the FRF solver, which uses the C²
+/// mesh's load vector N − ẽ²N″ (Eringen's operator on the point force) and
+/// interpolation vector: against the simply supported series
+/// H = Σ (2/L) sin(qx₀) sin(qx)(1 + (e0a)²q²)/(EI q⁴(1 + l²q²)), q = nπ/L
+/// (the sine expansion of EI(w⁗ − l²w⁽⁶⁾) = (1 − (e0a)²∂²)δ(x − x₀); 20 000
+/// terms, tail ≲ (e0a/l)²/(3π⁴N³) relative). The force and the outputs on
+/// nodes: the solution is smooth on every element, its H³ error O(h³) and a
+/// point value's, by duality with the equally smooth Green's function,
+/// O(h⁶); halving h must divide the error by at least 2⁴ (two orders of
+/// slack for the constant: the nonlocal load's δ″ part is the roughest term).
+#[test]
+fn static_receptance_matches_the_series() {
+    let (lg, e0a) = (1.0, 1.2);
+    let series = |b: &BeamSpec, x0: f64, x: f64| -> f64 {
+        let l = b.length_nm * 1e-9;
+        let ei = b.youngs_modulus_pa * b.inertia_m4();
+        (1..=20_000)
+            .map(|n| {
+                let q = n as f64 * PI / l;
+                2.0 / l * (q * x0 * 1e-9).sin() * (q * x * 1e-9).sin() * (1.0 + (e0a * 1e-9 * q).powi(2))
+                    / (ei * q.powi(4) * (1.0 + (lg * 1e-9 * q).powi(2)))
+            })
+            .sum()
+    };
+    for (x0, x) in [(4.0, 4.0), (4.0, 2.0), (2.0, 6.0)] {
+        let errors: Vec<f64> = [10, 20]
+            .iter()
+            .map(|&ne| {
+                let mut b = swcnt(Support::SimplySupported, ne);
+                b.strain_gradient_length_nm = lg;
+                b.nonlocal_e0a_nm = e0a;
+                let h = nanobeam::beam::frf(&b, x0, x, &[0.0]).unwrap()[0];
+                let exact = series(&b, x0, x);
+                assert!(h.im.abs() <= 1e-12 * exact.abs(), "static receptance not real: {h}");
+                (h.re - exact).abs() / exact.abs()
+            })
+            .collect();
+        eprintln!("x0 {x0} x {x}: rel. errors {:e} (10), {:e} (20)", errors[0], errors[1]);
+        assert!(errors[1] <= errors[0] / 16.0 + 1e-12, "x0 {x0} x {x}: {errors:?}");
+    }
+}
