@@ -392,8 +392,9 @@ fn stiffening_grows_with_l_as_the_closed_form_ratio() {
     }
 }
 
-/// The coupled paths take the strain gradient too: a point mass with damping
-/// (coupled RQI on T(s)) and an axial force, springs and a foundation,
+/// The coupled paths take the strain gradient too, and no fast path does: a
+/// point mass with damping (coupled RQI on T(s)) and an axial force, springs
+/// and a foundation, the kinds the axial and point-mass fast paths hold,
 /// against the state-space reference on the same matrices (a different
 /// algorithm; agreement to its ~eps·κ(A) error, 1e-8 relative as in
 /// `tests/beam_foundation.rs`'s coupled checks).
@@ -417,8 +418,27 @@ fn coupled_paths_agree_with_the_state_space() {
     b.elastic_foundation_n_m2 = 3e8;
     b.viscous_damping_n_s_m2 = 1e-6;
     cases.push(("foundation + C", b));
+    let mut b = swcnt(Support::SimplySupported, 10);
+    b.strain_gradient_length_nm = 0.5;
+    b.axial_force_n = -1e-9;
+    b.viscous_damping_n_s_m2 = 1e-6;
+    cases.push(("compression + C (the axial fast path's kind)", b));
+    let mut b = swcnt(Support::SimplySupported, 10);
+    b.strain_gradient_length_nm = 0.5;
+    b.point_mass = Some(PointMass { mass_kg: 1e-25, x_nm: 3.0 });
+    cases.push(("point mass, C = 0 (the mass spectrum's kind)", b));
     for (name, b) in cases {
-        let fast = modal(&b, 4).unwrap();
+        // every fast path declines the C² mesh: the reference paths answer
+        let mut solver = ModalSolver::new();
+        let fast = solver.modal(&b, 4).unwrap();
+        let fast_path = solver.last_used_interpolant()
+            || solver.last_used_axial_blocks()
+            || solver.last_used_spring_blocks()
+            || solver.last_used_spring_mass_blocks()
+            || solver.last_used_mass_blocks()
+            || solver.last_used_shear_blocks()
+            || solver.last_used_shear_continuum();
+        assert!(!fast_path, "{name}: a fast path took the strain gradient");
         let reference = modal_state_space(&b, 4).unwrap();
         for (f, r) in fast.modes.iter().zip(&reference.modes) {
             assert!((f.pole - r.pole).norm() <= 1e-8 * r.pole.norm(), "{name}: {f:?} vs {r:?}");
