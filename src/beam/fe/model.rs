@@ -31,6 +31,14 @@ use crate::beam::linalg::band::SymBand;
 use crate::beam::spec::{BeamSpec, Support};
 use crate::error::InputError;
 
+/// At which ends (x = 0, x = L) of `beam` a rotational spring acts on a
+/// rotation the support leaves free (what the C² mesh's pinned ends depend on).
+fn sprung_ends(beam: &BeamSpec) -> [bool; 2] {
+    let free = spring_rotations(beam.support, 0, 1);
+    let k = beam.support_rotational_stiffness_at_ends_n_m_rad();
+    [free[0].is_some() && k[0] > 0.0, free[1].is_some() && k[1] > 0.0]
+}
+
 /// (weight, N, N′, N″) at one Gauss point of an Euler–Bernoulli element.
 type GaussPoint = (f64, [f64; 4], [f64; 4], [f64; 4]);
 
@@ -111,8 +119,9 @@ pub struct ShearMesh {
 /// calibration or diagnosis that moves l keeps the mesh and its caches).
 /// Supports (the higher-order conditions of `fe::scaling`'s module doc):
 /// w = 0 at a supported end, θ = 0 at a clamped one, χ = 0 at a pinned one
-/// (simply supported, the pinned end of clamped–pinned); χ is free at a
-/// clamped or free end (there the natural condition l²EI w‴ = 0 holds).
+/// without a rotational spring (simply supported, the pinned end of
+/// clamped–pinned); χ is free at a clamped or free end and at a pinned end
+/// with a spring (there the natural condition l²EI w‴ = 0 holds).
 /// Rayleigh–Ritz: the l² energy is an H³ seminorm, quintic elements
 /// approximate a smooth mode's w‴ to O(h³), so eigenvalues converge at
 /// O(h⁶) (O(h⁸) as l → 0, the H² part), measured in
@@ -124,6 +133,9 @@ pub struct GradientMesh {
     /// (weight, [N, N′, N″, N‴]) at the 6 Gauss points of one element (exact
     /// for the degree-≤ 10 products of its fields).
     gauss: [(f64, [[f64; GRADIENT_DOFS]; 4]); 6],
+    /// Whether a rotational spring acts at x = 0 and at x = L (a pinned end
+    /// with a spring keeps w″ free: `fe::scaling`'s module doc).
+    pub sprung: [bool; 2],
 }
 
 /// DOFs per node and per element of the C² mesh.
@@ -150,7 +162,7 @@ impl UnitMesh {
     /// refuses shear with l > 0; were both set, the Timoshenko mesh is built).
     pub fn for_beam(beam: &BeamSpec) -> Self {
         if beam.shear_deformation.is_none() && beam.strain_gradient_length_nm > 0.0 {
-            return Self::with_gradient(beam.elements, beam.support);
+            return Self::with_gradient(beam.elements, beam.support, sprung_ends(beam));
         }
         Self::with_shear(beam.elements, beam.support, shear_params(beam))
     }
@@ -160,22 +172,33 @@ impl UnitMesh {
     pub fn matches(&self, beam: &BeamSpec) -> bool {
         let mine = self.shear.as_ref().map(|s| s.r2.to_bits());
         let theirs = shear_params(beam).map(|(_, r2)| r2.to_bits());
-        let gradient = beam.shear_deformation.is_none() && beam.strain_gradient_length_nm > 0.0;
+        let gradient =
+            (beam.shear_deformation.is_none() && beam.strain_gradient_length_nm > 0.0).then(|| sprung_ends(beam));
         self.elements == beam.elements
             && self.support == beam.support
             && mine == theirs
-            && self.gradient.is_some() == gradient
+            && self.gradient.as_ref().map(|g| g.sprung) == gradient
     }
 
-    /// The C² Euler–Bernoulli mesh of a strain-gradient beam ([`GradientMesh`]).
-    pub fn with_gradient(elements: usize, support: Support) -> Self {
+    /// The C² Euler–Bernoulli mesh of a strain-gradient beam ([`GradientMesh`]);
+    /// `sprung` says at which ends (x = 0, x = L) a rotational spring acts, so
+    /// that a pinned end there keeps its curvature free.
+    pub fn with_gradient(elements: usize, support: Support, sprung: [bool; 2]) -> Self {
         let last = elements;
         let node = |i: usize, d: usize| GRADIENT_DPN * i + d;
+        // a pinned end fixes w and, without a spring, the curvature
+        let pinned = |i: usize, end: usize| {
+            if sprung[end] {
+                vec![node(i, 0)]
+            } else {
+                vec![node(i, 0), node(i, 2)]
+            }
+        };
         let removed = match support {
-            Support::SimplySupported => vec![node(0, 0), node(0, 2), node(last, 0), node(last, 2)],
+            Support::SimplySupported => [pinned(0, 0), pinned(last, 1)].concat(),
             Support::ClampedClamped => vec![node(0, 0), node(0, 1), node(last, 0), node(last, 1)],
             Support::ClampedFree => vec![node(0, 0), node(0, 1)],
-            Support::ClampedPinned => vec![node(0, 0), node(0, 1), node(last, 0), node(last, 2)],
+            Support::ClampedPinned => [vec![node(0, 0), node(0, 1)], pinned(last, 1)].concat(),
         };
         let mut next = 0;
         let dof_map: Vec<Option<usize>> = (0..GRADIENT_DPN * (elements + 1))
@@ -228,7 +251,7 @@ impl UnitMesh {
             g0,
             g1,
             shear: None,
-            gradient: Some(GradientMesh { k3, gauss }),
+            gradient: Some(GradientMesh { k3, gauss, sprung }),
             spring_dofs,
             gauss: cubic_gauss,
             curvature_ends: [element::shape_dd(h, 0.0), element::shape_dd(h, h)],
