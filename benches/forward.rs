@@ -40,6 +40,7 @@ fn beam(n_iv: usize) -> BeamSpec {
         axial_force_n: 0.0,
         elastic_foundation_n_m2: 0.0,
         loss_factor: 0.0,
+        strain_gradient_length_nm: 0.0,
         shear_deformation: None,
         section: None,
     }

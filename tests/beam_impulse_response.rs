@@ -27,6 +27,7 @@ fn fourier_transform_of_the_impulse_response_is_the_receptance() {
         axial_force_n: 0.0,
         elastic_foundation_n_m2: 0.0,
         loss_factor: 0.0,
+        strain_gradient_length_nm: 0.0,
         shear_deformation: None,
         section: None,
     };

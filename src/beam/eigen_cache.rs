@@ -31,13 +31,13 @@ pub(crate) const PLAIN_GRID_CACHE: usize = 2048;
 pub(crate) struct EigenCache {
     pub(crate) work: Vec<Dual<f64>>,
     pub(crate) ldl: ShiftedLdl,
-    pub(crate) exact: Option<([u64; 7], Vec<EigenPair>)>,
+    pub(crate) exact: Option<([u64; 8], Vec<EigenPair>)>,
     /// Grid pencil eigenvectors keyed by [`PencilParams::bits`] of the grid
     /// point: plain pencils (ẽ, g̃) and extended ones apart, so that a
     /// population sweeping an extended grid does not evict the parents every
     /// extended cell is refined from.
-    pub(crate) grid: HashMap<[u64; 7], Vec<GridVector>>,
-    pub(crate) plain_grid: HashMap<[u64; 7], Vec<GridVector>>,
+    pub(crate) grid: HashMap<[u64; 8], Vec<GridVector>>,
+    pub(crate) plain_grid: HashMap<[u64; 8], Vec<GridVector>>,
     /// How the last [`EigenCache::lowest`] call got its answer (for tests).
     pub(crate) last_method: Option<EigenMethod>,
 }
@@ -53,7 +53,8 @@ pub(crate) enum EigenMethod {
 /// products, so that its RQI start on any pencil of the mesh costs O(n):
 /// M̃x = M̃₀x + ẽ²M̃₁x + μ̃N(Nᵀx), xᵀM̃x = xᵀM̃₀x + ẽ²xᵀM̃₁x + μ̃(Nᵀx)²,
 /// xᵀ(K̃ + K̃_spring + K̃_N)x = xᵀK̃x + Σ_ends k̃_e x_e² + ñ(xᵀG̃₀x + ẽ²xᵀG̃₁x),
-/// with xᵀK̃x = xᵀK̃_bx + g̃·xᵀK̃_γx on a Timoshenko mesh.
+/// with xᵀK̃x = xᵀK̃_bx + g̃·xᵀK̃_γx on a Timoshenko mesh and
+/// xᵀK̃₂x + l̃²·xᵀK̃₃x on a strain-gradient (C²) mesh.
 #[derive(Debug, Clone)]
 pub(crate) struct GridVector {
     pub(crate) vector: Vec<f64>,
@@ -62,6 +63,8 @@ pub(crate) struct GridVector {
     /// xᵀK̃x without shear (Euler–Bernoulli: all of it) and xᵀ(Σ∫γγᵀ)x.
     pub(crate) k_form: f64,
     pub(crate) shear_form: f64,
+    /// xᵀ(Σ∫w‴w‴ᵀ)x (0 on a mesh without a strain gradient).
+    gradient_form: f64,
     m0_form: f64,
     m1_form: f64,
     /// x_i² on the free rotation at x = 0 and at x = L (0 where the support fixes it).
@@ -79,6 +82,7 @@ impl GridVector {
         GridVector {
             k_form: mesh.stiffness_form(&vector, 0.0),
             shear_form: mesh.shear.as_ref().map_or(0.0, |sh| sh.ks.bilinear(&vector, &vector)),
+            gradient_form: mesh.gradient_form(&vector),
             m0_form: dot(&vector, &m0x),
             m1_form: dot(&vector, &m1x),
             spring_sq: mesh.spring_dofs.map(|d| d.map_or(0.0, |i| vector[i] * vector[i])),
@@ -102,7 +106,11 @@ impl GridVector {
             m_form += mu * w * w;
         }
         let k_n = if params.axial != 0.0 { params.axial * (self.g_forms.0 + e2 * self.g_forms.1) } else { 0.0 };
-        let rho = (self.k_form
+        let mut k_form = self.k_form;
+        if params.gradient != 0.0 {
+            k_form += params.gradient * self.gradient_form;
+        }
+        let rho = (k_form
             + params.shear * self.shear_form
             + params.spring[0] * self.spring_sq[0]
             + params.spring[1] * self.spring_sq[1]
@@ -192,7 +200,7 @@ impl EigenCache {
     }
 
     /// The plain grid (ẽ, g̃) or the extended one.
-    pub(crate) fn cells(&mut self, plain: bool) -> &mut HashMap<[u64; 7], Vec<GridVector>> {
+    pub(crate) fn cells(&mut self, plain: bool) -> &mut HashMap<[u64; 8], Vec<GridVector>> {
         if plain {
             &mut self.plain_grid
         } else {

@@ -18,6 +18,10 @@
 //! needed: `eigen.rs` finds them (Rayleigh-quotient iteration from a cached
 //! nearby pencil, certified by an inertia count; Newton–Maehly from scratch
 //! otherwise).
+//! A strain gradient keeps both: it changes K alone (K = K₂ + l̃²K₃ on the C²
+//! mesh, `fe::scaling`), and G(s) multiplies the whole of it; no fast path
+//! holds it, so such a beam takes this decoupled path with the eigenpairs of
+//! `eigen_cache` (l̃² a pencil parameter: RQI from the nearest grid pencil).
 //! A point mass with C > 0 breaks D ∝ M; a support spring breaks K_spring ∝ K
 //! (it is not relaxed by G). Then `general_path` solves T(s)x = 0 pole by pole
 //! (nonlinear Rayleigh-quotient iteration).
@@ -294,6 +298,12 @@ impl ModalSolver {
         self.last_shear_blocks = false;
         self.last_mass_blocks = false;
         self.last_shear_continuum = false;
+        // a strain gradient (the C² mesh) takes the reference paths: every
+        // fast path was derived for the fourth-order operator on the cubic
+        // (or Timoshenko) mesh
+        if mesh.gradient.is_some() {
+            return None;
+        }
         // a loss factor takes the decoupled families at the end (the
         // interpolated spectra) or, coupled, the general path: no block or
         // continuum path has it
@@ -659,6 +669,7 @@ mod tests {
             axial_force_n: 0.0,
             elastic_foundation_n_m2: 0.0,
             loss_factor: 0.0,
+            strain_gradient_length_nm: 0.0,
             shear_deformation: None,
             section: None,
         }

@@ -195,6 +195,16 @@ pub struct BeamSpec {
     /// poles alone (`solve::family`).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub loss_factor: f64,
+    /// Material length scale l of nonlocal strain-gradient elasticity, nm
+    /// (Lim, Zhang & Reddy 2015; extension, default 0 = the classical beam):
+    /// at wavenumber q the stiffness grows by (1 + l²q²) against Eringen's
+    /// (1 + (e0a)²q²). The beam equation becomes of sixth order, solved on C²
+    /// (quintic Hermite) elements with the higher-order boundary conditions
+    /// of `fe::scaling`'s module doc; relaxed with the modulus like the rest
+    /// of the bending stiffness. 0 <= l <= length_nm; Euler–Bernoulli only
+    /// (refused with shear deformation).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub strain_gradient_length_nm: f64,
     /// Shear deformation and rotary inertia (Timoshenko beam; default off).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shear_deformation: Option<ShearDeformation>,
@@ -236,6 +246,8 @@ struct BeamSpecYaml {
     #[serde(default)]
     loss_factor: f64,
     #[serde(default)]
+    strain_gradient_length_nm: f64,
+    #[serde(default)]
     shear_deformation: Option<ShearDeformationYaml>,
     #[serde(default)]
     section: Option<Section>,
@@ -269,6 +281,7 @@ impl From<BeamSpecYaml> for BeamSpec {
             axial_force_n: y.axial_force_n,
             elastic_foundation_n_m2: y.elastic_foundation_n_m2,
             loss_factor: y.loss_factor,
+            strain_gradient_length_nm: y.strain_gradient_length_nm,
             shear_deformation: None,
             section: y.section,
         };
@@ -349,6 +362,29 @@ pub const MAX_N_TILDE: f64 = 1e8;
 /// 1.2e7 N/m²) is k ≈ 1.2e17 N/m², some 4e7 times a polymer matrix's
 /// (k ≈ E_matrix, a few GPa).
 pub const MAX_FOUNDATION_TILDE: f64 = 1e10;
+/// Largest strain-gradient length l̃ = l/L. Mode r's gradient share of its
+/// stiffness is l̃²(rπ)²/(1 + l̃²(rπ)²): at l̃ = 1 it is 91 % for the first
+/// mode, the beam a "gradient string" whose material length is its own
+/// length, where a continuum length scale has lost its meaning (nanotube
+/// values in the NSGT literature are l ≈ 0.1–2 nm on tubes of 5–100 nm,
+/// l̃ ≲ 0.4). The element's K̃₃ entries grow as 1/h̃⁵ against K̃₂'s 1/h̃³,
+/// so the pencil's spread λ_max/λ₁ grows as l̃²/h̃⁶: see
+/// [`MAX_GRADIENT_ELEMENTS`] for the meshes on which l̃ ≤ 1 was measured to
+/// solve.
+pub const MAX_GRADIENT_TILDE: f64 = 1.0;
+/// Largest mesh of a strain-gradient beam (l > 0). The from-scratch banded
+/// eigen solve evaluates det(K̃ − σM̃) with a relative floor of
+/// ~eps·λ_max/λ₁ in σ (`solve::eigen`), and on the C² mesh λ_max grows as
+/// l̃²/h̃⁶ (against 1/h̃⁴ on the cubic mesh). Measured (10 modes, every
+/// support, l̃ ∈ {1e-4, 0.01, 0.1, 0.3, 1}): up to 50 elements every case
+/// solves on the banded decoupled path (0.3–0.6 ms in release) except the
+/// cantilever at l̃ ≥ 0.3, which falls back to the state space (70 ms); at
+/// 60–80 elements more cases fall back (to 0.3 s), at 100 the banded solve
+/// fails from l̃ = 0.03 and at 200 from l̃ = 0.01, where the dense fallback
+/// is beyond its dimension. Quintic elements converge at O(h⁶) in the
+/// eigenvalue, so 50 elements resolve far more modes than a measurement
+/// holds (the paper's mesh has 20).
+pub const MAX_GRADIENT_ELEMENTS: usize = 50;
 /// Range of the scaled shear stiffness g̃ = κGAL²/EI (≈ 100–450 for the
 /// paper's L/d ≈ 8). Mode r's shear share of its compliance is ≈ (rπ)²/g̃:
 /// at g̃ = 0.1 the first mode is ~99 % shear (a shear beam, no longer a
@@ -408,6 +444,7 @@ impl BeamSpec {
             axial_force_n: 0.0,
             elastic_foundation_n_m2: 0.0,
             loss_factor: 0.0,
+            strain_gradient_length_nm: 0.0,
             shear_deformation: None,
             section: None,
         }
@@ -521,6 +558,33 @@ impl BeamSpec {
                     "<= {:e} N/m^2 (k L^4/EI <= {MAX_FOUNDATION_TILDE:e}; negative down to the loss of stability)",
                     MAX_FOUNDATION_TILDE * k_unit
                 ),
+            ));
+        }
+        let lg = self.strain_gradient_length_nm;
+        if !(lg.is_finite() && lg >= 0.0 && lg <= MAX_GRADIENT_TILDE * self.length_nm) {
+            return Err(InputError::new(
+                "strain_gradient_length_nm",
+                fmt_num(lg),
+                format!(
+                    "0 <= strain_gradient_length_nm <= {} (l/L <= {MAX_GRADIENT_TILDE})",
+                    fmt_num(MAX_GRADIENT_TILDE * self.length_nm)
+                ),
+            ));
+        }
+        if lg > 0.0 && self.elements > MAX_GRADIENT_ELEMENTS {
+            return Err(InputError::new(
+                "elements",
+                self.elements,
+                format!(
+                    "<= {MAX_GRADIENT_ELEMENTS} with strain_gradient_length_nm > 0 (the C2 mesh's spectrum spreads as (l/L)^2/h^6)"
+                ),
+            ));
+        }
+        if lg > 0.0 && self.shear_deformation.is_some() {
+            return Err(InputError::new(
+                "strain_gradient_length_nm",
+                fmt_num(lg),
+                "0 with shear_deformation (the strain-gradient beam is Euler-Bernoulli: a Timoshenko one needs a second, shear-strain gradient)",
             ));
         }
         let eta = self.loss_factor;

@@ -44,6 +44,8 @@ pub enum Target {
     ElasticFoundation,
     /// Hysteretic loss factor η, 0 ≤ η < 1 (the complex modulus E(1 + iη)).
     LossFactor,
+    /// Strain-gradient length l in nm (nonlocal strain-gradient elasticity).
+    StrainGradientLength,
 }
 
 /// Names accepted in `parameters`, with the allowed form. `delta`/`omega_rad_s`
@@ -52,7 +54,7 @@ pub const KNOWN_NAMES: &str = "nonlocal_e0a_nm, delta, omega_rad_s, delta_K, ome
 diameter_nm, beta_squared, viscous_damping_n_s_m2, support_rotational_stiffness_n_m_rad, \
 support_rotational_stiffness_left_n_m_rad, support_rotational_stiffness_right_n_m_rad, \
 point_mass_kg, point_mass_x_nm, youngs_modulus_pa, density_kg_m3, length_nm, axial_force_n, \
-shear_coefficient, poisson_ratio, elastic_foundation_n_m2, loss_factor";
+shear_coefficient, poisson_ratio, elastic_foundation_n_m2, loss_factor, strain_gradient_length_nm";
 
 impl Target {
     pub fn from_name(name: &str) -> Option<Target> {
@@ -76,6 +78,7 @@ impl Target {
             "poisson_ratio" => Target::PoissonRatio,
             "elastic_foundation_n_m2" => Target::ElasticFoundation,
             "loss_factor" => Target::LossFactor,
+            "strain_gradient_length_nm" => Target::StrainGradientLength,
             _ => {
                 if let Some(k) = name.strip_prefix("delta_") {
                     let k: usize = k.parse().ok().filter(|&k| k >= 2)?;
@@ -267,6 +270,7 @@ impl ParameterSet {
                 Target::PoissonRatio => shear_mut(beam).poisson_ratio = v,
                 Target::ElasticFoundation => beam.elastic_foundation_n_m2 = v,
                 Target::LossFactor => beam.loss_factor = v,
+                Target::StrainGradientLength => beam.strain_gradient_length_nm = v,
             }
         }
     }

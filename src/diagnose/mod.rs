@@ -9,10 +9,12 @@
 //!    test ([`ppc`]). Misfit is detected when some p-value falls below the Šidák
 //!    level 1 − (1 − α_FW)^(1/J) (family-wise α_FW = 1 % over J observables).
 //! 2. **Search.** Every model of at most [`DiagnoseSettings::max_causes`]
-//!    causes (46 at the default two: the base, nine singles, thirty-six pairs;
-//!    37 on a clamped–clamped or clamped–free beam, where no rotation is
-//!    left for a support spring, [`ModelClass::acts_on`]; 37 and 29 when the
-//!    file's parameters already sample the section, [`ModelClass::free_in`]) gets its
+//!    causes (55 at the default two: the base, ten singles, forty-four pairs,
+//!    the forty-five less shear-deformation + strain-gradient, which the beam
+//!    does not combine; 45 on a clamped–clamped or clamped–free beam, where
+//!    no rotation is left for a support spring, [`ModelClass::acts_on`]; 45
+//!    and 36 when the file's parameters already sample the section,
+//!    [`ModelClass::free_in`]) gets its
 //!    evidence ([`evidence`]), in one parallel batch per number of causes
 //!    (a multimodal model's MAP search also starts from its sub-models'
 //!    MAPs); a model of the most causes is left uncomputed when its evidence
@@ -61,7 +63,7 @@
 //!
 //! # Files
 //! `mod.rs` (module doc: the procedure; the entry points `diagnose`, `diagnose_run`; re-exports),
-//! `settings` (`DiagnoseSettings`, `DiagnoseError`), `classes` (the priors of the nine causes, `section-mismatch`
+//! `settings` (`DiagnoseSettings`, `DiagnoseError`), `classes` (the priors of the ten causes, `section-mismatch`
 //! among them, each with its out-of-catalogue first-order mimic if one is known
 //! (`first_order_mimic`, in `model`), `Model` = base + causes or the β baseline (`model`), priors,
 //! `model_posterior`; the mirror-image folds in `mirror`, the section reading in `section_reading`),

@@ -19,11 +19,12 @@ pub enum ModelClass {
     /// so a new class is appended and the old models keep their seeds.
     ElasticFoundation,
     LossFactor,
+    StrainGradient,
 }
 
 impl ModelClass {
     /// The candidate causes, in report order.
-    pub const CAUSES: [ModelClass; 9] = [
+    pub const CAUSES: [ModelClass; 10] = [
         ModelClass::ExtraRelaxation,
         ModelClass::ViscousDamping,
         ModelClass::SupportRotationalStiffness,
@@ -33,6 +34,7 @@ impl ModelClass {
         ModelClass::SectionMismatch,
         ModelClass::ElasticFoundation,
         ModelClass::LossFactor,
+        ModelClass::StrainGradient,
     ];
 
     pub fn name(self) -> &'static str {
@@ -46,6 +48,7 @@ impl ModelClass {
             ModelClass::SectionMismatch => "section-mismatch",
             ModelClass::ElasticFoundation => "elastic-foundation",
             ModelClass::LossFactor => "loss-factor",
+            ModelClass::StrainGradient => "strain-gradient",
         }
     }
 
@@ -155,7 +158,7 @@ impl Model {
     }
 
     /// Every model of at most `k` causes, by number of causes, then in the
-    /// order of [`ModelClass::CAUSES`] (the base first; 46 models at k = 2).
+    /// order of [`ModelClass::CAUSES`] (the base first; 56 models at k = 2).
     pub fn up_to(k: usize) -> Vec<Model> {
         let mut models = vec![Model::BASE];
         let mut level = vec![Model::BASE];
@@ -179,11 +182,18 @@ impl Model {
 
     /// [`Model::up_to`] without the models of a cause that does not act on
     /// `support` ([`ModelClass::acts_on`]) or is not free given the file's
-    /// parameters `base` ([`ModelClass::free_in`]): the candidates of a diagnosis.
+    /// parameters `base` ([`ModelClass::free_in`]), and without the models
+    /// that combine `shear-deformation` with `strain-gradient` (the strain
+    /// gradient is defined on the Euler–Bernoulli beam only: `beam::spec`
+    /// refuses the pair): the candidates of a diagnosis.
     pub fn candidates(k: usize, support: Support, base: &ParameterSet) -> Vec<Model> {
         Model::up_to(k)
             .into_iter()
             .filter(|m| m.causes().iter().all(|c| c.acts_on(support) && c.free_in(base)))
+            .filter(|m| {
+                let c = m.causes();
+                !(c.contains(&ModelClass::ShearDeformation) && c.contains(&ModelClass::StrainGradient))
+            })
             .collect()
     }
 

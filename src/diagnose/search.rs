@@ -582,8 +582,9 @@ mod tests {
 
     /// The extension applies to a selected pair on 12 or more observables
     /// and gives the models of one cause more that hold the pair: 7 on a
-    /// simply supported beam (the 9 causes less the pair's 2), 6 on a
-    /// clamped–clamped one (no rotation left for a support spring); never to
+    /// simply supported beam (the 10 causes less the pair's 2, less
+    /// strain-gradient, which does not combine with shear-deformation), 6 on
+    /// a clamped–clamped one (no rotation left for a support spring); never to
     /// a single, to 10 observables, or above the cap of 3 causes.
     #[test]
     fn the_extension_adds_one_cause_to_a_selected_pair_of_a_long_record() {

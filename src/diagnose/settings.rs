@@ -58,7 +58,8 @@ impl DiagnoseSettings {
     pub const MAX_SAMPLES: usize = 100_000;
     /// Lower bound: the stage covariance of a 5-parameter model needs ≫ 5 samples.
     pub const MIN_SAMPLES: usize = 50;
-    /// Upper bound of `max_causes`: 3 makes 84 triples of the 9 causes, each
+    /// Upper bound of `max_causes`: 3 makes 112 triples of the 10 causes (120
+    /// less the 8 that hold both shear-deformation and strain-gradient), each
     /// screened by its evidence bound; a fourth cause would leave a 5-mode
     /// record no degrees of freedom.
     pub const MAX_CAUSES: usize = 3;

@@ -188,6 +188,8 @@ fn magnitude_range(effect: Effect) -> (f64, f64) {
         Effect::Cause(ModelClass::ElasticFoundation) => (0.02, 5.0),
         // η (ζ ≈ η/2 on every mode), up to the class's prior 0.6
         Effect::Cause(ModelClass::LossFactor) => (0.002, 0.6),
+        // l·q_max (q_max the highest mode's wavenumber), up to 3 of the class's prior 10
+        Effect::Cause(ModelClass::StrainGradient) => (0.02, 3.0),
         // coupling g (fraction of the geometric mean of the two squared frequencies);
         // beyond 0.1 the two resonances hybridize and "the beam mode" loses its meaning
         Effect::Foreign(Foreign::ModeCoupling) => (0.005, 0.1),
@@ -419,6 +421,10 @@ fn with_effect(base: &Truth, effect: Effect, shape: [f64; 2], mag: f64, s: &Nomi
             b.elastic_foundation_n_m2 = shape[0] * mag * s.rho_a_kg_m * s.omega_1_rad_s * s.omega_1_rad_s
         }
         Effect::Cause(ModelClass::LossFactor) => b.loss_factor = mag,
+        Effect::Cause(ModelClass::StrainGradient) => {
+            let q_max_per_nm = (s.rho_a_kg_m * s.omega_max_rad_s * s.omega_max_rad_s / s.ei_n_m2).powf(0.25) * 1e-9;
+            b.strain_gradient_length_nm = mag / q_max_per_nm
+        }
         Effect::Foreign(f) => t.modal.push((f, shape, mag)),
     }
     t
@@ -708,13 +714,19 @@ const CATALOGUE_STARTS: usize = 64;
 const CATALOGUE_RESTARTS: usize = 3;
 
 /// The catalogue models a foreign effect must defeat: every single cause and
-/// every pair of the six causes the suite was built with (without
-/// `section-mismatch`, so that the keyed streams of [`model_fit_max_z`], and
-/// with them the suite's data, are those of before the class).
+/// every pair of the causes the suite was built with (without
+/// `section-mismatch` and `strain-gradient`, so that the keyed streams of
+/// [`model_fit_max_z`], and with them the suite's data, are those of before
+/// each class: a model's stream is keyed by its place in this list, and
+/// `strain-gradient`, last in the causes, would move every pair's).
 fn catalogue_models() -> Vec<Model> {
     Model::up_to(2)
         .into_iter()
-        .filter(|m| *m != Model::BASE && !m.causes().contains(&ModelClass::SectionMismatch))
+        .filter(|m| {
+            *m != Model::BASE
+                && !m.causes().contains(&ModelClass::SectionMismatch)
+                && !m.causes().contains(&ModelClass::StrainGradient)
+        })
         .collect()
 }
 

@@ -134,7 +134,12 @@ impl AxialBlocks {
     /// The blocks of `mesh`, or `None` when the mesh is not a uniform simply
     /// supported Euler–Bernoulli one or a block fails the invariance check.
     pub fn new(mesh: &UnitMesh) -> Option<Self> {
-        if mesh.support != Support::SimplySupported || mesh.shear.is_some() || mesh.elements < 2 {
+        // the blocks are the cubic Hermite element's: no Timoshenko, no C² (strain-gradient) mesh
+        if mesh.support != Support::SimplySupported
+            || mesh.shear.is_some()
+            || mesh.gradient.is_some()
+            || mesh.elements < 2
+        {
             return None;
         }
         let ne = mesh.elements;
@@ -522,7 +527,7 @@ mod tests {
             // the scaled force as a multiple of the local Euler load π² (ñ = NL²/EI)
             let axial = ratio * ncr / (1.0 + t * ncr);
             let fast = blocks.eigenvalues(t, axial, 0.0, 6).unwrap();
-            let p = PencilParams { e_tilde: e, point_mass: None, spring: [0.0; 2], axial, shear: 0.0 };
+            let p = PencilParams { e_tilde: e, point_mass: None, spring: [0.0; 2], axial, shear: 0.0, gradient: 0.0 };
             let (k, m) = mesh.pencil(&p);
             let direct = lowest_eigenpairs(&k, &m, 6, &mut Vec::new(), &|x| mesh.pencil_stiffness(&p, x)).unwrap();
             for (f, d) in fast.iter().zip(&direct) {

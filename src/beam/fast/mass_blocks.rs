@@ -405,7 +405,14 @@ mod tests {
             ] {
                 let t: f64 = e * e;
                 let fast = blocks.mass_eigenvalues(t, (axial, 0.0), (mass, x), 6).unwrap();
-                let p = PencilParams { e_tilde: e, point_mass: Some((mass, x)), spring: [0.0; 2], axial, shear: 0.0 };
+                let p = PencilParams {
+                    e_tilde: e,
+                    point_mass: Some((mass, x)),
+                    spring: [0.0; 2],
+                    axial,
+                    shear: 0.0,
+                    gradient: 0.0,
+                };
                 let (k, m) = mesh.pencil(&p);
                 let direct = lowest_eigenpairs(&k, &m, 6, &mut Vec::new(), &|v| mesh.pencil_stiffness(&p, v)).unwrap();
                 for (f, d) in fast.iter().zip(&direct) {

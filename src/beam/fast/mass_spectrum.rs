@@ -325,7 +325,7 @@ fn certify(nodes: &mut Nodes<'_>, mode: usize) -> Option<ModeInterpolant> {
 /// Builds the interpolants of every mode of `mesh` on piece `piece`; `None`
 /// when a mode cannot be certified or a solve fails.
 fn build_piece(mesh: &UnitMesh, piece: usize) -> Option<Piece> {
-    if mesh.shear.is_some() || mesh.n() > MAX_DOFS {
+    if mesh.shear.is_some() || mesh.gradient.is_some() || mesh.n() > MAX_DOFS {
         return None;
     }
     let (lo, hi) = piece_range(piece);
@@ -373,7 +373,12 @@ impl MassSpectrumTable {
     /// [`MASS_CERTIFIED_TOL`]): the caller then solves directly.
     pub fn lambdas(&mut self, mesh: &UnitMesh, t: f64, mu: f64, x: f64, out: &mut [f64], bounds: &mut [f64]) -> bool {
         let count = out.len();
-        if mesh.shear.is_some() || mesh.n() > MAX_DOFS || count > mesh.n() || !(mu > 0.0 && mu.is_finite()) {
+        if mesh.shear.is_some()
+            || mesh.gradient.is_some()
+            || mesh.n() > MAX_DOFS
+            || count > mesh.n()
+            || !(mu > 0.0 && mu.is_finite())
+        {
             return false;
         }
         let Some(p) = piece_of(t) else { return false };
@@ -607,7 +612,8 @@ pub fn point_mass_direct_eigenvalues(
     count: usize,
 ) -> Option<Vec<f64>> {
     let mesh = UnitMesh::new(elements, support);
-    let params = PencilParams { e_tilde, point_mass: Some((mu, x)), spring: [0.0; 2], axial: 0.0, shear: 0.0 };
+    let params =
+        PencilParams { e_tilde, point_mass: Some((mu, x)), spring: [0.0; 2], axial: 0.0, shear: 0.0, gradient: 0.0 };
     let (k, m) = mesh.pencil(&params);
     let pairs = lowest_eigenpairs(&k, &m, count, &mut Vec::new(), &|v| mesh.pencil_stiffness(&params, v)).ok()?;
     Some(pairs.iter().map(|p| p.lambda).collect())

@@ -39,6 +39,11 @@
 //! - `jet`: a value and its derivative over f64 or Complex64, for the
 //!   secular functions.
 //!
+//! None of them holds a strain gradient (l > 0, the C² mesh of
+//! `fe::model::GradientMesh`): each was derived for the fourth-order
+//! operator and declines that mesh (the dispatch declines it first); such a
+//! beam takes the reference solvers of `solve`.
+//!
 //! Invariant: used only by the dispatch (`beam::modal`) and by the beam's
 //! face for the certificates tests read; `tests/tidy.rs` holds every room of
 //! `beam` to the table in ARCHITECTURE.md. The comparisons every path is held

@@ -756,7 +756,8 @@ mod tests {
             let mut prod = Complex64::new(1.0, 0.0);
             let det = pencil.determinant(coef.map(|x| x.v), None, |b| prod *= b).unwrap();
             let fast = prod * det / (det_v * det_v);
-            let p = PencilParams { e_tilde: t.sqrt(), point_mass: None, spring: [0.0; 2], axial, shear: g };
+            let p =
+                PencilParams { e_tilde: t.sqrt(), point_mass: None, spring: [0.0; 2], axial, shear: g, gradient: 0.0 };
             let (k, mm) = (m.stiffness(g), m.m0.plus_scaled(t, &m.m1));
             let mb = sh.mt0.plus_scaled(t, &sh.mt1);
             let kn = m.geometric(p.axial, p.e_tilde);
@@ -782,7 +783,7 @@ mod tests {
         // elements, not the physical π²)
         for (e, g, axial) in [(0.0, 300.0, 0.0), (0.2, 120.0, 5.0), (0.1, 450.0, -1.5)] {
             let t: f64 = e * e;
-            let p = PencilParams { e_tilde: e, point_mass: None, spring: [0.0; 2], axial, shear: g };
+            let p = PencilParams { e_tilde: e, point_mass: None, spring: [0.0; 2], axial, shear: g, gradient: 0.0 };
             let (k, mm) = m.pencil(&p);
             // the banded LDLᵀ inertia of the assembled K̃ + K̃_N − σM̃ at σ = 0
             assert_eq!(k.ldl_inertia(&mm, 0.0, &mut Vec::new()).map(|x| x.0), Some(0));

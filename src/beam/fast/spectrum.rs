@@ -273,6 +273,10 @@ impl SpectrumTable {
     /// building missing pieces; `false` when t is beyond the last piece or a
     /// needed (mode, piece) is uncertified (the caller then solves directly).
     pub fn lambdas(&mut self, mesh: &UnitMesh, t: f64, out: &mut [f64]) -> bool {
+        // interpolated in ẽ² alone: the strain-gradient pencil has l̃² too
+        if mesh.gradient.is_some() {
+            return false;
+        }
         let Some(p) = piece_of(t) else { return false };
         let n = out.len();
         if self.local.len() < n || self.local[..n].iter().any(|row| row[p].is_none()) {

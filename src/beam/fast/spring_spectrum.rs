@@ -717,7 +717,7 @@ mod tests {
         ] {
             let t: f64 = e * e;
             let fast = blocks.spring_eigenvalues(t, (axial, 0.0), spring, 6).unwrap();
-            let p = PencilParams { e_tilde: e, point_mass: None, spring, axial, shear: 0.0 };
+            let p = PencilParams { e_tilde: e, point_mass: None, spring, axial, shear: 0.0, gradient: 0.0 };
             let (k, m) = mesh.pencil(&p);
             let direct = lowest_eigenpairs(&k, &m, 6, &mut Vec::new(), &|x| mesh.pencil_stiffness(&p, x)).unwrap();
             for (f, d) in fast.iter().zip(&direct) {

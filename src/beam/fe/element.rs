@@ -141,6 +141,69 @@ pub fn quintic_shape(h: f64, xbar: f64) -> [[f64; 6]; 3] {
     [n, d, dd]
 }
 
+/// d³H/dx̄³ of [`quintic_shape`] at x̄ ∈ [0, h]: the strain gradient's
+/// curvature slope w‴, a quadratic on the element (each entry the derivative
+/// of the corresponding d²H/dx̄² row).
+pub fn quintic_shape_ddd(h: f64, xbar: f64) -> [f64; 6] {
+    let x = xbar / h;
+    let x2 = x * x;
+    let (h2, h3) = (h * h, h * h * h);
+    [
+        (-60.0 + 360.0 * x - 360.0 * x2) / h3,
+        (-36.0 + 192.0 * x - 180.0 * x2) / h2,
+        0.5 * (-18.0 + 72.0 * x - 60.0 * x2) / h,
+        (60.0 - 360.0 * x + 360.0 * x2) / h3,
+        (-24.0 + 168.0 * x - 180.0 * x2) / h2,
+        0.5 * (6.0 - 48.0 * x + 60.0 * x2) / h,
+    ]
+}
+
+/// DOFs per node of the C² (strain-gradient) Euler–Bernoulli element: [w, θ, χ]
+/// (deflection, slope w′, curvature w″).
+pub const GRADIENT_DPN: usize = 3;
+/// DOFs per C² element (two nodes).
+pub const GRADIENT_DOFS: usize = 2 * GRADIENT_DPN;
+/// 6×6 element matrix of the C² element.
+pub type Mat6 = [[f64; GRADIENT_DOFS]; GRADIENT_DOFS];
+
+/// The bare integrals of one C² Euler–Bernoulli element, the quintic Hermite
+/// element of [`quintic_shape`] with DOFs [w₁, θ₁, χ₁, w₂, θ₂, χ₂]:
+/// `mass` = ∫NNᵀ, `slope` = ∫N′N′ᵀ (Eringen's part of (A4) and the axial
+/// force's ∫w′w′), `curvature` = ∫N″N″ᵀ (EI's bending, (A6)),
+/// `gradient` = ∫N‴N‴ᵀ (the strain gradient's EI l² ∫w‴v‴). By 6-point
+/// Gauss–Legendre, exact to degree 11 (the integrands are of degree ≤ 10).
+/// The element is C² across nodes (w, w′, w″ are nodal DOFs), so w‴ is
+/// square-integrable over the mesh: the conforming space of the sixth-order
+/// energy.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GradientElement {
+    pub mass: Mat6,
+    pub slope: Mat6,
+    pub curvature: Mat6,
+    pub gradient: Mat6,
+}
+
+/// The integrals of [`GradientElement`] for element length h.
+pub fn gradient_element(h: f64) -> GradientElement {
+    let z = [[0.0; GRADIENT_DOFS]; GRADIENT_DOFS];
+    let mut e = GradientElement { mass: z, slope: z, curvature: z, gradient: z };
+    for (x, wt) in GAUSS6_X.iter().zip(GAUSS6_W) {
+        let xl = 0.5 * h * (1.0 + x);
+        let [n, d, dd] = quintic_shape(h, xl);
+        let ddd = quintic_shape_ddd(h, xl);
+        let wt = 0.5 * h * wt;
+        for a in 0..GRADIENT_DOFS {
+            for b in 0..GRADIENT_DOFS {
+                e.mass[a][b] += wt * n[a] * n[b];
+                e.slope[a][b] += wt * d[a] * d[b];
+                e.curvature[a][b] += wt * dd[a] * dd[b];
+                e.gradient[a][b] += wt * ddd[a] * ddd[b];
+            }
+        }
+    }
+    e
+}
+
 /// DOFs per node of the Timoshenko element: [w, θ, χ, s, γ].
 pub const TIMOSHENKO_DPN: usize = 5;
 /// DOFs per Timoshenko element (two nodes).
@@ -419,6 +482,44 @@ mod tests {
                         );
                     }
                 }
+            }
+        }
+    }
+
+    /// [`quintic_shape_ddd`] is the third derivative of the interpolant: the
+    /// interpolant of (x̄ − c)ᵏ, k ≤ 5, has the monomial's third derivative
+    /// (same tolerance argument as above, with |Hᵢ‴| ≤ 360·h^(jᵢ − 3)); and the
+    /// C² element's integrals equal the exact polynomial integrals of
+    /// `quintic_integral` (r = 0..3) to 1e-12 of the largest entry (Gauss
+    /// weights given to 16 digits, entries summed over 6 points).
+    #[test]
+    fn quintic_third_derivative_and_gradient_element_are_exact() {
+        for h in [0.05, 0.7, 2.5] {
+            let c = 0.3 * h;
+            for k in 0..=5i32 {
+                let p = |x: f64, order: i32| -> f64 {
+                    let coef: f64 = (0..order).map(|j| f64::from(k - j)).product();
+                    if k < order {
+                        0.0
+                    } else {
+                        coef * (x - c).powi(k - order)
+                    }
+                };
+                let q = [p(0.0, 0), p(0.0, 1), p(0.0, 2), p(h, 0), p(h, 1), p(h, 2)];
+                for xi in [0.0, 0.1, 0.37, 0.5, 0.81, 1.0] {
+                    let x = xi * h;
+                    let interp: f64 = quintic_shape_ddd(h, x).iter().zip(&q).map(|(a, b)| a * b).sum();
+                    let scale: f64 = q.iter().zip([0, 1, 2, 0, 1, 2]).map(|(v, j)| v.abs() * h.powi(j - 3)).sum();
+                    let exact = p(x, 3);
+                    assert!(
+                        (interp - exact).abs() <= 2e-12 * scale.max(1e-300),
+                        "h={h} k={k} at ξ={xi}: {interp} vs {exact}"
+                    );
+                }
+            }
+            let e = gradient_element(h);
+            for (r, got) in [(0, e.mass), (1, e.slope), (2, e.curvature), (3, e.gradient)] {
+                assert_close(got, quintic_integral(h, r), h);
             }
         }
     }

@@ -1,7 +1,8 @@
 //! The finite-element model: the element matrices (`element`: Hermite
 //! cubic A3–A7, the axial geometric stiffness, the bending–shear split
-//! Timoshenko element with its quintic bending and cubic shear parts) and
-//! their assembly (`model`: the unit mesh, the supports by DOF elimination,
+//! Timoshenko element with its quintic bending and cubic shear parts, the C²
+//! quintic Hermite element of a strain-gradient beam) and their assembly
+//! (`model`: the unit mesh, the supports by DOF elimination,
 //! rotational springs, a point mass, the dimensionless scaling and the
 //! interpolation grid of the eigenpair cache).
 //!

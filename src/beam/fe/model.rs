@@ -31,6 +31,14 @@ use crate::beam::linalg::band::SymBand;
 use crate::beam::spec::{BeamSpec, Support};
 use crate::error::InputError;
 
+/// At which ends (x = 0, x = L) of `beam` a rotational spring acts on a
+/// rotation the support leaves free (what the C² mesh's pinned ends depend on).
+fn sprung_ends(beam: &BeamSpec) -> [bool; 2] {
+    let free = spring_rotations(beam.support, 0, 1);
+    let k = beam.support_rotational_stiffness_at_ends_n_m_rad();
+    [free[0].is_some() && k[0] > 0.0, free[1].is_some() && k[1] > 0.0]
+}
+
 /// (weight, N, N′, N″) at one Gauss point of an Euler–Bernoulli element.
 type GaussPoint = (f64, [f64; 4], [f64; 4], [f64; 4]);
 
@@ -57,6 +65,9 @@ pub struct UnitMesh {
     pub g1: SymBand,
     /// Timoshenko data (shear deformation and rotary inertia); `None` = Euler–Bernoulli.
     pub shear: Option<ShearMesh>,
+    /// The C² Euler–Bernoulli mesh of a strain-gradient beam (l > 0); `None`
+    /// = the cubic Hermite mesh (or Timoshenko). Exclusive with `shear`.
+    pub gradient: Option<GradientMesh>,
     /// (weight, N, N', N'') at the 4 Gauss points of one element (uniform mesh).
     gauss: [GaussPoint; 4],
     /// N''(0) and N''(h̃) of one element (w'' is linear on an element).
@@ -99,6 +110,38 @@ pub struct ShearMesh {
     gauss: [(f64, element::TimoshenkoPoint); 6],
 }
 
+/// The C² part of a [`UnitMesh`] for a strain-gradient beam
+/// (`element::gradient_element`: quintic Hermite, DOFs (w, θ = w′, χ = w″) per
+/// node, half-bandwidth 5). The mesh's `k`, `m0`, `m1`, `g0`, `g1` are the
+/// Euler–Bernoulli ones, ∫w″², ∫w², ∫w′², ∫w′², ∫w″², on this space; the
+/// beam's stiffness is K̃ = k + l̃²·`k3`, k3 = Σ∫w‴w‴ᵀ, with l̃² = (l/L)² a
+/// pencil parameter ([`PencilParams::gradient`]), not part of the mesh (so a
+/// calibration or diagnosis that moves l keeps the mesh and its caches).
+/// Supports (the higher-order conditions of `fe::scaling`'s module doc):
+/// w = 0 at a supported end, θ = 0 at a clamped one, χ = 0 at a pinned one
+/// without a rotational spring (simply supported, the pinned end of
+/// clamped–pinned); χ is free at a clamped or free end and at a pinned end
+/// with a spring (there the natural condition l²EI w‴ = 0 holds).
+/// Rayleigh–Ritz: the l² energy is an H³ seminorm, quintic elements
+/// approximate a smooth mode's w‴ to O(h³), so eigenvalues converge at
+/// O(h⁶) (O(h⁸) as l → 0, the H² part), measured in
+/// `tests/beam_strain_gradient.rs`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GradientMesh {
+    /// Σ∫N‴N‴ᵀ dx̃: the strain-gradient stiffness per unit l̃².
+    pub k3: SymBand,
+    /// (weight, [N, N′, N″, N‴]) at the 6 Gauss points of one element (exact
+    /// for the degree-≤ 10 products of its fields).
+    gauss: [(f64, [[f64; GRADIENT_DOFS]; 4]); 6],
+    /// Whether a rotational spring acts at x = 0 and at x = L (a pinned end
+    /// with a spring keeps w″ free: `fe::scaling`'s module doc).
+    pub sprung: [bool; 2],
+}
+
+/// DOFs per node and per element of the C² mesh.
+const GRADIENT_DPN: usize = element::GRADIENT_DPN;
+const GRADIENT_DOFS: usize = element::GRADIENT_DOFS;
+
 /// DOFs per node of the Timoshenko mesh.
 const SHEAR_DPN: usize = element::TIMOSHENKO_DPN;
 /// DOFs per Timoshenko element.
@@ -114,17 +157,141 @@ pub fn shear_params(beam: &BeamSpec) -> Option<(f64, f64)> {
 }
 
 impl UnitMesh {
-    /// The mesh of a beam: Euler–Bernoulli, or Timoshenko with its (g̃, r̃²).
+    /// The mesh of a beam: Euler–Bernoulli (C² when it has a strain-gradient
+    /// length l > 0), or Timoshenko with its (g̃, r̃²) (`BeamSpec::validate`
+    /// refuses shear with l > 0; were both set, the Timoshenko mesh is built).
     pub fn for_beam(beam: &BeamSpec) -> Self {
+        if beam.shear_deformation.is_none() && beam.strain_gradient_length_nm > 0.0 {
+            return Self::with_gradient(beam.elements, beam.support, sprung_ends(beam));
+        }
         Self::with_shear(beam.elements, beam.support, shear_params(beam))
     }
 
     /// True when this mesh is the one [`Self::for_beam`] would build (bitwise;
-    /// g̃ is a pencil parameter and does not enter).
+    /// g̃ and l̃ are pencil parameters and do not enter).
     pub fn matches(&self, beam: &BeamSpec) -> bool {
         let mine = self.shear.as_ref().map(|s| s.r2.to_bits());
         let theirs = shear_params(beam).map(|(_, r2)| r2.to_bits());
-        self.elements == beam.elements && self.support == beam.support && mine == theirs
+        let gradient =
+            (beam.shear_deformation.is_none() && beam.strain_gradient_length_nm > 0.0).then(|| sprung_ends(beam));
+        self.elements == beam.elements
+            && self.support == beam.support
+            && mine == theirs
+            && self.gradient.as_ref().map(|g| g.sprung) == gradient
+    }
+
+    /// The C² Euler–Bernoulli mesh of a strain-gradient beam ([`GradientMesh`]);
+    /// `sprung` says at which ends (x = 0, x = L) a rotational spring acts, so
+    /// that a pinned end there keeps its curvature free.
+    pub fn with_gradient(elements: usize, support: Support, sprung: [bool; 2]) -> Self {
+        let last = elements;
+        let node = |i: usize, d: usize| GRADIENT_DPN * i + d;
+        // a pinned end fixes w and, without a spring, the curvature
+        let pinned = |i: usize, end: usize| {
+            if sprung[end] {
+                vec![node(i, 0)]
+            } else {
+                vec![node(i, 0), node(i, 2)]
+            }
+        };
+        let removed = match support {
+            Support::SimplySupported => [pinned(0, 0), pinned(last, 1)].concat(),
+            Support::ClampedClamped => vec![node(0, 0), node(0, 1), node(last, 0), node(last, 1)],
+            Support::ClampedFree => vec![node(0, 0), node(0, 1)],
+            Support::ClampedPinned => [vec![node(0, 0), node(0, 1)], pinned(last, 1)].concat(),
+        };
+        let mut next = 0;
+        let dof_map: Vec<Option<usize>> = (0..GRADIENT_DPN * (elements + 1))
+            .map(|gl| {
+                (!removed.contains(&gl)).then(|| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect();
+        let n = next;
+        let h = 1.0 / elements as f64;
+        let ge = element::gradient_element(h);
+        // an element couples DOFs at most 2·3 − 1 = 5 apart
+        let kd = 2 * GRADIENT_DPN - 1;
+        let mut out: [SymBand; 4] = std::array::from_fn(|_| SymBand::zeros_kd(n, kd));
+        let mats = [&ge.curvature, &ge.mass, &ge.slope, &ge.gradient];
+        for e in 0..elements {
+            for a in 0..GRADIENT_DOFS {
+                let Some(i) = dof_map[GRADIENT_DPN * e + a] else { continue };
+                for b in 0..=a {
+                    let Some(j) = dof_map[GRADIENT_DPN * e + b] else { continue };
+                    for (band, mat) in out.iter_mut().zip(&mats) {
+                        band.add(i, j, mat[a][b]);
+                    }
+                }
+            }
+        }
+        let [k, m0, m1, k3] = out;
+        let spring_dofs = spring_rotations(support, node(0, 1), node(last, 1)).map(|g| g.and_then(|g| dof_map[g]));
+        let gauss = std::array::from_fn(|g| {
+            let xl = 0.5 * h * (1.0 + element::GAUSS6_X[g]);
+            let [n, d, dd] = element::quintic_shape(h, xl);
+            (0.5 * h * element::GAUSS6_W[g], [n, d, dd, element::quintic_shape_ddd(h, xl)])
+        });
+        // the cubic element's Gauss data (unused on this mesh: every function
+        // that reads them branches on `gradient` first)
+        let cubic_gauss = std::array::from_fn(|g| {
+            let xl = 0.5 * h * (1.0 + GX[g]);
+            (0.5 * h * GW[g], element::shape(h, xl), element::shape_d(h, xl), element::shape_dd(h, xl))
+        });
+        let (g0, g1) = (m1.clone(), k.clone());
+        Self {
+            elements,
+            support,
+            dof_map,
+            k,
+            m0,
+            m1,
+            g0,
+            g1,
+            shear: None,
+            gradient: Some(GradientMesh { k3, gauss, sprung }),
+            spring_dofs,
+            gauss: cubic_gauss,
+            curvature_ends: [element::shape_dd(h, 0.0), element::shape_dd(h, h)],
+        }
+    }
+
+    /// The element's 6 DOF values of a C² mesh vector (0 where a support removed one).
+    fn gradient_dofs<T: Copy + Default>(&self, x: &[T], e: usize) -> [T; GRADIENT_DOFS] {
+        std::array::from_fn(|a| self.dof_map[GRADIENT_DPN * e + a].map_or(T::default(), |i| x[i]))
+    }
+
+    /// [∫(w″)², ∫w², ∫(w′)², ∫(w‴)²] of a C² mesh vector, element by element
+    /// with 6-point Gauss (exact for the degree-≤ 10 integrands; the same
+    /// accuracy argument as [`Self::energy_forms`]).
+    fn gradient_forms<T>(&self, gm: &GradientMesh, x: &[T]) -> [T; 4]
+    where
+        T: Copy + Default + std::ops::Add<Output = T> + std::ops::Mul<Output = T> + std::ops::Mul<f64, Output = T>,
+    {
+        let mut out = [T::default(); 4];
+        for e in 0..self.elements {
+            let q = self.gradient_dofs(x, e);
+            for (wt, [n, d, dd, ddd]) in &gm.gauss {
+                let dot = |f: &[f64; GRADIENT_DOFS]| (0..GRADIENT_DOFS).fold(T::default(), |acc, a| acc + q[a] * f[a]);
+                let (w, w1, w2, w3) = (dot(n), dot(d), dot(dd), dot(ddd));
+                out[0] = out[0] + w2 * w2 * *wt;
+                out[1] = out[1] + w * w * *wt;
+                out[2] = out[2] + w1 * w1 * *wt;
+                out[3] = out[3] + w3 * w3 * *wt;
+            }
+        }
+        out
+    }
+
+    /// ∫₀¹ (w‴)² dx̃ of a DOF vector: xᵀK̃₃x, the strain-gradient energy per
+    /// unit l̃² (0 on a mesh without a strain gradient).
+    pub fn gradient_form<T>(&self, x: &[T]) -> T
+    where
+        T: Copy + Default + std::ops::Add<Output = T> + std::ops::Mul<Output = T> + std::ops::Mul<f64, Output = T>,
+    {
+        self.gradient.as_ref().map_or(T::default(), |gm| self.gradient_forms(gm, x)[3])
     }
 
     /// Timoshenko mesh with rotary inertia r̃² (`shear_params`), or
@@ -208,7 +375,13 @@ impl UnitMesh {
     /// v += w·coef scattered from element `e`'s local DOFs to reduced DOFs
     /// (10 coefficients for Timoshenko, 4 for Euler–Bernoulli).
     fn scatter(&self, e: usize, coef: &[f64], w: f64, v: &mut [f64]) {
-        let dpn = if self.shear.is_some() { SHEAR_DPN } else { 2 };
+        let dpn = if self.shear.is_some() {
+            SHEAR_DPN
+        } else if self.gradient.is_some() {
+            GRADIENT_DPN
+        } else {
+            2
+        };
         for (a, c) in coef.iter().enumerate() {
             if let Some(i) = self.dof_map[dpn * e + a] {
                 v[i] += w * c;
@@ -255,7 +428,21 @@ impl UnitMesh {
         });
         let curvature_ends = [element::shape_dd(h, 0.0), element::shape_dd(h, h)];
         let (g0, g1) = (m1.clone(), k.clone());
-        Self { elements, support, dof_map, k, m0, m1, g0, g1, shear: None, spring_dofs, gauss, curvature_ends }
+        Self {
+            elements,
+            support,
+            dof_map,
+            k,
+            m0,
+            m1,
+            g0,
+            g1,
+            shear: None,
+            gradient: None,
+            spring_dofs,
+            gauss,
+            curvature_ends,
+        }
     }
 
     pub fn n(&self) -> usize {
@@ -280,6 +467,10 @@ impl UnitMesh {
     where
         T: Copy + Default + std::ops::Add<Output = T> + std::ops::Mul<Output = T> + std::ops::Mul<f64, Output = T>,
     {
+        if let Some(gm) = &self.gradient {
+            let [k, m0, m1, _] = self.gradient_forms(gm, x);
+            return [k, m0, m1];
+        }
         let mut out = [T::default(); 3];
         for e in 0..self.elements {
             let mut q = [T::default(); 4];
@@ -353,6 +544,9 @@ impl UnitMesh {
         if let Some(sh) = &self.shear {
             return self.timoshenko_stiffness_form(sh, x, g);
         }
+        if let Some(gm) = &self.gradient {
+            return self.gradient_forms(gm, x)[0];
+        }
         let h = 1.0 / self.elements as f64;
         let [n0, n1] = &self.curvature_ends;
         let mut sum = 0.0;
@@ -401,6 +595,11 @@ impl UnitMesh {
             self.scatter(e, &element::timoshenko_point(h, xl).w, 1.0, &mut v);
             return v;
         }
+        if self.gradient.is_some() {
+            let mut v = vec![0.0; self.n()];
+            self.scatter(e, &element::quintic_shape(h, xl)[0], 1.0, &mut v);
+            return v;
+        }
         let n = element::shape(h, xl);
         let mut v = vec![0.0; self.n()];
         self.scatter(e, &n, 1.0, &mut v);
@@ -429,6 +628,13 @@ impl UnitMesh {
                 // (A7) with the Timoshenko deflection: N_w − ẽ²N_w″
                 let t = element::timoshenko_point(h, xl);
                 let p: element::TimoshenkoRow = std::array::from_fn(|a| t.w[a] - e_tilde * e_tilde * t.ddw[a]);
+                self.scatter(e, &p, w, &mut v);
+                continue;
+            }
+            if self.gradient.is_some() {
+                // (A7) on the C² element: N − ẽ²N″
+                let [n, _, dd] = element::quintic_shape(h, xl);
+                let p: [f64; GRADIENT_DOFS] = std::array::from_fn(|a| n[a] - e_tilde * e_tilde * dd[a]);
                 self.scatter(e, &p, w, &mut v);
                 continue;
             }
@@ -464,6 +670,8 @@ pub struct PencilParams {
     pub axial: f64,
     /// g̃ = κGAL²/EI, the shear stiffness of a Timoshenko mesh (0 for Euler–Bernoulli).
     pub shear: f64,
+    /// l̃² = (l/L)², the strain gradient of a C² mesh (0 = none).
+    pub gradient: f64,
 }
 
 /// Grid of [`PencilParams::snapped`]: steps in ẽ², ln μ̃, x̃ and ln k̃_r.
@@ -488,10 +696,14 @@ const GRID_N: f64 = 0.25;
 /// compliance is ≈ (rπ)²/g̃: a step of 0.1 (10 % in g̃) moves it by ≲ 10 %
 /// of itself, as the other steps move their parameters' share.
 const GRID_LN_SHEAR: f64 = 0.1;
+/// Step of ln l̃² on the grid: mode r's strain-gradient share of its
+/// stiffness is l̃²(rπ)²/(1 + l̃²(rπ)²) ≤ 1, so a step of 0.1 (10 % in l̃²)
+/// moves λ_r by ≲ 10 %, as [`GRID_LN_SHEAR`] moves the shear share.
+const GRID_LN_GRADIENT: f64 = 0.1;
 
 impl PencilParams {
     /// Bitwise identity.
-    pub fn bits(&self) -> [u64; 7] {
+    pub fn bits(&self) -> [u64; 8] {
         let (mu, x) = self.point_mass.unwrap_or((0.0, 0.0));
         [
             self.e_tilde.to_bits(),
@@ -501,13 +713,21 @@ impl PencilParams {
             self.spring[1].to_bits(),
             self.axial.to_bits(),
             self.shear.to_bits(),
+            self.gradient.to_bits(),
         ]
     }
 
     /// The same pencil without its extensions (spring, point mass, axial
-    /// force): ẽ and g̃ only.
+    /// force): ẽ, g̃ and l̃² only.
     pub fn plain(&self) -> Self {
-        PencilParams { e_tilde: self.e_tilde, point_mass: None, spring: [0.0; 2], axial: 0.0, shear: self.shear }
+        PencilParams {
+            e_tilde: self.e_tilde,
+            point_mass: None,
+            spring: [0.0; 2],
+            axial: 0.0,
+            shear: self.shear,
+            gradient: self.gradient,
+        }
     }
 
     /// The nearest grid point: a pencil whose eigenpairs serve as RQI starts
@@ -527,6 +747,11 @@ impl PencilParams {
             } else {
                 0.0
             },
+            gradient: if self.gradient > 0.0 {
+                ((self.gradient.ln() / GRID_LN_GRADIENT).round() * GRID_LN_GRADIENT).exp()
+            } else {
+                0.0
+            },
         }
     }
 }
@@ -541,6 +766,9 @@ impl UnitMesh {
     /// (K̃ + K̃_spring, M̃) for these parameters.
     pub fn pencil(&self, p: &PencilParams) -> (SymBand, SymBand) {
         let mut k = self.stiffness(p.shear);
+        if let Some(gm) = self.gradient.as_ref().filter(|_| p.gradient != 0.0) {
+            k = k.plus_scaled(p.gradient, &gm.k3);
+        }
         for (i, ks) in self.springs(&p.spring) {
             k.add(i, i, ks);
         }
@@ -559,6 +787,12 @@ impl UnitMesh {
     /// xᵀM̃x has no such cancellation: M̃ ≻ 0 with a modest condition number).
     pub fn pencil_stiffness(&self, p: &PencilParams, x: &[f64]) -> f64 {
         let ks: f64 = self.springs(&p.spring).map(|(i, k)| k * x[i] * x[i]).sum();
+        if let Some(gm) = self.gradient.as_ref().filter(|_| p.gradient != 0.0) {
+            // ∫w″² + l̃²∫w‴² (+ ñ(∫w′² + ẽ²∫w″²)) in one pass over the elements
+            let [k2, _, g0, k3] = self.gradient_forms(gm, x);
+            let k_n = if p.axial != 0.0 { p.axial * (g0 + p.e_tilde * p.e_tilde * k2) } else { 0.0 };
+            return k2 + p.gradient * k3 + ks + k_n;
+        }
         if p.axial != 0.0 {
             let f = self.energy_forms_ext(x, p.shear);
             return f[0] + ks + p.axial * (f[5] + p.e_tilde * p.e_tilde * f[6]);

@@ -19,6 +19,62 @@
 //! ω² = (EI α⁴/(1 + μα²) + k)/ρA, α = rπ/L (tested in
 //! `tests/beam_foundation.rs`). A Pasternak shear layer G_p adds −G_p w″,
 //! whose form is that of a tension N = G_p: the axial force carries it.
+//!
+//! # The strain gradient
+//! Nonlocal strain-gradient elasticity (Lim, Zhang & Reddy, "A higher-order
+//! nonlocal elasticity and strain gradient theory and its applications in
+//! wave propagation", J. Mech. Phys. Solids 78 (2015) 298–313) adds to
+//! Eringen's law a gradient of the strain with a material length l:
+//! (1 − μ∂ₓ²)σ = E(1 − l²∂ₓ²)ε. The bending moment of the Euler–Bernoulli
+//! beam follows, (1 − μ∂ₓ²)M = −EI(w″ − l²w⁗), and with M″ = ρA ẅ + C ẇ − p
+//! the beam equation is of sixth order:
+//!   EI(w⁗ − l²w⁽⁶⁾) + (1 − μ∂ₓ²)(ρA ẅ + C ẇ + k w) = 0.
+//! Its weak form adds EI l²∫w‴v‴ dx to the stiffness: K̃ = K̃₂ + l̃²K̃₃ with
+//! l̃ = l/L and K̃₃ = Σ∫N‴N‴ᵀ dx̃ in the scaled units. The energy needs w‴ in
+//! L², i.e. C²-continuous elements: the quintic Hermite element with
+//! (w, w′, w″) per node (`model::GradientMesh`). The internal variables relax
+//! the modulus, E → E·G(s), and l is a length of the same material, so G(s)
+//! multiplies the whole K̃ (both terms): D̃ ∝ M̃ and the one K̃ of the
+//! families are kept, and every family of `modal.rs` stays exact with λ the
+//! eigenvalues of (K̃₂ + l̃²K̃₃, M̃). The axial force and the foundation are
+//! external loads, untouched by l.
+//!
+//! Boundary conditions. Integrating the stiffness by parts leaves, at each
+//! end, v·(shear force), v′·EI(w″ − l²w⁗) and v″·EI l²w‴: each end needs one
+//! of (w or the force), (w′ or EI(w″ − l²w⁗)), (w″ or l²w‴). The literature
+//! differs on the third pair; taken here:
+//! - pinned end (simply supported, the pinned end of clamped–pinned):
+//!   w = 0 and w″ = 0 essential (w″ a nodal DOF, removed); the natural
+//!   condition on v′ then gives w⁗ = 0. The set w = w″ = w⁗ = 0 is the one
+//!   under which the sine modes are exact, so the simply supported beam has
+//!   the closed form of the NSGT literature,
+//!   ω² = EI q⁴(1 + l²q²)/(ρA(1 + (e0a)²q²)), q = rπ/L
+//!   (Lim et al.'s dispersion relation at the wavenumbers the supports
+//!   admit; tested in `tests/beam_strain_gradient.rs`).
+//! - pinned end with a rotational spring k_r: w = 0 essential, w″ free, so
+//!   the natural conditions EI(w″ − l²w⁗) = ±k_r w′ (the spring's moment)
+//!   and l²EI w‴ = 0 hold. Keeping w″ = 0 there would leave the spring's
+//!   moment to the higher-order term alone and, as l → 0, put a boundary
+//!   layer of width ~l where the classical beam has EI w″ = ±k_r w′: the C²
+//!   mesh then missed the classical spring beam by O(h) (measured, SS,
+//!   k_r L/EI = 10, l = 1e-5 nm: 1.1 %, 0.56 %, 0.28 % in ω₁ on 10, 20,
+//!   40 elements), so a strain gradient with a spring did not contain the
+//!   spring alone. With w″ free the l → 0 limit is the classical spring
+//!   condition (tested); the price is that the pinned end's condition jumps
+//!   between k_r = 0 (w″ = 0) and k_r > 0 (w″ free) at a given l.
+//! - clamped end: w = w′ = 0 essential, w″ free, so the natural condition
+//!   l²EI w‴ = 0 (no higher-order moment) holds. A clamp constrains
+//!   deflection and rotation; also fixing w″ = 0 would make the support hold
+//!   the curvature (a "higher-order clamp" no experiment controls) and put a
+//!   boundary layer of width ~l into w″ at the end. The natural condition is
+//!   the variationally consistent one and needs nothing of the support
+//!   beyond a classical clamp; as l → 0 the classical clamp is recovered.
+//! - free end: all three natural.
+//!
+//! Shear deformation with a strain gradient is refused (`BeamSpec::validate`):
+//! a Timoshenko strain-gradient beam carries gradients of both the bending
+//! and the shear strain (a second length and other higher-order conditions),
+//! a different theory from the one implemented here.
 
 use std::borrow::Cow;
 
@@ -35,6 +91,9 @@ pub struct ScaledModel<'a> {
     pub k: Cow<'a, SymBand>,
     /// g̃ = κGAL²/EI (0 for Euler–Bernoulli).
     pub shear: f64,
+    /// l̃² = (l/L)², the strain gradient (0 = none; K̃ = k + l̃²·k3 on the C²
+    /// mesh, module doc).
+    pub gradient: f64,
     /// Point mass μ̃ and N(x̃₀) (reduced DOFs).
     pub point_mass: Option<(f64, Vec<f64>)>,
     /// M̃ including the point mass.
@@ -111,6 +170,8 @@ pub struct Scaling {
     pub axial: f64,
     /// k̃_f = kL⁴/EI.
     pub foundation: f64,
+    /// l̃² = (l/L)², the strain-gradient length scale (0 = none).
+    pub gradient: f64,
 }
 
 impl Scaling {
@@ -129,13 +190,19 @@ impl Scaling {
             spring: beam.support_rotational_stiffness_at_ends_n_m_rad().map(|k| k * l / ei),
             axial: beam.axial_force_n * l * l / ei,
             foundation: beam.elastic_foundation_n_m2 * l * l * l * l / ei,
+            gradient: {
+                let lt = beam.strain_gradient_length_nm / beam.length_nm;
+                lt * lt
+            },
         }
     }
 }
 
 impl<'a> ScaledModel<'a> {
     pub fn new(beam: &BeamSpec, mesh: &'a UnitMesh) -> Self {
-        let Scaling { l, ei, rho_a, omega_ref, e_tilde, c, spring, axial, foundation } = Scaling::new(beam);
+        let Scaling { l, ei, rho_a, omega_ref, e_tilde, c, spring, axial, foundation, gradient } = Scaling::new(beam);
+        // l̃² acts only on the C² mesh `UnitMesh::for_beam` builds for it
+        let gradient = if mesh.gradient.is_some() { gradient } else { 0.0 };
         let shear = shear_params(beam).map_or(0.0, |(g, _)| g);
         let m_all = mesh.m0.plus_scaled(e_tilde * e_tilde, &mesh.m1);
         let m_beam = match &mesh.shear {
@@ -155,11 +222,13 @@ impl<'a> ScaledModel<'a> {
             beam.internal_variables.iter().map(|iv| (iv.delta, iv.omega_rad_s / omega_ref)).collect();
         Self {
             mesh,
-            k: match &mesh.shear {
-                Some(_) => Cow::Owned(mesh.stiffness(shear)),
-                None => Cow::Borrowed(&mesh.k),
+            k: match (&mesh.shear, &mesh.gradient) {
+                (Some(_), _) => Cow::Owned(mesh.stiffness(shear)),
+                (None, Some(gm)) => Cow::Owned(mesh.k.plus_scaled(gradient, &gm.k3)),
+                (None, None) => Cow::Borrowed(&mesh.k),
             },
             shear,
+            gradient,
             point_mass,
             m,
             m_beam,
@@ -193,6 +262,7 @@ impl<'a> ScaledModel<'a> {
             spring: std::array::from_fn(|e| if self.spring_dofs[e].is_some() { self.spring[e] } else { 0.0 }),
             axial: self.axial,
             shear: self.shear,
+            gradient: self.gradient,
         }
     }
 
@@ -253,7 +323,7 @@ impl<'a> ScaledModel<'a> {
         T: Copy + Default + std::ops::Add<Output = T> + std::ops::Mul<Output = T> + std::ops::Mul<f64, Output = T>,
     {
         let e2 = self.e_tilde * self.e_tilde;
-        let (k, mut m, mb, k_n) = if self.mesh.shear.is_none() && self.k_axial.is_none() {
+        let (mut k, mut m, mb, k_n) = if self.mesh.shear.is_none() && self.k_axial.is_none() {
             let [k, m0, m1] = self.mesh.energy_forms(x);
             let mb = m0 + m1 * e2;
             (k, mb, mb, T::default())
@@ -261,6 +331,9 @@ impl<'a> ScaledModel<'a> {
             let [k, m0, m1, mt0, mt1, g0, g1] = self.mesh.energy_forms_ext(x, self.shear);
             (k, m0 + m1 * e2, mt0 + mt1 * e2, (g0 + g1 * e2) * self.axial)
         };
+        if self.gradient != 0.0 {
+            k = k + self.mesh.gradient_form(x) * self.gradient;
+        }
         if let Some((mu, nv)) = &self.point_mass {
             let mut w = T::default();
             for (a, b) in nv.iter().zip(x) {

@@ -40,7 +40,12 @@ pub fn impulse_response(
     if samples == 0 {
         return Err(InputError::new("samples", samples, ">= 1").into());
     }
-    let mesh = UnitMesh::new(beam.elements, beam.support);
+    // a strain gradient needs its C² mesh (the cubic one would drop l)
+    let mesh = if beam.strain_gradient_length_nm > 0.0 {
+        UnitMesh::for_beam(beam)
+    } else {
+        UnitMesh::new(beam.elements, beam.support)
+    };
     let model = ScaledModel::new(beam, &mesh);
     let n = model.n();
     let a = state_space::state_matrix(&model)?;
