@@ -3,14 +3,32 @@
 //! banded-solve receptance (independent code paths: matrix exponential of the
 //! state space vs. complex LU of T(iω)).
 
-use nanobeam::beam::{frf, impulse_response, modal, BeamSpec, InternalVariable, Support};
+use nanobeam::beam::{frf, impulse_response, modal, BeamSpec, InternalVariable, ShearDeformation, Support};
 use num_complex::Complex64;
 
 #[test]
 fn fourier_transform_of_the_impulse_response_is_the_receptance() {
     // 4 elements (8 DOFs: the highest mesh mode is resolved by the time step),
     // viscous damping making every mode decay at c/(2ρA), one internal variable.
+    let beam = euler_bernoulli();
+    check(&beam);
+}
+
+/// The same on a Timoshenko beam: the impulse response builds the beam's
+/// own mesh (it had built the Euler–Bernoulli one whatever the beam, so a
+/// Timoshenko beam's response was the Euler–Bernoulli beam's, while the
+/// receptance was the Timoshenko one's).
+#[test]
+fn a_timoshenko_beams_impulse_response_is_its_receptance() {
     let beam = BeamSpec {
+        shear_deformation: Some(ShearDeformation { poisson_ratio: 0.2, shear_coefficient: 0.6 }),
+        ..euler_bernoulli()
+    };
+    check(&beam);
+}
+
+fn euler_bernoulli() -> BeamSpec {
+    BeamSpec {
         length_nm: 8.0,
         diameter_nm: 1.0,
         youngs_modulus_pa: 1.0e12,
@@ -30,7 +48,11 @@ fn fourier_transform_of_the_impulse_response_is_the_receptance() {
         strain_gradient_length_nm: 0.0,
         shear_deformation: None,
         section: None,
-    };
+    }
+}
+
+fn check(beam: &BeamSpec) {
+    let beam = beam.clone();
     let modes = modal(&beam, 8).unwrap();
     let w_top = modes.modes.last().unwrap().omega_rad_s;
     let decay = modes.modes.iter().map(|m| m.zeta * m.omega_rad_s).fold(f64::INFINITY, f64::min);

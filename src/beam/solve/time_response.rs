@@ -40,12 +40,9 @@ pub fn impulse_response(
     if samples == 0 {
         return Err(InputError::new("samples", samples, ">= 1").into());
     }
-    // a strain gradient needs its C² mesh (the cubic one would drop l)
-    let mesh = if beam.strain_gradient_length_nm > 0.0 {
-        UnitMesh::for_beam(beam)
-    } else {
-        UnitMesh::new(beam.elements, beam.support)
-    };
+    // the beam's own mesh: Timoshenko with shear deformation, C² with a
+    // strain gradient (the cubic one would drop both)
+    let mesh = UnitMesh::for_beam(beam);
     let model = ScaledModel::new(beam, &mesh);
     let n = model.n();
     let a = state_space::state_matrix(&model)?;
