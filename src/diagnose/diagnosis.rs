@@ -239,9 +239,9 @@ pub struct Diagnosis {
     pub alternatives: Vec<Alternative>,
     pub next_measurement: Option<next::NextMeasurement>,
     /// When no ω or ζ separates the selection from an alternative that fits
-    /// (none at all, or none from the alternatives closer than the one
-    /// `next_measurement` separates): the scan of a measured mode's shape
-    /// that would separate it from the first of those such a scan can
+    /// (none at all: the first alternative a scan separates; or not the
+    /// closest one, when `next_measurement` separates a farther one: that
+    /// closest one): the scan of a measured mode's shape that would
     /// (`null` otherwise, or when no shape separates them either).
     pub shape_measurement: Option<next::ShapeMeasurement>,
     /// For a decided verdict: the unmeasured ω or ζ on which the selected

@@ -55,9 +55,10 @@
 //!    under the selected model and an alternative that fits differ most
 //!    ([`next::next_measurement`]); the alternative is the closest rival (one
 //!    that is not the selected causes plus more; then the nested ones) that
-//!    some such observable separates by [`next::MIN_SEPARATION_SD`]; for the
-//!    rivals closer than that one (every rival when none is separated), the
-//!    scan of a measured mode's shape that would ([`next::shape_measurement`]). The
+//!    some such observable separates by [`next::MIN_SEPARATION_SD`]; when
+//!    that one is not the closest (the closest then), or none is separated
+//!    (any), the scan of a measured mode's shape that would
+//!    ([`next::shape_measurement`]). The
 //!    named causes that every alternative that fits contains too are the
 //!    decided ones ([`decided_causes`]); the others are a best guess.
 //!

@@ -163,9 +163,11 @@ impl Decision {
         // all: a farther rival that some ω separates would then hide the
         // closest one, often the truth (hidden seed 104: a tension against
         // the spring selected, while ω₈ separates tension + strain gradient)
+        // (with a next measurement, only the closest rival is tried: each rival
+        // tried costs a modal solve and an FRF per mode and posterior draw)
         let closer: Vec<&ModelRun> = match &next_measurement {
             None => rivals.clone(),
-            Some(n) => rivals.iter().copied().take_while(|r| r.model.name() != n.between[1]).collect(),
+            Some(n) => rivals.iter().copied().take_while(|r| r.model.name() != n.between[1]).take(1).collect(),
         };
         let shape_measurement = if closer.is_empty() {
             None
