@@ -79,6 +79,16 @@ const GX: [f64; 4] =
 const GW: [f64; 4] =
     [0.347_854_845_137_453_8, 0.652_145_154_862_546_1, 0.652_145_154_862_546_1, 0.347_854_845_137_453_8];
 
+/// The cubic element's data at the [`GX`] Gauss points of an element of
+/// length `h`: weight, and the shape functions with their first and second
+/// derivatives (the C¹ mesh's, which the C² mesh carries too).
+fn cubic_gauss(h: f64) -> [GaussPoint; 4] {
+    std::array::from_fn(|g| {
+        let xl = 0.5 * h * (1.0 + GX[g]);
+        (0.5 * h * GW[g], element::shape(h, xl), element::shape_d(h, xl), element::shape_dd(h, xl))
+    })
+}
+
 /// The Timoshenko part of a [`UnitMesh`] (`element::timoshenko_point`: the
 /// bending–shear split element with a quintic Hermite bending part and a
 /// cubic Hermite shear part; five DOFs per node (w, θ, χ, s, γ), half-bandwidth
@@ -236,10 +246,7 @@ impl UnitMesh {
         });
         // the cubic element's Gauss data (unused on this mesh: every function
         // that reads them branches on `gradient` first)
-        let cubic_gauss = std::array::from_fn(|g| {
-            let xl = 0.5 * h * (1.0 + GX[g]);
-            (0.5 * h * GW[g], element::shape(h, xl), element::shape_d(h, xl), element::shape_dd(h, xl))
-        });
+        let cubic_gauss = cubic_gauss(h);
         let (g0, g1) = (m1.clone(), k.clone());
         Self {
             elements,
@@ -422,10 +429,7 @@ impl UnitMesh {
             }
         }
         let spring_dofs = spring_rotations(support, 1, 2 * last + 1).map(|g| g.and_then(|g| dof_map[g]));
-        let gauss = std::array::from_fn(|g| {
-            let xl = 0.5 * h * (1.0 + GX[g]);
-            (0.5 * h * GW[g], element::shape(h, xl), element::shape_d(h, xl), element::shape_dd(h, xl))
-        });
+        let gauss = cubic_gauss(h);
         let curvature_ends = [element::shape_dd(h, 0.0), element::shape_dd(h, h)];
         let (g0, g1) = (m1.clone(), k.clone());
         Self {
