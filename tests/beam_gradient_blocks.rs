@@ -325,3 +325,95 @@ fn the_path_declines_off_its_hypotheses() {
     solver.modal(&lossy, 4).unwrap();
     assert!(on_blocks(&solver), "the axial force alone");
 }
+
+/// Per-solve time, fast (`ModalSolver::new`, the block path) against the
+/// reference it replaces (`ModalSolver::direct_only`: the route every
+/// strain-gradient beam took before, the banded eigensolve with the
+/// decoupled families, or the coupled RQI with a force), on the same draws:
+/// the hidden suite's nominal beam (simply supported, L = 8 nm, d = 1 nm,
+/// 20 elements, e0a = 1 nm, l = 0.5 nm, Δ = 0.45, Ω = 3e11 rad/s, as
+/// `benches/coupled.rs`) with every parameter drawn anew on each call, ±10 %
+/// around its nominal value; 5 modes. Medians of 21 samples of 200 calls.
+/// Run: `cargo test --test beam_gradient_blocks timing -- --ignored --nocapture`
+/// (the test profile, opt-level 2; numbers in `benches/README.md`).
+#[test]
+#[ignore]
+fn timing_per_solve() {
+    use std::time::Instant;
+    let nominal = |axial: bool, foundation: bool, viscous: bool, relax: bool| {
+        let mut b = BeamSpec::elastic(L_NM, 1.0, 1e12, 2300.0, Support::SimplySupported, 20);
+        b.nonlocal_e0a_nm = 1.0;
+        b.strain_gradient_length_nm = 0.5;
+        if relax {
+            b.internal_variables = vec![nanobeam::beam::InternalVariable { delta: 0.45, omega_rad_s: 3e11 }];
+        }
+        if axial {
+            b.axial_force_n = 2e-9;
+        }
+        if foundation {
+            b.elastic_foundation_n_m2 = 2.0 * rho_a_omega1_sq(&b);
+        }
+        if viscous {
+            b.viscous_damping_n_s_m2 = 0.1 * 8e11 * b.density_kg_m3 * b.area_m2();
+        }
+        b
+    };
+    let cases = [
+        ("l + relaxation, modal", nominal(false, false, false, true), true),
+        ("l + relaxation, observables", nominal(false, false, false, true), false),
+        ("l + relaxation + foundation + C, observables", nominal(false, true, true, true), false),
+        ("l + axial + C + relaxation, observables", nominal(true, false, true, true), false),
+        ("l + axial + C, modal", nominal(true, false, true, false), true),
+    ];
+    let mut rng = ChaCha8Rng::seed_from_u64(6799);
+    // the Euler–Bernoulli beam (l = 0) on its interpolated spectrum, for scale
+    let eb = BeamSpec { strain_gradient_length_nm: 0.0, ..nominal(false, false, false, true) };
+    let eb_axial = BeamSpec { strain_gradient_length_nm: 0.0, ..nominal(true, false, true, false) };
+    for (name, b0, modal) in cases.into_iter().chain([
+        ("Euler–Bernoulli (l = 0) + relaxation, modal (scale)", eb, true),
+        ("Euler–Bernoulli (l = 0) + axial + C, modal (scale)", eb_axial, true),
+    ]) {
+        let draws: Vec<BeamSpec> = (0..200)
+            .map(|_| {
+                let mut f = || rng.gen_range(0.9..1.1);
+                let mut b = b0.clone();
+                b.nonlocal_e0a_nm *= f();
+                b.strain_gradient_length_nm *= f();
+                b.axial_force_n *= f();
+                b.elastic_foundation_n_m2 *= f();
+                b.viscous_damping_n_s_m2 *= f();
+                for iv in &mut b.internal_variables {
+                    iv.delta *= f();
+                    iv.omega_rad_s *= f();
+                }
+                b
+            })
+            .collect();
+        let mut fast = ModalSolver::new();
+        let mut reference = ModalSolver::direct_only();
+        let mut out = [0.0; 10];
+        let mut run = |s: &mut ModalSolver| {
+            let t = Instant::now();
+            for b in &draws {
+                if modal {
+                    std::hint::black_box(s.modal(b, 5).unwrap());
+                } else {
+                    std::hint::black_box(s.observables(b, &[1, 2, 3, 4, 5], 5, &mut out).unwrap());
+                }
+            }
+            t.elapsed().as_secs_f64() * 1e6 / draws.len() as f64
+        };
+        run(&mut fast);
+        assert!(on_blocks(&fast) || b0.strain_gradient_length_nm == 0.0, "{name}: the block path was not taken");
+        run(&mut reference);
+        let (mut tf, mut tr) = (Vec::new(), Vec::new());
+        for _ in 0..21 {
+            tf.push(run(&mut fast));
+            tr.push(run(&mut reference));
+        }
+        tf.sort_by(f64::total_cmp);
+        tr.sort_by(f64::total_cmp);
+        let (f, r) = (tf[10], tr[10]);
+        eprintln!("| {name} | {f:.2} | {r:.2} | {:.1} |", r / f);
+    }
+}

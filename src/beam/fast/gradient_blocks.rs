@@ -73,19 +73,29 @@
 //! a force (the coupled reference's hysteretic RQI).
 //!
 //! # Accuracy
-//! The block eigenvector comes from a Cholesky reduction and Jacobi
-//! rotations (3 × 3), polished by two steps of inverse iteration. The block
-//! entries' own Rayleigh quotient is not accurate enough: the bending
+//! The block's bending eigenvector comes from three steps of
+//! Rayleigh-quotient iteration from the continuum's sine mode
+//! (w, w′, w″) = (1, q, −q²), q = jπ (`bending_pair`; the other two
+//! eigenvalues from the trace and determinant confirm it is the lowest, else
+//! Cholesky and Jacobi rotations, `lowest_pair`). The block entries' own
+//! Rayleigh quotient is not accurate enough for the eigenvalue: the bending
 //! eigenvalue ∝ sin⁴(φ/2) (times 1 + l̃²q²) is formed from entries of the
 //! rotation branches' size, and it missed the assembled pencil's eigenvalue
-//! by up to 4.6e-9 relative (40 elements, l̃ = 0.4). So the eigenvalue is
-//! the Rayleigh quotient of the block vector by Gauss energy sums
-//! (`GradientBlocks::forms`, sums of squares as the reference's
-//! `gradient_forms`), whose error is quadratic in the vector's and whose
-//! rounding is the reference's: measured ≤ 1.7e-13 relative against the
-//! assembled pencil's direct solve (this file's tests), ≤ 3.6e-13 on ω of
-//! the random beams of `tests/beam_gradient_blocks.rs` against the
-//! reference paths. The poles use the same forms (the functional of the RQI).
+//! by up to 4.6e-9 relative (40 elements, l̃ = 0.4). It only orders the
+//! blocks; the kept ones get the Rayleigh quotient of the block vector by
+//! Gauss energy sums (`GradientBlocks::forms`, sums of squares as the
+//! reference's `gradient_forms`), whose error is quadratic in the vector's
+//! and whose rounding is the reference's: measured ≤ 2.2e-13 relative
+//! against the assembled pencil's direct solve (this file's tests),
+//! ≤ 3.6e-13 on ω of the random beams of `tests/beam_gradient_blocks.rs`
+//! against the reference paths. The poles use the same forms (the
+//! functional of the RQI).
+//!
+//! # Cost
+//! O(n_e) per solve: every block's 3 × 3 RQI (its second eigenvalue is
+//! needed for the order check), then the energy sums of the kept ones.
+//! Measured (`benches/README.md`, 20 elements, 5 modes): 3.3 µs against the
+//! reference's 18 µs without a force, 5 µs against 100 µs with one.
 
 // the 3 × 3 algebra below indexes rows and columns by number
 #![allow(clippy::needless_range_loop)]
@@ -105,16 +115,16 @@ use crate::beam::spec::Support;
 /// 1e-6 on the cubic rate of the full RQI).
 const RQI_TOL: f64 = 1e-10;
 const RQI_MAX_STEPS: usize = 20;
+/// Most wavenumber blocks a solve handles (on the stack): a strain-gradient
+/// mesh has at most `spec::MAX_GRADIENT_ELEMENTS` = 50 elements, 49 blocks;
+/// a larger mesh declines.
+const MAX_BLOCKS: usize = 64;
 
 /// A symmetric 3 × 3 block in the basis (u, v, z) = (w, θ̃, χ).
 pub(crate) type Sym3 = [[f64; 3]; 3];
 
 fn plus(a: &Sym3, c: f64, b: &Sym3) -> Sym3 {
     std::array::from_fn(|i| std::array::from_fn(|j| a[i][j] + c * b[i][j]))
-}
-
-fn scaled(a: &Sym3, c: f64) -> Sym3 {
-    std::array::from_fn(|i| std::array::from_fn(|j| c * a[i][j]))
 }
 
 /// σ of the local DOF d (module doc): θ changes sign under the mirror.
@@ -323,21 +333,55 @@ impl GradientBlocks {
             let kk = k + p.gradient * k3;
             floor = floor.min((kk + p.axial * (m1 + p.t * k)) / m + p.foundation);
         }
-        for (i, [k, m0, m1, k3]) in self.blocks.iter().enumerate() {
-            let m = plus(m0, p.t, m1);
-            let kk = plus(k, p.gradient, k3);
-            let nn = plus(&scaled(&plus(m1, p.t, k), p.axial), p.foundation, &m);
-            let s = plus(&kk, 1.0, &nn);
-            let (_, x, second) = lowest_pair(&s, &m)?;
+        // (block quotient, j, vector) of every block, on the stack
+        let mut found = [(0.0, 0, [0.0; 3]); MAX_BLOCKS];
+        if self.blocks.len() > MAX_BLOCKS {
+            return None;
+        }
+        for (i, blk) in self.blocks.iter().enumerate() {
+            let [_, m, _, s] = self.pencil(p, blk);
+            let q = std::f64::consts::PI * (i + 1) as f64;
+            let (approx, x, second) = bending_pair(&s, &m, q).or_else(|| lowest_pair(&s, &m))?;
             floor = floor.min(second);
-            let lambda = self.quotient(p, i + 1, x) + p.foundation;
-            out.push(GradientBending { lambda, j: i + 1, x, m, k: kk, n: nn });
+            found[i] = (approx, i + 1, x);
+        }
+        let found = &mut found[..self.blocks.len()];
+        // the block quotient orders the blocks (its error, ≤ 5e-9 relative,
+        // is far below any gap between two wavenumbers' eigenvalues); the
+        // n_modes lowest and any within 1e-6 of the last of them get the
+        // energy-sum quotient, and are ordered again by it
+        found.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let last = found[n_modes - 1].0;
+        let cut = last + 1e-6 * last.abs();
+        let keep = found.iter().take_while(|b| b.0 <= cut).count().max(n_modes);
+        for &(_, j, x) in &found[..keep] {
+            let [k, m, n, _] = self.pencil(p, &self.blocks[j - 1]);
+            let lambda = self.quotient(p, j, x) + p.foundation;
+            out.push(GradientBending { lambda, j, x, m, k, n });
         }
         out.sort_by(|a, b| a.lambda.total_cmp(&b.lambda));
         out.truncate(n_modes);
         let ok =
             out.iter().all(|b| b.lambda > 0.0 && b.lambda.is_finite()) && out.last().is_some_and(|b| b.lambda < floor);
         ok.then_some(())
+    }
+
+    /// (K_j, M_j, N_j, K_j + N_j) of one block at `p` (module doc), entry by entry.
+    fn pencil(&self, p: &GradientPencil, blk: &[Sym3; 4]) -> [Sym3; 4] {
+        let [k, m0, m1, k3] = blk;
+        let mut out = [[[0.0; 3]; 3]; 4];
+        for a in 0..3 {
+            for b in 0..3 {
+                let mv = m0[a][b] + p.t * m1[a][b];
+                let kv = k[a][b] + p.gradient * k3[a][b];
+                let nv = p.axial * (m1[a][b] + p.t * k[a][b]) + p.foundation * mv;
+                out[0][a][b] = kv;
+                out[1][a][b] = mv;
+                out[2][a][b] = nv;
+                out[3][a][b] = kv + nv;
+            }
+        }
+        out
     }
 
     /// The lowest `n_modes` eigenvalues of the undamped relaxed pencil
@@ -498,6 +542,78 @@ impl GradientBlocks {
     }
 }
 
+/// The bending eigenpair of a block pencil (S, M) at wavenumber q = jπ and
+/// its second eigenvalue, by Rayleigh-quotient iteration (three steps, cubic
+/// rate) from the continuum's sine mode (w, w′, w″) = (1, q, −q²); `None`
+/// (then [`lowest_pair`]) unless the pair is the lowest: the other two
+/// eigenvalues, the roots of μ² − Tμ + P with T = tr(M⁻¹S) − λ and
+/// P = det S/(det M·λ), must lie above λ (a start that slid to another
+/// branch fails this). λ is the block quotient (accurate to ~5e-9, for
+/// ordering; the caller refines the kept ones by energy sums).
+fn bending_pair(s: &Sym3, m: &Sym3, q: f64) -> Option<(f64, [f64; 3], f64)> {
+    // written out: this runs on every block of every solve
+    let form = |a: &Sym3, x: &[f64; 3]| {
+        a[0][0] * x[0] * x[0]
+            + a[1][1] * x[1] * x[1]
+            + a[2][2] * x[2] * x[2]
+            + 2.0 * (a[0][1] * x[0] * x[1] + a[0][2] * x[0] * x[2] + a[1][2] * x[1] * x[2])
+    };
+    let mut x = [1.0, q, -q * q];
+    let mut lambda = form(s, &x) / form(m, &x);
+    for _ in 0..3 {
+        let r = [
+            m[0][0] * x[0] + m[0][1] * x[1] + m[0][2] * x[2],
+            m[1][0] * x[0] + m[1][1] * x[1] + m[1][2] * x[2],
+            m[2][0] * x[0] + m[2][1] * x[1] + m[2][2] * x[2],
+        ];
+        // (S − λM)y = r with the (θ, χ) part eliminated first: it is the
+        // rotation and curvature branches', far from singular at the
+        // bending eigenvalue, so the near-zero pivot is the last one (w)
+        let a = |i: usize, j: usize| s[i][j] - lambda * m[i][j];
+        let (c11, c12, c22, b1, b2) = (a(1, 1), a(1, 2), a(2, 2), a(0, 1), a(0, 2));
+        let inv = 1.0 / (c11 * c22 - c12 * c12);
+        let cb = [(c22 * b1 - c12 * b2) * inv, (c11 * b2 - c12 * b1) * inv];
+        let cr = [(c22 * r[1] - c12 * r[2]) * inv, (c11 * r[2] - c12 * r[1]) * inv];
+        let schur = a(0, 0) - (b1 * cb[0] + b2 * cb[1]);
+        let yw = (r[0] - (b1 * cr[0] + b2 * cr[1])) / schur;
+        let y = [yw, cr[0] - cb[0] * yw, cr[1] - cb[1] * yw];
+        let norm = y[0].abs().max(y[1].abs()).max(y[2].abs());
+        // an exactly singular shift: λ is already the eigenvalue
+        if !(norm.is_finite() && norm > 0.0) {
+            break;
+        }
+        x = [y[0] / norm, y[1] / norm, y[2] / norm];
+        lambda = form(s, &x) / form(m, &x);
+    }
+    let det = |a: &Sym3| {
+        a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[1][2]) - a[0][1] * (a[0][1] * a[2][2] - a[1][2] * a[0][2])
+            + a[0][2] * (a[0][1] * a[1][2] - a[1][1] * a[0][2])
+    };
+    let dm = det(m);
+    // tr(adj(M) S) = tr(M⁻¹S)·det M, adj(M) symmetric
+    let adj = [
+        m[1][1] * m[2][2] - m[1][2] * m[1][2],
+        m[0][2] * m[1][2] - m[0][1] * m[2][2],
+        m[0][1] * m[1][2] - m[0][2] * m[1][1],
+        m[0][0] * m[2][2] - m[0][2] * m[0][2],
+        m[0][1] * m[0][2] - m[0][0] * m[1][2],
+        m[0][0] * m[1][1] - m[0][1] * m[0][1],
+    ];
+    let tr = adj[0] * s[0][0]
+        + adj[3] * s[1][1]
+        + adj[5] * s[2][2]
+        + 2.0 * (adj[1] * s[0][1] + adj[2] * s[0][2] + adj[4] * s[1][2]);
+    if !(dm > 0.0 && lambda > 0.0 && lambda.is_finite()) {
+        return None;
+    }
+    let t = tr / dm - lambda;
+    let pr = det(s) / (dm * lambda);
+    let disc = (t * t - 4.0 * pr).max(0.0);
+    let upper = 0.5 * (t + disc.sqrt());
+    let second = pr / upper;
+    (upper > 0.0 && second > lambda * (1.0 + 1e-6) && second.is_finite()).then_some((lambda, x, second))
+}
+
 /// Lowest eigenpair (λ, x) of the 3 × 3 pencil (S, M) and its second
 /// eigenvalue; `None` when M is not positive definite or the solve is not
 /// finite. Cholesky M = LLᵀ, Jacobi on L⁻¹SL⁻ᵀ, then two inverse-iteration
@@ -641,6 +757,7 @@ mod tests {
     use super::*;
     use crate::beam::fe::model::PencilParams;
     use crate::beam::solve::eigen::lowest_eigenpairs;
+    use std::f64::consts::PI;
 
     /// The invariance the path rests on holds on the simply supported C²
     /// mesh (residual at rounding: measured 1.6e-14 at 40 elements) and
@@ -675,7 +792,7 @@ mod tests {
     /// of vectors converged far below 1e-6 (the error is quadratic in it),
     /// each rounding to ~1e-14 relative, and within 1e-12 relative (the
     /// direct solve's refinement test in `modal.rs`) times the compression
-    /// gain (1 + r)/(1 − r) ≤ 3 at r = ½. Measured: 1.7e-13 (40 elements).
+    /// gain (1 + r)/(1 − r) ≤ 3 at r = ½. Measured: 2.2e-13 (40 elements).
     /// Before the energy-sum quotient (the block entries' own quotient) the
     /// same comparison failed at 4.6e-9: this test can fail.
     #[test]
@@ -704,5 +821,29 @@ mod tests {
             }
         }
         eprintln!("gradient blocks: worst relative eigenvalue difference {worst:e}");
+    }
+
+    /// The fallback of the block eigenpair (`lowest_pair`, Cholesky and
+    /// Jacobi) and the RQI from the sine mode (`bending_pair`) give the same
+    /// bending eigenvalue on every block to the block quotient's rounding
+    /// (each ≤ 5e-9 relative, module doc: 1e-8 for the pair) and the same
+    /// second eigenvalue (the trace/determinant roots against Jacobi's, to
+    /// 1e-6: only the order check reads it).
+    #[test]
+    fn the_fallback_eigenpair_agrees_with_the_rqi() {
+        for ne in [10, 20, 40] {
+            let mesh = UnitMesh::with_gradient(ne, Support::SimplySupported, [false; 2]);
+            let blocks = GradientBlocks::new(&mesh).unwrap();
+            for (t, g, axial) in [(0.0, 1e-4, 0.0), (0.01, 0.09, 30.0), (0.06, 0.16, -4.0), (0.04, 1.0, 0.0)] {
+                let p = GradientPencil { t, gradient: g, axial, foundation: 0.0 };
+                for (i, blk) in blocks.blocks.iter().enumerate() {
+                    let [_, m, _, s] = blocks.pencil(&p, blk);
+                    let (la, _, sa) = bending_pair(&s, &m, PI * (i + 1) as f64).expect("rqi");
+                    let (lb, _, sb) = lowest_pair(&s, &m).expect("jacobi");
+                    assert!((la - lb).abs() <= 1e-8 * lb.abs(), "ne {ne} j {}: {la} vs {lb}", i + 1);
+                    assert!((sa - sb).abs() <= 1e-6 * sb.abs(), "ne {ne} j {}: {sa} vs {sb}", i + 1);
+                }
+            }
+        }
     }
 }
