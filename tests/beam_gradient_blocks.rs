@@ -417,3 +417,33 @@ fn timing_per_solve() {
         eprintln!("| {name} | {f:.2} | {r:.2} | {:.1} |", r / f);
     }
 }
+
+/// The ends of the ranges the spec admits: l̃ from 1e-4 to 1
+/// (`MAX_GRADIENT_TILDE`), 2 to 50 elements (`MAX_GRADIENT_ELEMENTS`), e0a 0
+/// or 2 nm, with a relaxation: the path is taken (5 modes where the mesh has
+/// 5 bending blocks, else all n_e − 1) and agrees with the reference within
+/// [`S_TOL`] (module doc; the reference's Rayleigh quotients round as on the
+/// random beams, the pencil's spread does not enter a quotient).
+#[test]
+fn the_ends_of_the_admitted_ranges_agree_with_the_reference() {
+    let mut reference_solver = ModalSolver::direct_only();
+    let mut fast_solver = ModalSolver::new();
+    let mut worst = 0.0f64;
+    for elements in [2, 3, 6, 50] {
+        for lt in [1e-4, 0.1, 1.0] {
+            for e0a in [0.0, 2.0] {
+                let mut b = BeamSpec::elastic(L_NM, 1.0, 1e12, 2300.0, Support::SimplySupported, elements);
+                b.strain_gradient_length_nm = lt * L_NM;
+                b.nonlocal_e0a_nm = e0a;
+                b.internal_variables = vec![nanobeam::beam::InternalVariable { delta: 0.3, omega_rad_s: 4e11 }];
+                let n = 5.min(elements - 1);
+                let what = format!("{elements} elements, l̃ {lt}, e0a {e0a}");
+                let reference = reference_solver.modal(&b, n).unwrap();
+                let fast = fast_solver.modal(&b, n).unwrap();
+                assert!(on_blocks(&fast_solver), "{what}: declined");
+                worst = worst.max(compare(&fast, &reference, S_TOL, &what));
+            }
+        }
+    }
+    eprintln!("ends of the ranges: worst relative ω difference {worst:e}");
+}
