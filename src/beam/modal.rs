@@ -309,7 +309,8 @@ impl ModalSolver {
     /// of order ≤ 3 over the same blocks' spectrum (`spring_mass.rs`). The
     /// simply supported Timoshenko mesh with an axial force or damping, or
     /// with springs alone or a point mass alone, takes its continuum limit
-    /// (`shear_continuum.rs`).
+    /// (`shear_continuum.rs`). A strain gradient (the C² mesh) takes its own
+    /// wavenumber blocks or nothing (`gradient_blocks.rs`).
     fn interpolated_roots(&mut self, beam: &BeamSpec, n_modes: usize, poles: Poles) -> Option<f64> {
         let mesh = self.mesh.as_ref()?;
         let sc = Scaling::new(beam);
@@ -587,8 +588,10 @@ impl ModalSolver {
     /// solvers' tolerance, not bitwise equal), and except on the exact
     /// axial-force and support-spring paths with internal variables, which
     /// `observables` takes and `modal` leaves to the coupled reference (its
-    /// real poles): equal there to the tolerance their property tests derive
-    /// (`tests/beam_axial_fast_path.rs`, `tests/beam_spring_fast_path.rs`). `Ok(false)` when a requested
+    /// real poles), and likewise the strain gradient's blocks with an axial
+    /// force: equal there to the tolerance their property tests derive
+    /// (`tests/beam_axial_fast_path.rs`, `tests/beam_spring_fast_path.rs`,
+    /// `tests/beam_gradient_blocks.rs`). `Ok(false)` when a requested
     /// mode is overdamped or was not computed.
     pub fn observables(
         &mut self,
