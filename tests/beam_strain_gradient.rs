@@ -408,12 +408,15 @@ fn stiffening_grows_with_l_as_the_closed_form_ratio() {
     }
 }
 
-/// The coupled paths take the strain gradient too, and no fast path does: a
-/// point mass with damping (coupled RQI on T(s)) and an axial force, springs
-/// and a foundation, the kinds the axial and point-mass fast paths hold,
-/// against the state-space reference on the same matrices (a different
-/// algorithm; agreement to its ~eps·κ(A) error, 1e-8 relative as in
-/// `tests/beam_foundation.rs`'s coupled checks).
+/// The coupled paths take the strain gradient too, and no fast path of the
+/// cubic mesh does: a point mass with damping (coupled RQI on T(s)) and an
+/// axial force, springs and a foundation, the kinds the axial and point-mass
+/// fast paths hold, against the state-space reference on the same matrices
+/// (a different algorithm; agreement to its ~eps·κ(A) error, 1e-8 relative
+/// as in `tests/beam_foundation.rs`'s coupled checks). The simply supported
+/// compression with damping, without springs or a point mass, is the one
+/// case the C² mesh's own wavenumber blocks take (`gradient_blocks.rs`,
+/// `tests/beam_gradient_blocks.rs`); the others stay on the reference.
 #[test]
 fn coupled_paths_agree_with_the_state_space() {
     let mut cases = Vec::new();
@@ -444,7 +447,7 @@ fn coupled_paths_agree_with_the_state_space() {
     b.point_mass = Some(PointMass { mass_kg: 1e-25, x_nm: 3.0 });
     cases.push(("point mass, C = 0 (the mass spectrum's kind)", b));
     for (name, b) in cases {
-        // every fast path declines the C² mesh: the reference paths answer
+        // every fast path of the cubic mesh declines the C² mesh
         let mut solver = ModalSolver::new();
         let fast = solver.modal(&b, 4).unwrap();
         let fast_path = solver.last_used_interpolant()
@@ -454,7 +457,9 @@ fn coupled_paths_agree_with_the_state_space() {
             || solver.last_used_mass_blocks()
             || solver.last_used_shear_blocks()
             || solver.last_used_shear_continuum();
-        assert!(!fast_path, "{name}: a fast path took the strain gradient");
+        assert!(!fast_path, "{name}: a fast path of the cubic mesh took the strain gradient");
+        let blocks = name.starts_with("compression");
+        assert_eq!(solver.last_used_gradient_blocks(), blocks, "{name}: the C² blocks");
         let reference = modal_state_space(&b, 4).unwrap();
         for (f, r) in fast.modes.iter().zip(&reference.modes) {
             assert!((f.pole - r.pole).norm() <= 1e-8 * r.pole.norm(), "{name}: {f:?} vs {r:?}");

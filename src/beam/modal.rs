@@ -20,8 +20,10 @@
 //! otherwise).
 //! A strain gradient keeps both: it changes K alone (K = K₂ + l̃²K₃ on the C²
 //! mesh, `fe::scaling`), and G(s) multiplies the whole of it; no fast path
-//! holds it, so such a beam takes this decoupled path with the eigenpairs of
-//! `eigen_cache` (l̃² a pencil parameter: RQI from the nearest grid pencil).
+//! holds it off the uniform simply supported mesh, so such a beam takes this
+//! decoupled path with the eigenpairs of `eigen_cache` (l̃² a pencil
+//! parameter: RQI from the nearest grid pencil); on that mesh the C² mesh's
+//! own wavenumber blocks give the eigenvalues (`gradient_blocks.rs`).
 //! A point mass with C > 0 breaks D ∝ M; a support spring breaks K_spring ∝ K
 //! (it is not relaxed by G). Then `general_path` solves T(s)x = 0 pole by pole
 //! (nonlinear Rayleigh-quotient iteration).
@@ -36,6 +38,7 @@
 use crate::beam::eigen_cache::EigenCache;
 use crate::beam::error::BeamError;
 use crate::beam::fast::axial_spectrum::{AxialBlocks, Bending};
+use crate::beam::fast::gradient_blocks::{GradientBending, GradientBlocks, GradientPencil};
 use crate::beam::fast::mass_blocks::MassScratch;
 use crate::beam::fast::mass_spectrum::MassSpectrumTable;
 use crate::beam::fast::shear_blocks::ShearBlocks;
@@ -91,7 +94,11 @@ use crate::beam::spec::{BeamSpec, Support, MAX_INTERNAL_VARIABLES};
 /// axial force, any C and internal variables, no point mass): a rank ≤ 2
 /// update of the same blocks, the poles roots of a 1 × 1 or 2 × 2 secular
 /// determinant (`spring_spectrum.rs`; again [`Self::modal`] only without
-/// internal variables). The other coupled
+/// internal variables). So does a strain gradient (the C² mesh) on a simply
+/// supported mesh without springs or a point mass, with or without damping,
+/// internal variables, an axial force, a foundation or a loss factor (not
+/// beside a force): one 3 × 3 block per wavenumber (`gradient_blocks.rs`;
+/// with a force [`Self::modal`] only without internal variables). The other coupled
 /// extensions (springs on other supports or with shear, point mass with C > 0, axial force on other supports
 /// or with shear, Timoshenko with C > 0) keep the RQI path: their poles need nonlinear RQI on T(s) whatever the pencil
 /// start costs (see `general_path`), and the pencil depends on 2–3 parameters.
@@ -108,6 +115,12 @@ pub struct ModalSolver {
     /// the mesh has none.
     axial_blocks: Option<Option<AxialBlocks>>,
     axial_scratch: Vec<Bending>,
+    /// The wavenumber blocks of a simply supported C² (strain-gradient) mesh
+    /// (`gradient_blocks.rs`), built on first use per mesh.
+    gradient_blocks: Option<Option<GradientBlocks>>,
+    gradient_scratch: Vec<GradientBending>,
+    /// True when the last result came from the strain-gradient block path.
+    last_gradient_blocks: bool,
     /// The wavenumber blocks of a simply supported Timoshenko mesh
     /// (`shear_blocks.rs`), built on first use per mesh.
     shear_blocks: Option<Option<ShearBlocks>>,
@@ -202,6 +215,12 @@ impl ModalSolver {
         self.last_shear_continuum
     }
 
+    /// True when the last result came from the exact wavenumber-block path
+    /// of a simply supported strain-gradient (C²) mesh (`gradient_blocks.rs`).
+    pub fn last_used_gradient_blocks(&self) -> bool {
+        self.last_gradient_blocks
+    }
+
     /// The path used by the last successful or attempted call.
     pub fn last_path(&self) -> Option<SolverPath> {
         self.last_path
@@ -220,6 +239,7 @@ impl ModalSolver {
             self.mass_spectrum = MassSpectrumTable::default();
             self.axial_blocks = None;
             self.shear_blocks = None;
+            self.gradient_blocks = None;
         }
         self.last_interpolated = false;
         Ok(())
@@ -242,7 +262,8 @@ impl ModalSolver {
                     || self.last_spring_mass_blocks
                     || self.last_shear_blocks
                     || self.last_mass_blocks
-                    || self.last_shear_continuum);
+                    || self.last_shear_continuum
+                    || self.last_gradient_blocks);
                 return Ok(result);
             }
         }
@@ -288,7 +309,8 @@ impl ModalSolver {
     /// of order ≤ 3 over the same blocks' spectrum (`spring_mass.rs`). The
     /// simply supported Timoshenko mesh with an axial force or damping, or
     /// with springs alone or a point mass alone, takes its continuum limit
-    /// (`shear_continuum.rs`).
+    /// (`shear_continuum.rs`). A strain gradient (the C² mesh) takes its own
+    /// wavenumber blocks or nothing (`gradient_blocks.rs`).
     fn interpolated_roots(&mut self, beam: &BeamSpec, n_modes: usize, poles: Poles) -> Option<f64> {
         let mesh = self.mesh.as_ref()?;
         let sc = Scaling::new(beam);
@@ -298,11 +320,41 @@ impl ModalSolver {
         self.last_shear_blocks = false;
         self.last_mass_blocks = false;
         self.last_shear_continuum = false;
-        // a strain gradient (the C² mesh) takes the reference paths: every
-        // fast path was derived for the fourth-order operator on the cubic
-        // (or Timoshenko) mesh
+        self.last_gradient_blocks = false;
+        // a strain gradient (the C² mesh) takes its own wavenumber blocks on
+        // a simply supported mesh without springs or a point mass
+        // (`gradient_blocks.rs`), else the reference paths: every other fast
+        // path was derived for the fourth-order operator on the cubic (or
+        // Timoshenko) mesh
         if mesh.gradient.is_some() {
-            return None;
+            if beam.point_mass.is_some() || mesh.springs(&sc.spring).next().is_some() || n_modes == 0 {
+                return None;
+            }
+            // a loss factor beside the force takes the coupled reference (as on the cubic mesh)
+            if sc.axial != 0.0 && beam.loss_factor != 0.0 {
+                return None;
+            }
+            let Self { gradient_blocks, gradient_scratch, roots, lambdas, .. } = self;
+            let blocks = gradient_blocks.get_or_insert_with(|| GradientBlocks::new(mesh)).as_ref()?;
+            let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
+            let (t, l2) = (sc.e_tilde * sc.e_tilde, sc.gradient);
+            if sc.axial == 0.0 {
+                // the decoupled families (`modal.rs`'s proof): λ_r of (K̃, M̃)
+                lambdas.resize(n_modes, 0.0);
+                if !blocks.decoupled_lambdas(t, l2, gradient_scratch, lambdas) {
+                    return None;
+                }
+                roots.resize(n_modes, Roots::default());
+                decoupled_family_roots_into(lambdas, sc.foundation, beam.loss_factor, sc.c, &ivs[..nv], roots).ok()?;
+            } else {
+                let p = GradientPencil { t, gradient: l2, axial: sc.axial, foundation: sc.foundation };
+                let all = poles == Poles::All;
+                if !blocks.family_roots(&p, sc.c, &ivs[..nv], n_modes, all, gradient_scratch, roots) {
+                    return None;
+                }
+            }
+            self.last_gradient_blocks = true;
+            return Some(sc.omega_ref);
         }
         // a loss factor takes the decoupled families at the end (the
         // interpolated spectra) or, coupled, the general path: no block or
@@ -536,8 +588,10 @@ impl ModalSolver {
     /// solvers' tolerance, not bitwise equal), and except on the exact
     /// axial-force and support-spring paths with internal variables, which
     /// `observables` takes and `modal` leaves to the coupled reference (its
-    /// real poles): equal there to the tolerance their property tests derive
-    /// (`tests/beam_axial_fast_path.rs`, `tests/beam_spring_fast_path.rs`). `Ok(false)` when a requested
+    /// real poles), and likewise the strain gradient's blocks with an axial
+    /// force: equal there to the tolerance their property tests derive
+    /// (`tests/beam_axial_fast_path.rs`, `tests/beam_spring_fast_path.rs`,
+    /// `tests/beam_gradient_blocks.rs`). `Ok(false)` when a requested
     /// mode is overdamped or was not computed.
     pub fn observables(
         &mut self,
@@ -556,7 +610,8 @@ impl ModalSolver {
                     || self.last_spring_blocks
                     || self.last_shear_blocks
                     || self.last_mass_blocks
-                    || self.last_shear_continuum);
+                    || self.last_shear_continuum
+                    || self.last_gradient_blocks);
                 for (k, &mode) in modes.iter().enumerate() {
                     let Some(fam) = mode.checked_sub(1).and_then(|j| self.roots.get(j)).filter(|_| mode <= n_modes)
                     else {

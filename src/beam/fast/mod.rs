@@ -39,10 +39,19 @@
 //! - `jet`: a value and its derivative over f64 or Complex64, for the
 //!   secular functions.
 //!
-//! None of them holds a strain gradient (l > 0, the C² mesh of
-//! `fe::model::GradientMesh`): each was derived for the fourth-order
-//! operator and declines that mesh (the dispatch declines it first); such a
-//! beam takes the reference solvers of `solve`.
+//! - `gradient_blocks`: the strain gradient (l > 0, the C² mesh of
+//!   `fe::model::GradientMesh`) on a uniform simply supported mesh without
+//!   springs or a point mass: 3 × 3 blocks (w, w′, w″ per node), with or
+//!   without relaxations, viscous damping, an axial force, a foundation, a
+//!   loss factor (not beside a force); the eigenvalues and the poles'
+//!   functional by Gauss energy sums on the block vector.
+//!
+//! Only `gradient_blocks` holds a strain gradient: every other path was
+//! derived for the fourth-order operator on the cubic (or Timoshenko) mesh
+//! and declines the C² mesh (the dispatch sends it to `gradient_blocks`
+//! first); a strain-gradient beam off that path's hypotheses (clamped or
+//! free ends, springs, a point mass, a loss factor beside a force) takes the
+//! reference solvers of `solve`.
 //!
 //! Invariant: used only by the dispatch (`beam::modal`) and by the beam's
 //! face for the certificates tests read; `tests/tidy.rs` holds every room of
@@ -51,6 +60,7 @@
 
 pub(crate) mod axial_spectrum;
 pub(crate) mod continuum_tail;
+pub(crate) mod gradient_blocks;
 pub(crate) mod jet;
 pub(crate) mod mass_blocks;
 pub(crate) mod mass_spectrum;
