@@ -517,7 +517,7 @@ mod tests {
     /// The Pareto k̂ of exact Pareto quantiles, w_i = u_i^(−k) at
     /// u_i = (i + ½)/n, against ArviZ 0.23.4's `psislw` on the same 2 000
     /// numbers (an independent implementation of the same estimator; printed
-    /// 0.31712924, 0.58825632, 0.85942102 on 2026-12-07): the two must
+    /// 0.31712924, 0.58825632, 0.85942102): the two must
     /// agree to the last printed digit, as the same arithmetic in another
     /// order does (1e-7 leaves room for 8-digit rounding of ArviZ's output).
     #[test]
