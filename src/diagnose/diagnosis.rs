@@ -16,6 +16,7 @@ use super::classes::{self, Model, ModelClass};
 use super::evidence::{ModelRun, LAPLACE_DISAGREEMENT_NATS};
 use super::next;
 use super::ppc::Check as PpcCheck;
+use super::ppc::Omnibus;
 use super::screen::{Check, ScreenedModel};
 
 /// Posterior summary of one parameter (physical units).
@@ -155,6 +156,8 @@ pub struct Gain {
     pub rms_z_after: f64,
     /// The posterior predictive checks under the extended model.
     pub misfit_after: Vec<PpcCheck>,
+    /// The omnibus check of the fitted observables under it (`ppc::omnibus`).
+    pub omnibus_after: Omnibus,
     pub held_out: Option<HeldOut>,
 }
 
@@ -194,7 +197,10 @@ pub struct Undecided {
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct Thresholds {
     pub family_alpha: f64,
+    /// The single observables' level: Šidák over them at half `family_alpha`.
     pub per_test_alpha_sidak: f64,
+    /// The omnibus χ² check's level: the other half (`ppc::misfit_detected`).
+    pub omnibus_alpha: f64,
     pub log_bayes_factor: f64,
     pub alternative_margin: f64,
 }
@@ -204,6 +210,8 @@ pub struct Thresholds {
 pub struct Diagnosis {
     pub misfit_detected: bool,
     pub misfit: Vec<PpcCheck>,
+    /// The omnibus check of the fitted observables under the base (`ppc::omnibus`).
+    pub misfit_omnibus: Omnibus,
     /// Every extended model whose evidence the search computed, in the
     /// order visited. `probability` is normalised over these and the base.
     pub candidates: Vec<Candidate>,

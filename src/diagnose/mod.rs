@@ -113,7 +113,7 @@ pub use diagnosis::{
     Summary, Thresholds, Undecided, ON_BOUND_FRACTION,
 };
 pub use evidence::{ModelRun, LAPLACE_DISAGREEMENT_NATS};
-pub use predictive::fitted_checks;
+pub use predictive::{fitted_checks, fitted_checks_and_omnibus};
 pub use settings::{DiagnoseError, DiagnoseSettings};
 
 use search::{search, Problem};

@@ -14,8 +14,15 @@ use super::ppc::{self, Check, Draws};
 /// The leverage-corrected residual test ([`ppc::check_fitted`]) of every
 /// fitted observable of `data` under `run`'s posterior.
 pub fn fitted_checks(run: &ModelRun, data: &MeasuredData) -> Vec<Check> {
+    fitted_checks_and_omnibus(run, data).0
+}
+
+/// [`fitted_checks`] and the omnibus check ([`ppc::omnibus`]) of the same
+/// draws: what [`ppc::misfit_detected`] decides on.
+pub fn fitted_checks_and_omnibus(run: &ModelRun, data: &MeasuredData) -> (Vec<Check>, ppc::Omnibus) {
     let fitted = data.fitted_observables();
-    ppc::check_fitted(&fitted, &predictive(run, &fitted, data.max_mode(), &AtomicU64::new(0)))
+    let draws = predictive(run, &fitted, data.max_mode(), &AtomicU64::new(0));
+    (ppc::check_fitted(&fitted, &draws), ppc::omnibus(&fitted, &draws))
 }
 
 /// Predictions of `obs` at every posterior sample (failed samples dropped), and β² per sample.

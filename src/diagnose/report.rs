@@ -190,6 +190,16 @@ pub fn summary(d: &Diagnosis) -> String {
         d.gain.rms_z_before,
         d.gain.rms_z_after,
     );
+    t += &format!(
+        "chi2 of the fitted observables: {:.1} on {:.1} dof (p {:.2e}) -> {:.1} on {:.1} dof (p {:.2e}); misfit below p {}\n",
+        d.misfit_omnibus.chi2,
+        d.misfit_omnibus.dof,
+        d.misfit_omnibus.p,
+        d.gain.omnibus_after.chi2,
+        d.gain.omnibus_after.dof,
+        d.gain.omnibus_after.p,
+        d.thresholds.omnibus_alpha,
+    );
     if let Some(r) = d.candidates.iter().find(|c| c.extension == d.gain.extension).and_then(|c| c.section_mismatch) {
         t += &format!("section-mismatch: the tube {}\n", r.sentence());
     }

@@ -554,8 +554,7 @@ pub(super) fn misfits(problem: &Problem, run: &ModelRun) -> bool {
     let fitted = problem.data.fitted_observables();
     let draws = predictive(run, &fitted, problem.data.max_mode(), &problem.predictive_solves);
     let checks = ppc::check_fitted(&fitted, &draws);
-    let per_test = ppc::sidak_level(problem.settings.family_alpha, checks.len());
-    let v = checks.iter().any(|c| c.ppp < per_test);
+    let v = ppc::misfit_detected(&checks, &ppc::omnibus(&fitted, &draws), problem.settings.family_alpha);
     problem.misfit_verdicts.lock().expect("no panic holds the lock").insert(name, v);
     v
 }

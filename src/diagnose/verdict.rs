@@ -11,7 +11,7 @@ use super::diagnosis::{candidate, decide, Alternative, Candidate, Diagnosis, Gai
 use super::evidence::ModelRun;
 use super::falsify;
 use super::next;
-use super::ppc::{self, Check, Draws};
+use super::ppc::{self, Draws};
 use super::predictive::predictive;
 use super::screen::ScreenedModel;
 use super::search::{misfits, Problem, Search};
@@ -65,16 +65,21 @@ impl Decision {
         let run = |m: &Model| runs.iter().find(|r| &r.model == m).expect("every visited model ran");
         let z_base = run(&Model::BASE).log_evidence;
         let nf = self.fitted.len();
-        let per_test = ppc::sidak_level(s.family_alpha, nf);
+        let per_test = ppc::sidak_level(s.family_alpha / 2.0, nf);
         let misfit = ppc::check_fitted(&self.fitted, &self.draws_base);
         let misfit_after = ppc::check_fitted(&self.fitted, &self.draws_selected);
-        let flags = |c: &[Check]| c.iter().any(|c| c.ppp < per_test);
-        let misfit_detected = flags(&misfit);
+        let omnibus_base = ppc::omnibus(&self.fitted, &self.draws_base);
+        let omnibus_selected = ppc::omnibus(&self.fitted, &self.draws_selected);
+        let misfit_detected = ppc::misfit_detected(&misfit, &omnibus_base, s.family_alpha);
 
         let selected = search.path.last().expect("path starts with the base");
         let causes: Vec<String> = selected.causes_in_order(&search.path);
         // misfit_after belongs to the selected model whenever one was selected
-        let explained = if selected == &Model::BASE { !misfit_detected } else { !flags(&misfit_after) };
+        let explained = if selected == &Model::BASE {
+            !misfit_detected
+        } else {
+            !ppc::misfit_detected(&misfit_after, &omnibus_selected, s.family_alpha)
+        };
         let cause = match (explained, causes.len()) {
             (false, _) => "unexplained".to_string(),
             (true, 0) => "none".to_string(),
@@ -220,11 +225,13 @@ impl Decision {
             rms_z_before: ppc::rms_z(&misfit),
             rms_z_after: ppc::rms_z(&misfit_after),
             misfit_after,
+            omnibus_after: omnibus_selected,
             held_out: self.held_out(problem.data),
         };
         Ok(Diagnosis {
             misfit_detected,
             misfit,
+            misfit_omnibus: omnibus_base,
             candidates,
             screened,
             not_evaluable: problem
@@ -251,6 +258,7 @@ impl Decision {
             thresholds: Thresholds {
                 family_alpha: s.family_alpha,
                 per_test_alpha_sidak: per_test,
+                omnibus_alpha: s.family_alpha / 2.0,
                 log_bayes_factor: s.log_bayes_factor_threshold,
                 alternative_margin: s.alternative_margin,
             },
