@@ -250,6 +250,8 @@ fn kinds() -> Vec<(&'static str, Truth, Vec<&'static str>)> {
         ("shallow arch h = 0.15 nm (outside)", Truth { rise_nm: 0.15, ..t }, vec![]),
         ("Cole–Cole α = 0.5 (outside)", Truth { cole_cole: (0.3, 2e12, 0.5), ..t }, vec![]),
         ("mass 0.3 ρAL over [0.15, 0.45] L (outside)", Truth { segment: (0.3, 0.15, 0.45), ..t }, vec![]),
+        ("deep arch h = 0.5 nm (outside)", Truth { rise_nm: 0.5, ..t }, vec![]),
+        ("mass 1.0 ρAL over [0.15, 0.45] L (outside)", Truth { segment: (1.0, 0.15, 0.45), ..t }, vec![]),
     ]
 }
 
@@ -372,8 +374,27 @@ fn extension_study() {
             [2.594e13, 2.729e13]), fed back: unexplained; with strain-gradient in the catalogue: strain-gradient, \
             undecided, so no falsifying measurement (80 s)"]
 fn a_strain_gradient_verdict_meets_its_falsifying_measurement() {
-    let seed = 770;
-    let truth = Truth { gradient_nm: 0.4, ..Truth::default() };
+    falsify_and_feed_back(Truth { gradient_nm: 0.4, ..Truth::default() }, 770);
+}
+
+/// A mass of 1.0 ρAL spread over [0.15, 0.45] L (outside the catalogue),
+/// seed 820: `attached-mass` + `elastic-foundation` decided on modes 1–5,
+/// a pair the oracle finds within noise (χ² 8.67 on 4 dof): a mimic, so
+/// only a measurement beyond the five modes can tell. The decided verdict's
+/// falsifying measurement, fed back with the truth's value, must keep the
+/// verdict only if the value lies inside its stated interval.
+#[test]
+#[ignore = "two diagnoses, the second of six modes: about a minute in release; run by hand, result in \
+            tests/diagnose_extensions.md (the deep arch and the heavy segment)"]
+fn a_segment_mass_verdict_meets_its_falsifying_measurement() {
+    falsify_and_feed_back(Truth { segment: (1.0, 0.15, 0.45), ..Truth::default() }, 820);
+}
+
+/// The decided verdict on modes 1–5 of `truth` (noise `seed`) names its
+/// falsifying measurement; the truth's value of that observable, fed back,
+/// must either lie inside the stated 95 % interval (then the verdict may
+/// stand: the measurement cannot tell) or end the decision.
+fn falsify_and_feed_back(truth: Truth, seed: u64) {
     let settings = DiagnoseSettings::quick();
     let first = diagnose(&data(truth.observations(&[1, 2, 3, 4, 5], seed), seed), &settings).expect("valid data");
     eprintln!(
@@ -412,7 +433,7 @@ fn a_strain_gradient_verdict_meets_its_falsifying_measurement() {
 /// `tests/diagnose_extensions.md` (head 027ec67, release CLI; 760 and 761
 /// regenerated with an elastic tension, `extension_study`, 2026-12-07):
 /// seed → (cause, named, grade).
-const DIAGNOSED: [(u64, &str, &str, &str); 22] = [
+const DIAGNOSED: [(u64, &str, &str, &str); 26] = [
     (700, "elastic-foundation", "elastic-foundation", "right"),
     (701, "elastic-foundation", "elastic-foundation", "right"),
     (710, "elastic-foundation", "elastic-foundation", "undecided"),
@@ -435,6 +456,10 @@ const DIAGNOSED: [(u64, &str, &str, &str); 22] = [
     (791, "loss-factor", "loss-factor", "right"),
     (800, "multiple", "viscous-damping + axial-force", "right"),
     (801, "multiple", "viscous-damping + attached-mass", "right"),
+    (810, "unexplained", "—", "right"),
+    (811, "unexplained", "—", "right"),
+    (820, "multiple", "attached-mass + elastic-foundation", "wrong"),
+    (821, "unexplained", "—", "right"),
 ];
 
 /// The oracle's budget per model (see [`oracle_fit`]): prior draws scored

@@ -160,7 +160,7 @@ pub fn log_mean_exp(x: &[f64]) -> f64 {
 }
 
 /// The omnibus check of the fitted observables together: T = Σ_j r_j² with
-/// r_j = (y_j − E_post[ŷ_j])/(σ_j √E[β²]) the raw standardized residuals,
+/// `r_j = (y_j − E_post[ŷ_j])/(σ_j √E[β²])` the raw standardized residuals,
 /// against χ² on J − Σ_j h_j degrees of freedom (h_j the leverages of
 /// [`check_fitted`], each at most 1; the dof at least 1). For a model linear
 /// in its parameters with a Gaussian posterior, Σ h_j is the hat matrix's
