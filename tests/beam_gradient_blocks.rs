@@ -35,6 +35,7 @@
 //! ε(1 + r)/(1 − r) (`compression_gain`, [`pull_gain`]).
 
 mod fast_path_check;
+mod quadrature;
 
 use std::f64::consts::PI;
 
@@ -45,6 +46,7 @@ use fast_path_check::{
 };
 use nalgebra::{DMatrix, DVector};
 use nanobeam::beam::{buckling_load_n, BeamSpec, ModalSolver, PointMass, SolverPath, Support};
+use quadrature::gauss_legendre;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
@@ -175,32 +177,6 @@ fn same_bits_at_one_and_two_threads_and_after_any_history() {
     let mut rng = ChaCha8Rng::seed_from_u64(6703);
     let beams: Vec<BeamSpec> = (0..30).map(|_| random_beam(&mut rng)).collect();
     assert_same_bits_at_one_and_two_threads_and_after_any_history(&beams, ModalSolver::new);
-}
-
-/// Gauss–Legendre nodes and weights on [0, 1] (n points, Newton on Pₙ), as
-/// `tests/beam_strain_gradient.rs` builds them.
-fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
-    (0..n)
-        .map(|i| {
-            let mut t = (PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-            let mut dp = 0.0;
-            for _ in 0..100 {
-                let (mut p0, mut p1) = (1.0, t);
-                for k in 2..=n {
-                    let p2 = ((2 * k - 1) as f64 * t * p1 - (k - 1) as f64 * p0) / k as f64;
-                    p0 = p1;
-                    p1 = p2;
-                }
-                dp = n as f64 * (t * p1 - p0) / (t * t - 1.0);
-                let step = p1 / dp;
-                t -= step;
-                if step.abs() < 1e-16 {
-                    break;
-                }
-            }
-            (0.5 * (1.0 + t), 1.0 / ((1.0 - t * t) * dp * dp))
-        })
-        .collect()
 }
 
 /// The Rayleigh quotient (∫w″² + l̃²∫w‴²)/(∫w² + ẽ²∫w′²) of the quintic

@@ -15,6 +15,8 @@
 //!
 //! Every tolerance is derived beside it.
 
+mod quadrature;
+
 use std::f64::consts::PI;
 
 use nalgebra::{DMatrix, DVector};
@@ -22,6 +24,7 @@ use nanobeam::beam::{
     modal, modal_state_space, BeamSpec, InternalVariable, ModalSolver, PointMass, SolverPath, Support,
 };
 use num_complex::Complex64;
+use quadrature::gauss_legendre;
 
 /// The paper's short SWCNT (L/d = 8).
 fn swcnt(support: Support, elements: usize) -> BeamSpec {
@@ -43,32 +46,6 @@ fn scaled_lengths(b: &BeamSpec) -> (f64, f64) {
 fn closed_form_lambda(lt: f64, et: f64, r: usize) -> f64 {
     let q = r as f64 * PI;
     q.powi(4) * (1.0 + lt * lt * q * q) / (1.0 + et * et * q * q)
-}
-
-/// Gauss–Legendre nodes and weights on [0, 1] (n points, Newton on Pₙ).
-fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
-    (0..n)
-        .map(|i| {
-            let mut t = (PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-            let mut dp = 0.0;
-            for _ in 0..100 {
-                let (mut p0, mut p1) = (1.0, t);
-                for k in 2..=n {
-                    let p2 = ((2 * k - 1) as f64 * t * p1 - (k - 1) as f64 * p0) / k as f64;
-                    p0 = p1;
-                    p1 = p2;
-                }
-                dp = n as f64 * (t * p1 - p0) / (t * t - 1.0);
-                let step = p1 / dp;
-                t -= step;
-                if step.abs() < 1e-16 {
-                    break;
-                }
-            }
-            let w = 2.0 / ((1.0 - t * t) * dp * dp);
-            (0.5 * (1.0 + t), 0.5 * w)
-        })
-        .collect()
 }
 
 /// The Rayleigh quotient (∫w″² + l̃²∫w‴²)/(∫w² + ẽ²∫w′²) of the quintic
