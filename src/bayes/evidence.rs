@@ -50,7 +50,8 @@ use statrs::distribution::{ChiSquared, ContinuousCDF};
 
 use crate::bayes::control::{Control, Controlled};
 use crate::bayes::importance::{
-    evidence_from_log_weights, pareto_k, pareto_k_threshold, Defended, ImportanceEvidence, MixtureProposal, Proposal,
+    evidence_from_log_weights, pareto_k, pareto_k_threshold, sample_covariance, Defended, ImportanceEvidence,
+    MixtureProposal, Proposal,
 };
 use crate::bayes::laplace::{laplace_log_evidence_with_step, LaplaceEvidence};
 use crate::bayes::map::{map_estimate, multi_start_from, polish_best, MapResult};
@@ -379,8 +380,8 @@ pub fn estimate_at_optimum<P: Posterior>(
             break;
         };
         let next = match &adapted {
-            Some(a) => defended(&proposal, a).and_then(|p| adapt(&p, last, s.samples)),
-            None => adapt(&proposal, last, s.samples),
+            Some(a) => defended(&proposal, a).and_then(|p| adapt(&p, last, s.samples, counted.dim())),
+            None => adapt(&proposal, last, s.samples, counted.dim()),
         };
         let Some(next) = next else { break };
         let Some(p) = defended(&proposal, &next) else { break };
@@ -430,8 +431,7 @@ type Adapted = (Vec<f64>, Vec<Vec<f64>>, Vec<Vec<f64>>);
 /// weight, their mean, their (unweighted) covariance and themselves, wider
 /// than the posterior where the proposal was, which the next batch's
 /// weights then correct. `None` when no weight is finite.
-fn adapt(proposal: &dyn Proposal, batch: &Batch, samples: usize) -> Option<Adapted> {
-    let d = batch_dim(proposal, batch)?;
+fn adapt(proposal: &dyn Proposal, batch: &Batch, samples: usize, d: usize) -> Option<Adapted> {
     if batch.is.ess >= adapt_min_ess(d) {
         let (centre, cov) = proposal.weighted_moments(&batch.log_w, batch.seed)?;
         return Some((centre, cov, proposal.resample(&batch.log_w, samples, batch.seed)));
@@ -444,18 +444,9 @@ fn adapt(proposal: &dyn Proposal, batch: &Batch, samples: usize) -> Option<Adapt
     order.sort_by(|&a, &b| batch.log_w[b].total_cmp(&batch.log_w[a]).then(a.cmp(&b)));
     let elite: Vec<Vec<f64>> = order[..k].iter().map(|&i| proposal.draw(i, batch.seed)).collect();
     let mean: Vec<f64> = (0..d).map(|j| elite.iter().map(|x| x[j]).sum::<f64>() / k as f64).collect();
-    let cov = (0..d)
-        .map(|i| {
-            (0..d)
-                .map(|j| elite.iter().map(|x| (x[i] - mean[i]) * (x[j] - mean[j])).sum::<f64>() / (k as f64 - 1.0))
-                .collect()
-        })
-        .collect();
+    let cov = sample_covariance(&elite);
+    let cov = (0..d).map(|i| (0..d).map(|j| cov[(i, j)]).collect()).collect();
     Some((mean, cov, elite))
-}
-
-fn batch_dim(proposal: &dyn Proposal, batch: &Batch) -> Option<usize> {
-    (!batch.log_w.is_empty()).then(|| proposal.draw(0, batch.seed).len())
 }
 
 /// The elite of [`adapt`]'s cross-entropy step: the larger of 4(d + 2) and a

@@ -393,7 +393,7 @@ fn log_sum_exp(a: &[f64]) -> f64 {
 }
 
 /// Unbiased sample covariance of `x` (rows = samples).
-fn sample_covariance(x: &[Vec<f64>]) -> DMatrix<f64> {
+pub(crate) fn sample_covariance(x: &[Vec<f64>]) -> DMatrix<f64> {
     let (n, d) = (x.len(), x[0].len());
     let m = DMatrix::from_fn(n, d, |i, j| x[i][j]);
     let mean = m.row_mean();
