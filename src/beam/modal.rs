@@ -54,6 +54,7 @@ use crate::beam::modal_result::{assemble, check_mode_count, oscillatory_pair, Mo
 use crate::beam::solve::coupled::{general_path, Poles};
 use crate::beam::solve::family::{decoupled_family_roots_into, hysteretic_family_roots_into, Roots};
 use crate::beam::solve::state_space_modal::state_space_modal;
+use crate::beam::solve::subspace::subspace_path;
 use crate::beam::spec::{BeamSpec, Support, MAX_INTERNAL_VARIABLES};
 
 /// Reusable solver: caches the unit mesh integrals (they depend only on the
@@ -273,7 +274,7 @@ impl ModalSolver {
         let (path, result) = if model.decouples() {
             (SolverPath::Decoupled, decoupled_path(&model, n_modes, eigen))
         } else {
-            (SolverPath::CoupledRqi, coupled_path(&model, n_modes, eigen, poles))
+            coupled_path(&model, n_modes, eigen, poles)
         };
         *last_path = Some(path);
         match result {
@@ -687,16 +688,30 @@ fn decoupled_path(model: &ScaledModel, n_modes: usize, eigen: &mut EigenCache) -
 }
 
 /// Path (c): the lowest eigenpairs of (K̃ + K̃_spring, M̃) from the cache,
-/// then the poles by RQI on T(s) (`coupled.rs`).
+/// then the poles by RQI on T(s) (`coupled.rs`); where that fails, the
+/// oscillatory poles (all a diagnosis needs) once more from the projection
+/// on the same eigenpairs (`subspace.rs`), before the caller's dense state
+/// space. Returns the path that produced the result.
 fn coupled_path(
     model: &ScaledModel,
     n_modes: usize,
     eigen: &mut EigenCache,
     poles: Poles,
-) -> Result<ModalResult, BeamError> {
+) -> (SolverPath, Result<ModalResult, BeamError>) {
     let kt = model.k_total();
-    let pairs = eigen.lowest(model.mesh, &model.pencil_params(), &kt, &model.m, model.point_mass.as_ref(), n_modes)?;
-    general_path(model, n_modes, pairs, poles)
+    let pairs =
+        match eigen.lowest(model.mesh, &model.pencil_params(), &kt, &model.m, model.point_mass.as_ref(), n_modes) {
+            Ok(pairs) => pairs,
+            Err(e) => return (SolverPath::CoupledRqi, Err(e)),
+        };
+    match general_path(model, n_modes, pairs, poles) {
+        // (not with a loss factor: the dense state space, the reference that
+        // checks this path's assignment, has no form for it)
+        Err(BeamError::Numerical(_)) if poles == Poles::Oscillatory && model.loss == 0.0 => {
+            (SolverPath::CoupledSubspace, subspace_path(model, n_modes, pairs))
+        }
+        other => (SolverPath::CoupledRqi, other),
+    }
 }
 
 #[cfg(test)]

@@ -71,6 +71,10 @@ pub enum SolverPath {
     /// (c) coupling extensions: nonlinear Rayleigh-quotient iteration on T(s)
     /// from each family's one-term approximation.
     CoupledRqi,
+    /// (c), second attempt: the same iteration from the poles of T(s)
+    /// projected on the pencil's eigenvectors, because the one-term starts
+    /// failed (crowded families; `solve/subspace.rs`).
+    CoupledSubspace,
     /// (a) the state-space reference, used because (b)/(c) failed numerically.
     StateSpaceFallback,
 }

@@ -172,11 +172,30 @@ const COMPLEX_RQI_MAX_STEPS: usize = 8;
 /// bitwise those of φ as a complex vector (every imaginary part is 0), and
 /// the first step's T'(s)φ skips the products of its zero imaginary part.
 fn complex_rqi(model: &ScaledModel, s0: Complex64, phi: &[f64], forms: Forms) -> Result<Complex64, BeamError> {
-    let n = model.n();
-    let mut x: Vec<Complex64> = phi.iter().map(|&v| Complex64::new(v, 0.0)).collect();
+    let x: Vec<Complex64> = phi.iter().map(|&v| Complex64::new(v, 0.0)).collect();
     let c = |v: f64| Complex64::new(v, 0.0);
-    let mut s = functional_root(model, (c(forms.0), c(forms.1), c(forms.2), c(forms.3)), s0)?;
-    let mut real = true;
+    let s = functional_root(model, (c(forms.0), c(forms.1), c(forms.2), c(forms.3)), s0)?;
+    rqi_steps(model, x, s, true)
+}
+
+/// [`complex_rqi`] from a complex start vector `x` near the pole `s0` (the
+/// second attempt of `subspace.rs`): the Rayleigh functional's root next to
+/// `s0` first, then the same steps and stop.
+pub(crate) fn complex_rqi_from(model: &ScaledModel, s0: Complex64, x: Vec<Complex64>) -> Result<Complex64, BeamError> {
+    let s = rayleigh_functional_root(model, &x, s0)?;
+    rqi_steps(model, x, s, false)
+}
+
+/// The steps of [`complex_rqi`] from the vector `x` and the functional's root
+/// `s` there; `real`: every imaginary part of `x` is 0 (the first product
+/// skips them).
+fn rqi_steps(
+    model: &ScaledModel,
+    mut x: Vec<Complex64>,
+    mut s: Complex64,
+    mut real: bool,
+) -> Result<Complex64, BeamError> {
+    let n = model.n();
     let mut t = Vec::with_capacity(model.k.data.len());
     let (mut re, mut im, mut tmp) = (Vec::new(), Vec::new(), Vec::new());
     for _ in 0..COMPLEX_RQI_MAX_STEPS {

@@ -6,7 +6,9 @@
 //!   Newton/Halley, the N = 1 families in interleaved lanes, Aberth
 //!   fallback);
 //! - `coupled`: Rayleigh-quotient iteration on T(s) when the extensions
-//!   couple the modes;
+//!   couple the modes; `subspace`: its second attempt, from the poles of
+//!   T(s) projected on the pencil's eigenvectors, where crowded families
+//!   defeat the one-term starts;
 //! - `state_space` (A15) and `state_space_modal` (its poles as modal
 //!   parameters: the reference of every path and the fallback on a
 //!   numerical failure);
@@ -26,4 +28,5 @@ pub(crate) mod family;
 pub(crate) mod frf;
 pub(crate) mod state_space;
 pub(crate) mod state_space_modal;
+pub(crate) mod subspace;
 pub(crate) mod time_response;
