@@ -61,7 +61,7 @@ pub(super) fn stabilisation_diagram(sc: &Scaled, max_order: usize) -> Result<Dia
 /// otherwise the peak joins the initial poles. A lower peak with too few
 /// samples is left out (see [`check_points_per_resonance`] for the
 /// diagram's poles).
-pub(super) fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<(), InputError> {
+pub(super) fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<Vec<Complex64>, InputError> {
     let series = match sc.kind {
         FitKind::Complex => peaks::Series::Complex,
         FitKind::Magnitude => peaks::Series::Magnitude,
@@ -73,7 +73,9 @@ pub(super) fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<(
     // dozens of lines and its refinement ran past 5 minutes)
     declared.sort_by(|a, b| b.statistic.total_cmp(&a.statistic));
     declared.truncate(if sc.kind == FitKind::Psd { MAX_DECLARED_PSD } else { MAX_DECLARED });
+    let mut shadowed = Vec::new();
     for mut peak in declared {
+        let resolved = peak.samples_above_half >= MIN_POINTS_PER_RESONANCE;
         if peak.samples_above_half < MIN_POINTS_PER_RESONANCE {
             // A PSD's declared peak is kept as a start whatever its count:
             // at ν averages the top sample overshoots the line's top by
@@ -106,10 +108,12 @@ pub(super) fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<(
         let known = initial.iter().any(|p| (p.norm() - w).abs() <= (FREQ_MERGE * w).max(2.0 * sigma.max(-p.re)));
         if !known {
             initial.push(peak.pole);
+        } else if resolved {
+            shadowed.push(peak.pole);
         }
     }
     initial.sort_by(|a, b| a.norm().total_cmp(&b.norm()));
-    Ok(())
+    Ok(shadowed)
 }
 
 /// Free decays: adds the resonances [`peaks::detect`] declares in the
