@@ -80,8 +80,11 @@ fn csv(cols: &[Vec<f64>], t0: f64, scale: f64, offset: f64) -> String {
 type Modes = Vec<[f64; 4]>;
 
 fn modes(text: &str) -> Modes {
-    let m = Measurement::from_csv(text).expect("a thermal record");
-    let id = identify(&m, &IdentifySettings::default()).expect("identified");
+    modes_of(&Measurement::from_csv(text).expect("a thermal record"))
+}
+
+fn modes_of(m: &Measurement) -> Modes {
+    let id = identify(m, &IdentifySettings::default()).expect("identified");
     id.modes.iter().map(|m| [m.omega_rad_s, m.omega_sd_rad_s, m.zeta, m.zeta_sd]).collect()
 }
 
@@ -217,7 +220,7 @@ proptest! {
     /// (`refine::JOINT_FTOL`) leaves a parameter ≤ 0.004 sd from its optimum
     /// on a PSD of this size, 25 times under the bar.
     #[test]
-    #[ignore = "issue 69 defect 3, open: the refinement lands in another local optimum (tests/invariance.md)"]
+    #[ignore = "issue 69 defect 3, open: the fit lands in another local optimum (tests/invariance.md; the cause: the_psd_rounded_below_its_scatter_moves_nothing)"]
     fn a_common_scale_moves_nothing_beyond_a_tenth_of_an_sd(e in -6.0..6.0f64) {
         let (cols, base) = reference();
         let scale = 10f64.powf(e) * 1.2345;
@@ -228,11 +231,51 @@ proptest! {
     /// A DC offset of up to 10 × the record's sd (the Welch estimate removes
     /// each segment's mean): the same bar and reason as the scale.
     #[test]
-    #[ignore = "issue 69 defect 3, open: the refinement lands in another local optimum (tests/invariance.md)"]
+    #[ignore = "issue 69 defect 3, open: the fit lands in another local optimum (tests/invariance.md; the cause: the_psd_rounded_below_its_scatter_moves_nothing)"]
     fn a_dc_offset_moves_nothing_beyond_a_tenth_of_an_sd(d in -10.0..10.0f64) {
         let (cols, base) = reference();
         let sd = (cols[0].iter().map(|v| v * v).sum::<f64>() / N as f64).sqrt();
         let moved = largest_move_sd(base, &modes(&csv(cols, 0.0, 1.0, d * sd)));
         prop_assert!(moved < 0.1, "offset {:e} m: {} sd", d * sd, moved);
     }
+}
+
+/// `v` rounded to `bits` significant bits of its mantissa (of 52), half up.
+fn round_to_bits(v: f64, bits: u32) -> f64 {
+    let drop = 52 - bits;
+    f64::from_bits((v.to_bits() + (1u64 << (drop - 1))) & !((1u64 << drop) - 1))
+}
+
+/// The cause of the two open invariances above, as its own property: the
+/// record's Welch PSD with every bin rounded to 20, 28 or 36 significant
+/// bits (a relative change ≤ 2⁻²¹ = 4.8e-7, 2⁻²⁹, 2⁻³⁷) must give the same
+/// modes within 0.1 sd. The bar: a bin of a Welch estimate of ν = 30
+/// averages scatters by 1/√ν = 0.18 of its value, so rounding moves each
+/// bin by ≤ 2.6e-6 of its own sd; the modes, weighted sums of the bins'
+/// scatter whose total is 1 sd, move by that order, 10⁻⁵ of the bar
+/// (plus the stopping rule's ≤ 0.004 sd, `a_common_scale_…` above).
+/// A scale or an offset changes the PSD by 10⁻¹⁶ – 10⁻¹³ relative
+/// (tests/invariance.md, measured on cc7): a fit that passes this passes
+/// those. Rounding the PSD inside `identify` (an experiment, not committed)
+/// made the scale and offset exactly invariant, but moved cc7's report by
+/// 0.21 sd and lost cc11's mode 5: the fit's outcome is a function of the
+/// data's last bits, which this test measures directly.
+#[test]
+#[ignore = "issue 69 defect 3, open: the fit lands in another local optimum (tests/invariance.md)"]
+fn the_psd_rounded_below_its_scatter_moves_nothing() {
+    let (cols, base) = reference();
+    let Measurement::Psd { omega_rad_s, psd_m2_s_per_rad } =
+        Measurement::from_csv(&csv(cols, 0.0, 1.0, 0.0)).expect("a record")
+    else {
+        panic!("a thermal record gives a PSD");
+    };
+    let moves: Vec<(u32, f64)> = [20, 28, 36]
+        .into_iter()
+        .map(|bits| {
+            let psd = psd_m2_s_per_rad.iter().map(|&v| round_to_bits(v, bits)).collect();
+            let m = Measurement::Psd { omega_rad_s: omega_rad_s.clone(), psd_m2_s_per_rad: psd };
+            (bits, largest_move_sd(base, &modes_of(&m)))
+        })
+        .collect();
+    assert!(moves.iter().all(|&(_, moved)| moved < 0.1), "(bits, largest move in sd): {moves:?}");
 }
