@@ -47,7 +47,8 @@ fn identify_until(m: &Measurement, settings: &IdentifySettings, stop: &Stop) -> 
     let sc = scale(m, stop);
     let diagram = stabilisation_diagram(&sc, settings.max_order)?;
     check()?;
-    let (first, lost) = attempt(m, settings, stop, &sc, &diagram, false);
+    let mut lost = Vec::new();
+    let first = attempt(m, settings, stop, &sc, &diagram, false, &mut lost);
     // a resolved PSD peak the first attempt lost with the narrow pole it had
     // merged into (see `attempt`) and whose line no identified mode holds:
     // the attempt again with the peak as a start, kept when it finds more
@@ -63,7 +64,7 @@ fn identify_until(m: &Measurement, settings: &IdentifySettings, stop: &Stop) -> 
         first if lost.is_empty() || first.as_ref().is_ok_and(holds) => first,
         first => {
             check()?;
-            match (first, attempt(m, settings, stop, &sc, &diagram, true).0) {
+            match (first, attempt(m, settings, stop, &sc, &diagram, true, &mut Vec::new())) {
                 (Ok(a), Ok(b)) if b.found_omegas_rad_s.len() > a.found_omegas_rad_s.len() => Ok(b),
                 (Err(_), Ok(b)) => Ok(b),
                 (first, _) => first,
@@ -74,7 +75,7 @@ fn identify_until(m: &Measurement, settings: &IdentifySettings, stop: &Stop) -> 
 
 /// One identification from the stabilisation diagram: its poles, the
 /// declared peaks ([`merge_peaks`]), the refinement, the reweighting and the
-/// report. Also returns the resolved PSD peaks lost with a narrow pole:
+/// report. Also pushes onto `lost` the resolved PSD peaks lost with a narrow pole:
 /// `merge_peaks` deduplicates a declared peak against a diagram pole within
 /// its width, and a PSD pole whose half-power band then holds fewer than
 /// [`MIN_POINTS_PER_RESONANCE`] samples is dropped as the periodogram's
@@ -89,20 +90,6 @@ fn identify_until(m: &Measurement, settings: &IdentifySettings, stop: &Stop) -> 
 /// holds the restored line (mode 11) without it: the two starts split
 /// mode 3's line between two background poles.
 fn attempt(
-    m: &Measurement,
-    settings: &IdentifySettings,
-    stop: &Stop,
-    sc: &Scaled,
-    diagram: &Diagram,
-    restore: bool,
-) -> (Result<Identification, IdentifyError>, Vec<Complex64>) {
-    let mut lost = Vec::new();
-    let result = attempt_into(m, settings, stop, sc, diagram, restore, &mut lost);
-    (result, lost)
-}
-
-/// The body of [`attempt`], `lost` its second result.
-fn attempt_into(
     m: &Measurement,
     settings: &IdentifySettings,
     stop: &Stop,
