@@ -536,3 +536,28 @@ fn the_band_ends_where_the_line_tail_meets_a_white_floor() {
     assert!(top > theta, "band top {top} below the line at {theta}");
     assert!((0.8 * theta_c..=1.6 * theta_c).contains(&top), "band top {top:.3} rad/sample, θ_c = {theta_c}");
 }
+
+/// Issue 69, defect 1: a longer record of the same stationary motion gets
+/// the segment its lines ask for, not a finer one. A 2-ns record of cc7's
+/// six lines (100 000 samples; every line 31.8 GHz wide) in six columns that
+/// are two independent planes seen at three slices: before, its narrowest
+/// "line" was measured at the finest resolution that averages 8 segments over
+/// all columns (65 536 samples, 2 per column), where the averages at a line
+/// are those of the two planes (4) and the estimate's scatter made ~4-bin
+/// bumps on every line's top; the segment stayed at 65 536 (each line 41.7
+/// bins), the fit got 32 768 bins of ν ≈ 4 and ran 100 s into an ambiguous
+/// numbering. Tolerance: a line spans ≥ 4 bins (`thermal::MIN_LINE_BINS`);
+/// at most a factor 2 more from the power-of-two segments, and another
+/// factor 2 from the measurement (where each column averages ≥ 8 segments,
+/// the narrowest of six lines measured 6.7 bins for 10.4 in the generator's
+/// records of 2 and 4 ns, a numpy port of `narrowest_line`): ≤ 16 bins, where
+/// the segment before gave 41.7.
+#[test]
+fn a_longer_record_of_the_same_lines_gets_the_segment_its_lines_ask_for() {
+    const CC7_GHZ: [f64; 6] = [305.0, 751.0, 1318.0, 1953.0, 2612.0, 3308.0];
+    let (omega, _) = psd(&csv(&langevin_tube_of(&CC7_GHZ, 100_000, 1)));
+    let d_omega = omega[1] - omega[0];
+    // half-power width of every line: γ = 1/τ = 2e11 rad/s
+    let bins = 2e11 / d_omega;
+    assert!((4.0..=2.0 * 2.0 * 4.0).contains(&bins), "lines span {bins:.1} bins of {d_omega:e} rad/s");
+}
