@@ -27,11 +27,19 @@
 //! bins wide); the bump was taken for the narrowest line, the segment stayed
 //! the finest, and the PSD handed on grew with the record (32 768 bins of
 //! ν ≈ 4 at 2 ns: a 140-s fit into an ambiguous numbering, issue 69, defect
-//! 1). Counting one column's segments bounds the averages at a line from
-//! below whatever the columns share; a record too short for that to resolve
-//! its lines (the MD records: one column of cc7's 17 503 samples averages
-//! 16 segments of 2 048 and 7 of 4 096; at 2 048 a 31.8-GHz line spans 1.3
-//! bins) is measured as before. When it measures under
+//! 1). So the narrowest line is measured again at the finest segment of
+//! which every column alone averages [`MIN_AVERAGES`] (a lower bound on the
+//! averages at a line whatever the columns share). A line resolved there
+//! (≥ [`MIN_LINE_BINS`]) spans as many more bins in the finer estimate as
+//! the segment is longer, a scatter bump the window's few bins at every
+//! segment: when the finer estimate's narrowest line measures under half
+//! that (room for each measurement's ±25 %), it is a bump, and the segment
+//! is chosen from the coarser measurement. Otherwise the finer measurement
+//! stands (a coarse one overstates a line's width by the window's ~1–3 bins,
+//! and halving from it can leave the line unresolved). A record too short
+//! for one column to resolve its lines (the MD records: one column of cc7's
+//! 17 503 samples averages 16 segments of 2 048 and 7 of 4 096; at 2 048 a
+//! 31.8-GHz line spans 1.3 bins) is measured as before. When it measures under
 //! [`MIN_LINE_BINS`] there (a short record, or one column), it is measured
 //! again at the finest resolution that averages [`FIT_AVERAGES`] (segments ×
 //! columns: the estimate's relative variance is 1/(K·C)), and the segment
@@ -182,16 +190,21 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
     // narrowest line over the whole band is a non-flexural one above it)
     let (mut finest, mut psd) = (finest, psd);
     let mut narrowest = narrowest_line(&psd[..flexural_band(&psd[1..]) + 1]);
-    // first measured where every column alone averages MIN_AVERAGES (columns
-    // that see the same modes add no averages at a line): kept when the
-    // narrowest line is resolved there, else measured as before (issue 69,
-    // defect 1, see the module doc)
+    // checked where every column alone averages MIN_AVERAGES (columns that
+    // see the same modes add no averages at a line): a line resolved there
+    // spans finest/per_column times its bins here, a scatter bump the
+    // window's few bins whatever the segment; under half the line's bins
+    // here, the narrowest measured is a bump (issue 69, defect 1, see the
+    // module doc)
     let per_column = finest_segment(n, MIN_AVERAGES);
     if per_column > 0 && per_column < finest {
         let coarse = welch(columns, per_column);
         let measured = narrowest_line(&coarse[..flexural_band(&coarse[1..]) + 1]);
-        if measured.is_some_and(|(_, w)| w >= MIN_LINE_BINS) {
-            (finest, psd, narrowest) = (per_column, coarse, measured);
+        let scale = (finest / per_column) as f64;
+        if let Some((_, w)) = measured.filter(|&(_, w)| w >= MIN_LINE_BINS) {
+            if narrowest.is_none_or(|(_, here)| here < 0.5 * w * scale) {
+                (finest, psd, narrowest) = (per_column, coarse, measured);
+            }
         }
     }
     if narrowest.is_some_and(|(_, w)| (UNRESOLVED_LINE_BINS..MIN_LINE_BINS).contains(&w)) {
