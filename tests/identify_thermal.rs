@@ -536,3 +536,69 @@ fn the_band_ends_where_the_line_tail_meets_a_white_floor() {
     assert!(top > theta, "band top {top} below the line at {theta}");
     assert!((0.8 * theta_c..=1.6 * theta_c).contains(&top), "band top {top:.3} rad/sample, θ_c = {theta_c}");
 }
+
+/// Issue 69, defect 1: a longer record of the same stationary motion gets
+/// the segment its lines ask for, not a finer one. A 2-ns record of cc7's
+/// six lines (100 000 samples; every line 31.8 GHz wide) in six columns that
+/// are two independent planes seen at three slices: before, its narrowest
+/// "line" was measured at the finest resolution that averages 8 segments over
+/// all columns (65 536 samples, 2 per column), where the averages at a line
+/// are those of the two planes (4) and the estimate's scatter made ~4-bin
+/// bumps on every line's top; the segment stayed at 65 536 (each line 41.7
+/// bins), the fit got 32 768 bins of ν ≈ 4 and ran 100 s into an ambiguous
+/// numbering. Tolerance: a line spans ≥ 4 bins (`thermal::MIN_LINE_BINS`);
+/// at most a factor 2 more from the power-of-two segments, and another
+/// factor 2 from the measurement (where each column averages ≥ 8 segments,
+/// the narrowest of six lines measured 6.7 bins for 10.4 in the generator's
+/// records of 2 and 4 ns, a numpy port of `narrowest_line`): ≤ 16 bins, where
+/// the segment before gave 41.7.
+#[test]
+fn a_longer_record_of_the_same_lines_gets_the_segment_its_lines_ask_for() {
+    const CC7_GHZ: [f64; 6] = [305.0, 751.0, 1318.0, 1953.0, 2612.0, 3308.0];
+    let (omega, _) = psd(&csv(&langevin_tube_of(&CC7_GHZ, 100_000, 1)));
+    let d_omega = omega[1] - omega[0];
+    // half-power width of every line: γ = 1/τ = 2e11 rad/s
+    let bins = 2e11 / d_omega;
+    assert!((4.0..=2.0 * 2.0 * 4.0).contains(&bins), "lines span {bins:.1} bins of {d_omega:e} rad/s");
+}
+
+/// Issue 69, defect 1, end to end: `nanobeam identify --beam
+/// data/md/tube-cc7.yaml --first-mode 1` on the 2-ns record of the test
+/// above reports the six lines as modes 1–6, each ω and ζ within 4 of its sd
+/// of the generator's (|p| = ω_k, ζ = γ/(2ω_k), γ = 1/τ: the AR(2) poles are
+/// e^{(−γ/2 ± iω_d)Δt} with ω_d² = ω_k² − γ²/4). 4 sd over 12 estimates:
+/// a false failure with probability 12 × 6.3e-5 < 1e-3. `--first-mode 1`:
+/// without it this record (seed 1) asks for it, for a seventh pole the fit
+/// puts at 12.4 THz (ζ = 0.27 ± 0.34) on the PSD's tail, which this
+/// floor-free record hands on up to the Nyquist frequency (defect 1's
+/// remaining part, `tests/hardening_round3.md`). Before the fix, this record
+/// exited 2: "5 fitted resonances in the band, none clear: the clearest, at
+/// 1.1865e14 rad/s, stands 3.754e31 noise sd high". 85 s after it (dev
+/// build, machine shared at load 4–9), hence ignored.
+#[test]
+#[ignore = "about 85 s: run with --ignored"]
+fn identify_on_a_2_ns_record_of_cc7_lines_finds_the_six_modes() {
+    const CC7_GHZ: [f64; 6] = [305.0, 751.0, 1318.0, 1953.0, 2612.0, 3308.0];
+    let path = std::env::temp_dir().join(format!("nanobeam-long-record-{}.csv", std::process::id()));
+    std::fs::write(&path, csv(&langevin_tube_of(&CC7_GHZ, 100_000, 1))).unwrap();
+    let root = env!("CARGO_MANIFEST_DIR");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_nanobeam"))
+        .args(["identify", "--first-mode", "1", "--beam", &format!("{root}/data/md/tube-cc7.yaml")])
+        .arg(&path)
+        .output()
+        .unwrap();
+    std::fs::remove_file(&path).unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let yaml: serde_yaml::Value = serde_yaml::from_slice(&out.stdout).unwrap();
+    let modes = yaml["modes"].as_sequence().unwrap();
+    assert!(modes.len() >= 6, "{modes:?}");
+    let gamma = 1.0 / 5e-12;
+    for (k, (m, f)) in modes.iter().zip(CC7_GHZ).enumerate() {
+        assert_eq!(m["mode"].as_u64(), Some(k as u64 + 1), "{modes:?}");
+        let w = 2.0 * std::f64::consts::PI * f * 1e9;
+        let get = |key: &str| m[key].as_f64().unwrap();
+        let dw = (get("omega_rad_s") - w) / get("omega_sd_rad_s");
+        let dz = (get("zeta") - gamma / (2.0 * w)) / get("zeta_sd");
+        assert!(dw.abs() < 4.0 && dz.abs() < 4.0, "mode {}: omega {dw:.2} sd, zeta {dz:.2} sd off", k + 1);
+    }
+}

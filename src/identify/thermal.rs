@@ -13,10 +13,33 @@
 //! PSD is per rad/s and one-sided, so its integral over ω ≥ 0 is the
 //! variance. The segment length is chosen from the lines themselves: the
 //! narrowest clear line of the flexural band (`flexural_band`: the lines
-//! handed on) is measured at the finest resolution that still
-//! averages [`MIN_AVERAGES`] segments, and the shortest power-of-two segment
+//! handed on) is measured at the finest resolution at which every column
+//! alone still averages [`MIN_AVERAGES`] segments, or, when it is not
+//! resolved there (measures under [`MIN_LINE_BINS`]), at the finest that
+//! averages [`MIN_AVERAGES`] over all columns; then the shortest power-of-two segment
 //! that keeps it at [`MIN_LINE_BINS`] bins or more at half power is used (the
-//! most averages, the least variance). When it measures under
+//! most averages, the least variance). Columns that see the same modes (the
+//! slices of one tube) add no averages at a line, so counting them as
+//! independent measured a long record's lines where each averaged a handful
+//! of segments: a 2-ns six-column record (two planes at three slices) was
+//! measured at 65 536 samples, 2 segments a column, ~4 at a line, and the
+//! estimate's scatter made ~4-bin bumps on every line's top (each line 42
+//! bins wide); the bump was taken for the narrowest line, the segment stayed
+//! the finest, and the PSD handed on grew with the record (32 768 bins of
+//! ν ≈ 4 at 2 ns: a 140-s fit into an ambiguous numbering, issue 69, defect
+//! 1). So the narrowest line is measured again at the finest segment of
+//! which every column alone averages [`MIN_AVERAGES`] (a lower bound on the
+//! averages at a line whatever the columns share). A line resolved there
+//! (≥ [`MIN_LINE_BINS`]) spans as many more bins in the finer estimate as
+//! the segment is longer, a scatter bump the window's few bins at every
+//! segment: when the finer estimate's narrowest line measures under half
+//! that (room for each measurement's ±25 %), it is a bump, and the segment
+//! is chosen from the coarser measurement. Otherwise the finer measurement
+//! stands (a coarse one overstates a line's width by the window's ~1–3 bins,
+//! and halving from it can leave the line unresolved). A record too short
+//! for one column to resolve its lines (the MD records: one column of cc7's
+//! 17 503 samples averages 16 segments of 2 048 and 7 of 4 096; at 2 048 a
+//! 31.8-GHz line spans 1.3 bins) is measured as before. When it measures under
 //! [`MIN_LINE_BINS`] there (a short record, or one column), it is measured
 //! again at the finest resolution that averages [`FIT_AVERAGES`] (segments ×
 //! columns: the estimate's relative variance is 1/(K·C)), and the segment
@@ -165,8 +188,25 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
     // the lines measured are the flexural band's (`flexural_band` of this
     // estimate): a line above it is not handed on, and may be narrower (cc7's
     // narrowest line over the whole band is a non-flexural one above it)
-    let mut narrowest = narrowest_line(&psd[..flexural_band(&psd[1..]) + 1]);
     let (mut finest, mut psd) = (finest, psd);
+    let mut narrowest = narrowest_line(&psd[..flexural_band(&psd[1..]) + 1]);
+    // checked where every column alone averages MIN_AVERAGES (columns that
+    // see the same modes add no averages at a line): a line resolved there
+    // spans finest/per_column times its bins here, a scatter bump the
+    // window's few bins whatever the segment; under half the line's bins
+    // here, the narrowest measured is a bump (issue 69, defect 1, see the
+    // module doc)
+    let per_column = finest_segment(n, MIN_AVERAGES);
+    if per_column > 0 && per_column < finest {
+        let coarse = welch(columns, per_column);
+        let measured = narrowest_line(&coarse[..flexural_band(&coarse[1..]) + 1]);
+        let scale = (finest / per_column) as f64;
+        if let Some((_, w)) = measured.filter(|&(_, w)| w >= MIN_LINE_BINS) {
+            if narrowest.is_none_or(|(_, here)| here < 0.5 * w * scale) {
+                (finest, psd, narrowest) = (per_column, coarse, measured);
+            }
+        }
+    }
     if narrowest.is_some_and(|(_, w)| (UNRESOLVED_LINE_BINS..MIN_LINE_BINS).contains(&w)) {
         // unresolved at MIN_AVERAGES (a line of true width ≲ 2 bins measures
         // under MIN_LINE_BINS): the finest segment that still averages
@@ -288,6 +328,18 @@ fn flexural_band(psd: &[f64]) -> usize {
         }
     }
     n
+}
+
+/// The longest power-of-two segment (from [`MIN_SEGMENT`]) of which one
+/// column of `n` samples holds `count` Welch segments; 0 when none does.
+fn finest_segment(n: usize, count: usize) -> usize {
+    let mut finest = 0;
+    let mut seg = MIN_SEGMENT;
+    while seg <= n && welch_count(n, seg) >= count {
+        finest = seg;
+        seg *= 2;
+    }
+    finest
 }
 
 /// Segments of `seg` samples with 50 % overlap in `n` samples.
