@@ -52,6 +52,7 @@ use crate::beam::fe::model::UnitMesh;
 use crate::beam::fe::scaling::{ScaledModel, Scaling};
 use crate::beam::modal_result::{assemble, check_mode_count, oscillatory_pair, ModalResult, SolverPath};
 use crate::beam::solve::coupled::{general_path, Poles};
+use crate::beam::solve::eigen::lowest_eigenpairs;
 use crate::beam::solve::family::{decoupled_family_roots_into, hysteretic_family_roots_into, Roots};
 use crate::beam::solve::state_space_modal::state_space_modal;
 use crate::beam::solve::subspace::subspace_path;
@@ -716,12 +717,15 @@ fn coupled_path(
         // checks this path's assignment, has no form for it)
         Err(BeamError::Numerical(_)) if poles == Poles::Oscillatory && model.loss == 0.0 => {
             // twice the families: the couplings to the modes just above the
-            // requested ones are kept too (`subspace.rs`)
+            // requested ones are kept too (`subspace.rs`). Solved from scratch,
+            // not through the cache: a cache entry of another count could
+            // change which route later calls of this solver take, and so their
+            // last bits, making results depend on the evaluation history.
             let count = (SUBSPACE_FACTOR * n_modes).min(model.n());
-            let pm = model.point_mass.as_ref();
-            let result = eigen
-                .lowest(model.mesh, &model.pencil_params(), &kt, &model.m, pm, count)
-                .and_then(|pairs| subspace_path(model, n_modes, pairs));
+            let params = model.pencil_params();
+            let stiffness = |x: &[f64]| model.mesh.pencil_stiffness(&params, x);
+            let result = lowest_eigenpairs(&kt, &model.m, count, &mut Vec::new(), &stiffness)
+                .and_then(|pairs| subspace_path(model, n_modes, &pairs));
             (SolverPath::CoupledSubspace, result)
         }
         other => (SolverPath::CoupledRqi, other),

@@ -18,9 +18,9 @@
 //! ends", issue 69).
 //!
 //! With Φ = [φ₁ … φ_m] the m = `pairs.len()` eigenvectors (the caller
-//! passes twice the requested modes: with a strong relaxation beside a stiff
-//! axial force, the requested families alone gave projected poles 5 % off,
-//! two of which polished to one pole),
+//! passes twice the requested modes, solved from scratch: with a strong
+//! relaxation beside a stiff axial force, the requested families alone gave
+//! projected poles 5 % off, two of which polished to one pole),
 //!   T̃_p(s) = ΦᵀT̃(s)Φ = s²M_p + s c̃ B_p + U_p + G(s) K_p,
 //! M_p = ΦᵀM̃Φ, B_p = ΦᵀM̃_beamΦ, U_p = Φᵀ(K̃_spring + K̃_N + k̃_f M̃_beam)Φ,
 //! K_p = ΦᵀK̃Φ (G carries the loss factor's 1 + iη) keeps every coupling
