@@ -698,8 +698,8 @@ const SUBSPACE_FACTOR: usize = 2;
 /// Path (c): the lowest eigenpairs of (K̃ + K̃_spring, M̃) from the cache,
 /// then the poles by RQI on T(s) (`coupled.rs`); where that fails, the
 /// oscillatory poles (all a diagnosis needs) once more from the projection
-/// on the same eigenpairs (`subspace.rs`), before the caller's dense state
-/// space. Returns the path that produced the result.
+/// on twice as many eigenpairs, solved from scratch (`subspace.rs`), before
+/// the caller's dense state space. Returns the path that produced the result.
 fn coupled_path(
     model: &ScaledModel,
     n_modes: usize,
