@@ -76,7 +76,7 @@ pub(super) fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<V
     let mut shadowed = Vec::new();
     for mut peak in declared {
         let resolved = peak.samples_above_half >= MIN_POINTS_PER_RESONANCE;
-        if peak.samples_above_half < MIN_POINTS_PER_RESONANCE {
+        if !resolved {
             // A PSD's declared peak is kept as a start whatever its count:
             // at ν averages the top sample overshoots the line's top by
             // ≈ 1/√ν of it and sets the half-power level that high, so a line
@@ -105,7 +105,7 @@ pub(super) fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<V
             peak.pole.re = peak.pole.re.min(-1.5 * spacing);
         }
         let (w, sigma) = (peak.pole.im, -peak.pole.re);
-        let known = initial.iter().any(|p| (p.norm() - w).abs() <= (FREQ_MERGE * w).max(2.0 * sigma.max(-p.re)));
+        let known = is_known(initial, w, sigma);
         if !known {
             initial.push(peak.pole);
         } else if resolved {
@@ -146,7 +146,7 @@ pub(super) fn merge_decay_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) {
     declared.truncate(MAX_DECLARED);
     for peak in declared {
         let (w, sigma) = (peak.pole.im, -peak.pole.re);
-        let known = initial.iter().any(|p| (p.norm() - w).abs() <= (FREQ_MERGE * w).max(2.0 * sigma.max(-p.re)));
+        let known = is_known(initial, w, sigma);
         if !known {
             initial.push(peak.pole);
         }
@@ -171,6 +171,13 @@ const REFUSE_FACTOR: f64 = 2.0;
 /// A declared peak within this relative distance (or two half-widths) of a
 /// diagram mode is that mode.
 pub(super) const FREQ_MERGE: f64 = 0.01;
+
+/// Whether a resonance at ω = `w` with decay rate `sigma` is one of the
+/// poles `initial` already: within [`FREQ_MERGE`] of one's |s|, or within
+/// twice the wider of the two half-power half-widths.
+pub(super) fn is_known(initial: &[Complex64], w: f64, sigma: f64) -> bool {
+    initial.iter().any(|p| (p.norm() - w).abs() <= (FREQ_MERGE * w).max(2.0 * sigma.max(-p.re)))
+}
 
 /// The refusal of a resonance narrower than the sampling, in the record's terms.
 pub(super) fn under_sampled(sc: &Scaled, p: Complex64, count: usize, what: &str) -> InputError {

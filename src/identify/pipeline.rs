@@ -6,7 +6,9 @@ use num_complex::Complex64;
 use super::assemble::assemble;
 use super::data::Measurement;
 use super::decay::{with_missed_decay_poles, with_relocated_decay_poles};
-use super::detect::{check_points_per_resonance, merge_decay_peaks, merge_peaks, stabilisation_diagram, FREQ_MERGE};
+use super::detect::{
+    check_points_per_resonance, is_known, merge_decay_peaks, merge_peaks, stabilisation_diagram, FREQ_MERGE,
+};
 use super::projected::fit_projected;
 use super::refine::{FitKind, Model, Stop};
 use super::scaled::{scale, Scaled};
@@ -125,7 +127,7 @@ fn attempt(
         initial.retain(resolved);
         for p in shadowed {
             let (w, sigma) = (p.im, -p.re);
-            let known = initial.iter().any(|q| (q.norm() - w).abs() <= (FREQ_MERGE * w).max(2.0 * sigma.max(-q.re)));
+            let known = is_known(&initial, w, sigma);
             if !known && resolved(&p) {
                 lost.push(p);
             }

@@ -143,12 +143,7 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
     let dt = super::step::sampling_step(time_s);
     let record_s = n as f64 * dt;
     let averages = |seg: usize| columns.len() * welch_count(n, seg);
-    let mut finest = 0;
-    let mut seg = MIN_SEGMENT;
-    while seg <= n && averages(seg) >= MIN_AVERAGES {
-        finest = seg;
-        seg *= 2;
-    }
+    let finest = finest_segment(n, columns.len(), MIN_AVERAGES);
     if finest == 0 {
         return Err(InputError::new(
             "rows",
@@ -189,17 +184,17 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
     // estimate): a line above it is not handed on, and may be narrower (cc7's
     // narrowest line over the whole band is a non-flexural one above it)
     let (mut finest, mut psd) = (finest, psd);
-    let mut narrowest = narrowest_line(&psd[..flexural_band(&psd[1..]) + 1]);
+    let mut narrowest = narrowest_flexural_line(&psd);
     // checked where every column alone averages MIN_AVERAGES (columns that
     // see the same modes add no averages at a line): a line resolved there
     // spans finest/per_column times its bins here, a scatter bump the
     // window's few bins whatever the segment; under half the line's bins
     // here, the narrowest measured is a bump (issue 69, defect 1, see the
     // module doc)
-    let per_column = finest_segment(n, MIN_AVERAGES);
+    let per_column = finest_segment(n, 1, MIN_AVERAGES);
     if per_column > 0 && per_column < finest {
         let coarse = welch(columns, per_column);
-        let measured = narrowest_line(&coarse[..flexural_band(&coarse[1..]) + 1]);
+        let measured = narrowest_flexural_line(&coarse);
         let scale = (finest / per_column) as f64;
         if let Some((_, w)) = measured.filter(|&(_, w)| w >= MIN_LINE_BINS) {
             if narrowest.is_none_or(|(_, here)| here < 0.5 * w * scale) {
@@ -211,14 +206,11 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
         // unresolved at MIN_AVERAGES (a line of true width ≲ 2 bins measures
         // under MIN_LINE_BINS): the finest segment that still averages
         // FIT_AVERAGES, measured again there
-        let mut s = finest;
-        while 2 * s <= n && averages(2 * s) >= FIT_AVERAGES {
-            s *= 2;
-        }
+        let s = finest_segment(n, columns.len(), FIT_AVERAGES);
         if s > finest {
             finest = s;
             psd = welch(columns, s);
-            narrowest = narrowest_line(&psd[..flexural_band(&psd[1..]) + 1]);
+            narrowest = narrowest_flexural_line(&psd);
         }
     }
     let chosen = match narrowest {
@@ -330,12 +322,19 @@ fn flexural_band(psd: &[f64]) -> usize {
     n
 }
 
-/// The longest power-of-two segment (from [`MIN_SEGMENT`]) of which one
-/// column of `n` samples holds `count` Welch segments; 0 when none does.
-fn finest_segment(n: usize, count: usize) -> usize {
+/// The narrowest clear line of `psd` within its flexural band (the lines
+/// handed on): `narrowest_line` on the bins up to `flexural_band`.
+fn narrowest_flexural_line(psd: &[f64]) -> Option<(usize, f64)> {
+    narrowest_line(&psd[..flexural_band(&psd[1..]) + 1])
+}
+
+/// The longest power-of-two segment (from [`MIN_SEGMENT`]) of which
+/// `columns` columns of `n` samples hold `count` Welch segments in all; 0
+/// when none does.
+fn finest_segment(n: usize, columns: usize, count: usize) -> usize {
     let mut finest = 0;
     let mut seg = MIN_SEGMENT;
-    while seg <= n && welch_count(n, seg) >= count {
+    while seg <= n && columns * welch_count(n, seg) >= count {
         finest = seg;
         seg *= 2;
     }

@@ -136,19 +136,27 @@ impl<'m, 'a> Projection<'m, 'a> {
     fn new(model: &'m ScaledModel<'a>, pairs: &[EigenPair]) -> Self {
         let dim = pairs.len();
         let vectors: Vec<&[f64]> = pairs.iter().map(|p| p.vector.as_slice()).collect();
-        let form = |f: &dyn Fn(&[f64], &[f64]) -> f64| {
-            DMatrix::from_fn(dim, dim, |i, j| if i <= j { f(vectors[i], vectors[j]) } else { 0.0 })
+        // the symmetric Gram matrix of a bilinear form over the eigenvectors
+        let gram = |f: &dyn Fn(&[f64], &[f64]) -> f64| {
+            let mut a = DMatrix::zeros(dim, dim);
+            for i in 0..dim {
+                for j in i..dim {
+                    let v = f(vectors[i], vectors[j]);
+                    a[(i, j)] = v;
+                    a[(j, i)] = v;
+                }
+            }
+            a
         };
-        let sym = |a: DMatrix<f64>| DMatrix::from_fn(dim, dim, |i, j| if i <= j { a[(i, j)] } else { a[(j, i)] });
-        let m = sym(form(&|x, y| model.m.bilinear(x, y)));
-        let b = sym(form(&|x, y| model.m_beam.bilinear(x, y)));
-        let k = sym(form(&|x, y| model.k.bilinear(x, y)));
-        let u = sym(form(&|x, y| {
+        let m = gram(&|x, y| model.m.bilinear(x, y));
+        let b = gram(&|x, y| model.m_beam.bilinear(x, y));
+        let k = gram(&|x, y| model.k.bilinear(x, y));
+        let u = gram(&|x, y| {
             let springs: f64 = model.springs().map(|(d, ks)| ks * x[d] * y[d]).sum();
             let axial = model.k_axial.as_ref().map_or(0.0, |ka| ka.bilinear(x, y));
             let foundation = if model.foundation != 0.0 { model.foundation * model.m_beam.bilinear(x, y) } else { 0.0 };
             springs + axial + foundation
-        }));
+        });
         Projection { model, m, b, u, k }
     }
 
