@@ -1,6 +1,6 @@
 //! Issue 41: the closed-form continuum path of the uniform simply supported
-//! Timoshenko beam with an axial force and/or viscous damping, or with
-//! support springs (`beam/shear_continuum.rs`: one 2 × 2 pencil per
+//! Timoshenko beam with an axial force, viscous damping and/or a Winkler
+//! foundation, or with support springs (`beam/shear_continuum.rs`: one 2 × 2 pencil per
 //! wavenumber; the springs a secular equation over them) against the
 //! path it replaces in `ModalSolver::new`, which stays the reference: the
 //! coupled nonlinear RQI on the whole assembled mesh
@@ -125,6 +125,43 @@ fn random_spring_beams_agree_with_the_mesh_to_its_discretisation_error() {
     let beams: Vec<BeamSpec> = (0..120).map(|_| random_spring_beam(&mut rng)).collect();
     let taken = agree_with_the_mesh(&beams, "support springs");
     assert!(10 * taken >= 9 * beams.len(), "the path took only {taken} of {} beams", beams.len());
+}
+
+/// 120 random beams with a Winkler foundation (issue 66: the pair
+/// `shear-deformation` + `elastic-foundation` took the coupled RQI), alone or
+/// with viscous C and/or an axial force, 0–2 internal variables: the
+/// continuum path (k̃_f in its P, `shear_continuum.rs`) is taken on every
+/// beam that the input check accepts on its mesh and the next finer one (a
+/// pull past the beam's stability is refused as input), and agrees with the
+/// mesh as above.
+#[test]
+fn random_foundation_beams_agree_with_the_mesh_to_its_discretisation_error() {
+    let mut rng = ChaCha8Rng::seed_from_u64(4146);
+    let beams: Vec<BeamSpec> = (0..120)
+        .map(|_| random_foundation_beam(&mut rng))
+        .filter(|b| b.validate().is_ok() && BeamSpec { elements: 2 * b.elements, ..b.clone() }.validate().is_ok())
+        .collect();
+    assert!(beams.len() >= 100, "only {} of 120 beams are stable", beams.len());
+    assert_eq!(agree_with_the_mesh(&beams, "a foundation"), beams.len(), "the path declined a beam");
+}
+
+/// A foundation k = x·ρA(ω₁⁰)², x asinh-uniform on the `elastic-foundation`
+/// prior's [−1, 100] (`diagnose::classes::FOUNDATION_RANGE`), ω₁⁰ the closed
+/// form of the simply supported nonlocal Euler–Bernoulli beam without it
+/// (`tests/beam_foundation.rs`), on a random shear beam; with viscous C
+/// and/or an axial force on two draws in three, as [`random_beam`].
+fn random_foundation_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
+    let mut b = random_beam(rng);
+    if rng.gen_range(0..3) == 0 {
+        b.axial_force_n = 0.0;
+        b.viscous_damping_n_s_m2 = 0.0;
+    }
+    let (l, rho_a) = (b.length_nm * 1e-9, b.density_kg_m3 * b.area_m2());
+    let (q, mu) = (std::f64::consts::PI / l, (b.nonlocal_e0a_nm * 1e-9).powi(2));
+    let omega1_squared = b.youngs_modulus_pa * b.inertia_m4() * q.powi(4) / (rho_a * (1.0 + mu * q * q));
+    let x = rng.gen_range((-1f64).asinh()..100f64.asinh()).sinh();
+    b.elastic_foundation_n_m2 = x * rho_a * omega1_squared;
+    b
 }
 
 fn random_spring_beam(rng: &mut ChaCha8Rng) -> BeamSpec {
@@ -264,5 +301,6 @@ fn same_bits_at_one_and_two_threads_and_after_any_history() {
             Some(nanobeam::beam::PointMass { mass_kg: 0.2 * beam_mass, x_nm: rng.gen_range(0.0..b.length_nm) });
         b
     }));
+    beams.extend((0..12).map(|_| random_foundation_beam(&mut rng)).filter(|b| b.validate().is_ok()));
     assert_same_bits_at_one_and_two_threads_and_after_any_history(&beams, ModalSolver::new);
 }

@@ -309,8 +309,8 @@ impl ModalSolver {
     /// the secular path on the same blocks (`spring_spectrum.rs`), springs
     /// and a point mass together without the force the secular determinant
     /// of order ≤ 3 over the same blocks' spectrum (`spring_mass.rs`). The
-    /// simply supported Timoshenko mesh with an axial force or damping, or
-    /// with springs alone or a point mass alone, takes its continuum limit
+    /// simply supported Timoshenko mesh with an axial force, damping or a
+    /// foundation, or with springs alone or a point mass alone, takes its continuum limit
     /// (`shear_continuum.rs`). A strain gradient (the C² mesh) takes its own
     /// wavenumber blocks or nothing (`gradient_blocks.rs`).
     fn interpolated_roots(&mut self, beam: &BeamSpec, n_modes: usize, poles: Poles) -> Option<f64> {
@@ -371,14 +371,17 @@ impl ModalSolver {
         // a foundation takes the plain decoupled families below (its constant
         // term), the Euler–Bernoulli wavenumber-block paths (axial force,
         // springs, a point mass: k̃_f M̃ joins each block's elastic N_j,
-        // `axial_spectrum.rs`) or, coupled, the general path; the springs
-        // with a point mass together, the Timoshenko and continuum paths and
-        // a loss factor beside a coupling do not have it
+        // `axial_spectrum.rs`), the Timoshenko continuum path without springs
+        // or a point mass (k̃_f joins its P, `shear_continuum.rs`) or, coupled,
+        // the general path; the springs with a point mass together, the
+        // Timoshenko blocks, the other continuum paths and a loss factor
+        // beside a coupling do not have it
         if sc.foundation != 0.0 {
             let (spring, mass) = (mesh.springs(&sc.spring).next().is_some(), beam.point_mass.is_some());
             let plain = mesh.shear.is_none() && !mass && !spring && sc.axial == 0.0;
             let on_blocks = mesh.shear.is_none() && !(mass && spring) && beam.loss_factor == 0.0;
-            if !plain && !on_blocks {
+            let on_continuum = mesh.shear.is_some() && !mass && !spring && beam.loss_factor == 0.0;
+            if !plain && !on_blocks && !on_continuum {
                 return None;
             }
         }
@@ -403,6 +406,7 @@ impl ModalSolver {
         }
         if self.use_shear_blocks
             && mesh.shear.is_some()
+            && sc.foundation == 0.0
             && beam.point_mass.is_none()
             && mesh.springs(&sc.spring).next().is_none()
             && (sc.axial != 0.0 || sc.c != 0.0)
@@ -424,14 +428,15 @@ impl ModalSolver {
             mesh.support == Support::SimplySupported
                 && beam.point_mass.is_none()
                 && mesh.springs(&sc.spring).next().is_none()
-                && (sc.axial != 0.0 || sc.c != 0.0)
+                && (sc.axial != 0.0 || sc.c != 0.0 || sc.foundation != 0.0)
                 && mesh.elements >= shear_continuum::MIN_ELEMENTS
                 && n_modes > 0
                 && n_modes <= mesh.elements / shear_continuum::APPLIES_UP_TO
         }) {
             let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
             let g = crate::beam::fe::model::shear_params(beam).map_or(0.0, |(g, _)| g);
-            let pencil = ContinuumShear { e2: sc.e_tilde * sc.e_tilde, shear: g, r2: sh.r2, axial: sc.axial };
+            let e2 = sc.e_tilde * sc.e_tilde;
+            let pencil = ContinuumShear { e2, shear: g, r2: sh.r2, axial: sc.axial, foundation: sc.foundation };
             if !shear_continuum::family_roots(&pencil, sc.c, &ivs[..nv], n_modes, poles == Poles::All, &mut self.roots)
             {
                 return None;
@@ -445,13 +450,15 @@ impl ModalSolver {
                 && beam.point_mass.is_some() != mesh.springs(&sc.spring).next().is_some()
                 && sc.axial == 0.0
                 && sc.c == 0.0
+                && sc.foundation == 0.0
                 && mesh.elements >= shear_continuum::MIN_ELEMENTS
                 && n_modes > 0
                 && n_modes <= mesh.elements / shear_continuum::APPLIES_UP_TO
         }) {
             let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
             let g = crate::beam::fe::model::shear_params(beam).map_or(0.0, |(g, _)| g);
-            let pencil = ContinuumShear { e2: sc.e_tilde * sc.e_tilde, shear: g, r2: sh.r2, axial: 0.0 };
+            let pencil =
+                ContinuumShear { e2: sc.e_tilde * sc.e_tilde, shear: g, r2: sh.r2, axial: 0.0, foundation: 0.0 };
             let all = poles == Poles::All;
             let Self { spring_scratch, mass_scratch, roots, .. } = self;
             let taken = match beam.point_mass.as_ref() {
@@ -549,7 +556,14 @@ impl ModalSolver {
         // a fast path on Euler–Bernoulli meshes only (`mass_spectrum.rs`)
         let shear = mesh.shear.is_some();
         let mass = beam.point_mass.as_ref();
-        if (shear && sc.c != 0.0) || (mass.is_some() && (shear || sc.c != 0.0)) || spring || sc.axial != 0.0 {
+        // (a foundation on the Timoshenko mesh is no constant shift of the
+        // families: its M̃_b is not M̃, which holds the rotary inertia; only the
+        // continuum path above has it)
+        if (shear && (sc.c != 0.0 || sc.foundation != 0.0))
+            || (mass.is_some() && (shear || sc.c != 0.0))
+            || spring
+            || sc.axial != 0.0
+        {
             return None;
         }
         if n_modes == 0 || n_modes > mesh.n() {

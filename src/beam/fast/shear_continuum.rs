@@ -1,5 +1,6 @@
 //! The uniform simply supported Timoshenko beam in closed form (issue 41):
-//! with an axial force, viscous damping or both, its poles are those of one
+//! with an axial force, viscous damping, a Winkler foundation or any of
+//! them together, its poles are those of one
 //! 2 × 2 pencil per wavenumber, so a pole costs a scalar Newton iteration
 //! instead of a nonlinear Rayleigh-quotient iteration on the 5n_e − 3 DOFs of
 //! the mesh (`coupled.rs`).
@@ -15,20 +16,21 @@
 //! ∫θ′² = k⁴B², ∫γ² = k²S², ∫w² = W², ∫w′² = k²W², ∫θ² = k²B², ∫w″² = k⁴W².
 //! The model's matrices (`model.rs`, `ScaledModel::new`) combine them as
 //! M̃ = (∫w² + r̃²∫θ²) + ẽ²(∫w′² + r̃²∫θ′²), M̃_b = ∫w² + ẽ²∫w′²,
-//! K̃ = ∫θ′² + g̃∫γ², K̃_N = ñ(∫w′² + ẽ²∫w″²); with a = 1 + ẽ²k² and the ½
+//! K̃ = ∫θ′² + g̃∫γ², K̃_N = ñ(∫w′² + ẽ²∫w″²), and the foundation's
+//! k̃_f M̃_b (`scaling.rs`: elastic, not relaxed); with a = 1 + ẽ²k² and the ½
 //! dropped (it multiplies the whole pencil):
 //!   T_k(s) = [[P + R + Bk, P], [P, P + Sh]],
-//!   P = a(s² + c̃s + ñk²), R = a r̃²k²s², Bk = G(s)k⁴, Sh = G(s)g̃k²,
+//!   P = a(s² + c̃s + N), N = ñk² + k̃_f, R = a r̃²k²s², Bk = G(s)k⁴, Sh = G(s)g̃k²,
 //!   det T_k(s) = P(R + Bk + Sh) + Sh(R + Bk).
 //! As g̃ → ∞ the root condition tends to P + R + Bk = 0, the Rayleigh beam.
 //!
 //! j = 0 adds one more field: θ constant, w_b = θx, w_s = −θx, so w ≡ 0 (the
 //! mesh's θ, γ block at zero wavenumber, `shear_blocks.rs`). Only ∫θ² = 1 and
 //! ∫γ² = 1 survive: r̃²s² + G(s)g̃ = 0, the shear mode ω² = κGA/ρI, which no
-//! damping (it acts on w) and no axial force (on w′, w″) reaches.
+//! damping or foundation (they act on w) and no axial force (on w′, w″) reaches.
 //!
 //! On s² = −λ, G = 1, c̃ = 0, det T_k is the quadratic Aλ² − Bλ + C with
-//!   A = a²r̃²k², B = a(k⁴ + g̃k²) + a²ñr̃²k⁴ + ag̃r̃²k⁴, C = añk²(k⁴ + g̃k²) + g̃k⁶,
+//!   A = a²r̃²k², B = a(k⁴ + g̃k²) + a²Nr̃²k² + ag̃r̃²k⁴, C = aN(k⁴ + g̃k²) + g̃k⁶,
 //! whose two roots are the bending and the shear branch of k. The families
 //! are numbered by these eigenvalues over all k, as the mesh numbers its
 //! eigenpairs.
@@ -125,13 +127,15 @@ pub const APPLIES_UP_TO: usize = 4;
 /// See [`APPLIES_UP_TO`].
 pub const MIN_ELEMENTS: usize = 20;
 
-/// The scalars of the continuum pencil: ẽ², g̃, r̃² and ñ (`model.rs`).
+/// The scalars of the continuum pencil: ẽ², g̃, r̃², ñ (`model.rs`) and
+/// the foundation k̃_f (`scaling.rs`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContinuumShear {
     pub e2: f64,
     pub shear: f64,
     pub r2: f64,
     pub axial: f64,
+    pub foundation: f64,
 }
 
 /// One family: its wavenumber (0 for the shear mode) and the one-term forms (a = elastic, b = relaxing share,
@@ -145,14 +149,20 @@ struct Family {
 }
 
 impl ContinuumShear {
+    /// N = ñk² + k̃_f at wavenumber k (k2 = k²): the unrelaxed elastic term of P (module doc).
+    fn elastic(&self, k2: f64) -> f64 {
+        self.axial * k2 + self.foundation
+    }
+
     /// The bending and shear eigenvalues of wavenumber k (module doc), or
     /// `None` when they are not real and positive (buckled or not finite).
     fn branches(&self, k: f64) -> Option<[f64; 2]> {
         let (k2, k4) = (k * k, k * k * k * k);
         let a = 1.0 + self.e2 * k2;
         let qa = a * a * self.r2 * k2;
-        let qb = a * (k4 + self.shear * k2) + a * a * self.axial * self.r2 * k4 + a * self.shear * self.r2 * k4;
-        let qc = a * self.axial * k2 * (k4 + self.shear * k2) + self.shear * k4 * k2;
+        let n = self.elastic(k2);
+        let qb = a * (k4 + self.shear * k2) + a * a * n * self.r2 * k2 + a * self.shear * self.r2 * k4;
+        let qc = a * n * (k4 + self.shear * k2) + self.shear * k4 * k2;
         let disc = qb * qb - 4.0 * qa * qc;
         if !(disc >= 0.0 && qb > 0.0 && qc > 0.0 && qa > 0.0) {
             return None;
@@ -171,13 +181,13 @@ impl ContinuumShear {
         }
         let (k2, k4) = (k * k, k * k * k * k);
         let a = 1.0 + self.e2 * k2;
-        let p = a * (self.axial * k2 - lambda);
+        let p = a * (self.elastic(k2) - lambda);
         let (ub, us) = (p + self.shear * k2, -p);
         let w = ub + us;
         let m = a * (w * w + self.r2 * k2 * ub * ub);
         let mb = a * w * w;
         let kr = k4 * ub * ub + self.shear * k2 * us * us;
-        let kn = self.axial * k2 * a * w * w;
+        let kn = self.elastic(k2) * a * w * w;
         let (fa, fb) = (kn / m, kr / m);
         // the forms reproduce λ (a Rayleigh quotient at an eigenvector)
         let ok = m > 0.0 && fa.is_finite() && fb.is_finite() && (fa + fb - lambda).abs() <= 1e-9 * lambda;
@@ -229,7 +239,7 @@ impl ContinuumShear {
         }
         let (k2, k4) = (k * k, k * k * k * k);
         let a = 1.0 + self.e2 * k2;
-        let p = a * (s * s + c * s + self.axial * k2);
+        let p = a * (s * s + c * s + self.elastic(k2));
         let dp = a * (2.0 * s + c);
         let r = a * self.r2 * k2 * s * s;
         let dr = 2.0 * a * self.r2 * k2 * s;
@@ -294,7 +304,7 @@ pub fn spring_family_roots(
     scratch: &mut SpringScratch,
     roots: &mut Vec<Roots>,
 ) -> bool {
-    if n_modes == 0 || p.axial != 0.0 {
+    if n_modes == 0 || p.axial != 0.0 || p.foundation != 0.0 {
         return false;
     }
     scratch.ends.clear();
@@ -354,7 +364,11 @@ pub fn mass_family_roots(
     scratch: &mut MassScratch,
     roots: &mut Vec<Roots>,
 ) -> bool {
-    if n_modes == 0 || p.axial != 0.0 || !(mass > 0.0 && mass.is_finite() && (0.0..=1.0).contains(&x)) {
+    if n_modes == 0
+        || p.axial != 0.0
+        || p.foundation != 0.0
+        || !(mass > 0.0 && mass.is_finite() && (0.0..=1.0).contains(&x))
+    {
         return false;
     }
     // the kept blocks need only hold the mass-free eigenvalues that bracket
@@ -441,7 +455,7 @@ mod tests {
     /// Euler–Bernoulli one, k⁴/(1 + ẽ²k²) + ñk².
     #[test]
     fn the_bending_branch_tends_to_euler_bernoulli() {
-        let p = ContinuumShear { e2: 0.015, shear: 1e12, r2: 1e-12, axial: 3.0 };
+        let p = ContinuumShear { e2: 0.015, shear: 1e12, r2: 1e-12, axial: 3.0, foundation: 0.0 };
         for j in 1..6 {
             let k = j as f64 * std::f64::consts::PI;
             let [bend, _] = p.branches(k).unwrap();
@@ -453,7 +467,7 @@ mod tests {
     /// Without damping or relaxation the oscillatory root is s = i√λ.
     #[test]
     fn undamped_roots_are_the_eigenvalues() {
-        let p = ContinuumShear { e2: 0.0156, shear: 349.0, r2: 1.0 / 1024.0, axial: -2.0 };
+        let p = ContinuumShear { e2: 0.0156, shear: 349.0, r2: 1.0 / 1024.0, axial: -2.0, foundation: 0.0 };
         let mut roots = Vec::new();
         assert!(family_roots(&p, 0.0, &[], 5, false, &mut roots));
         let fams = p.families(5).unwrap();
