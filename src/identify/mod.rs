@@ -143,7 +143,10 @@ pub const MAX_MODE_ZETA: f64 = std::f64::consts::FRAC_1_SQRT_2;
 /// more than this spans every ζ a resonance can have (0 … [`MAX_MODE_ZETA`]),
 /// so the record does not hold the mode's damping, and a measured-data file
 /// takes no ζ sd above 1. A mode the bath of an MD record nearly overdamps
-/// is such a case (`tests/identify_md.md`, round 6).
+/// is such a case (`tests/identify_md.md`, round 6). This is the sd at which
+/// ζ ± 2 sd spans the range for every ζ in it; a mode whose ζ ± 2 sd spans
+/// it with a smaller sd (a ζ inside the range) is background too
+/// (`assemble::spans_every_zeta`).
 pub const MAX_MODE_ZETA_SD: f64 = 0.5 * MAX_MODE_ZETA;
 /// Largest pencil parameter L of the matrix pencil (Hankel columns − 1):
 /// with L = 50 the 10-ms ring-down of a 10 kHz mode sampled at 200 kHz

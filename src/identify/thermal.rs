@@ -269,6 +269,19 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
 /// looked for (see `flexural_band`).
 pub const BAND_SEARCH_START: f64 = 8.0;
 
+/// How far (decades) under the strongest line a lower line may stand and
+/// still be taken for the fundamental when the band search from the
+/// strongest line finds no flat floor (see `flexural_band`). Equipartition
+/// gives mode n a variance ∝ 1/ω_n², and with one bath width its PSD peak
+/// scales alike, so a column that sees every mode alike shows the
+/// fundamental strongest; near a clamp the shapes grow as (β_n x)², i.e.
+/// φ_n² ∝ β_n⁴ ∝ ω_n², which cancels that: the low lines stand alike there
+/// (cc7 at x/L = 0.15: mode 1 0.21 decades under mode 2), whichever is
+/// strongest. One decade leaves room for the estimate's scatter (3 averages:
+/// a bin's sd is 58 % of its mean) and the shapes' departure from (β_n x)²;
+/// a line 10× under the strongest is not the one that sets the band.
+pub const LOW_LINE_DECADES: f64 = 1.0;
+
 /// How close (decades) the PSD's floor must come to its lowest value over
 /// the next octave for the background to count as flat (see `flexural_band`).
 pub const FLAT_FLOOR_DECADES: f64 = 0.2;
@@ -287,8 +300,19 @@ pub const FLAT_FLOOR_DECADES: f64 = 0.2;
 /// starts [`BAND_SEARCH_START`] times above the frequency of the strongest
 /// line (a clamped or free beam's first three modes span a factor 5.4 or
 /// 17.5, so the lowest lines are never cut; below a cantilever's overdamped
-/// fundamental the floor is flat too). A PSD whose floor never flattens is
-/// kept whole.
+/// fundamental the floor is flat too). Equipartition makes the fundamental
+/// the strongest line of a column that sees every mode alike, but not of one
+/// near a clamp, where the shapes weigh mode 2 above mode 1: in cc7's column
+/// at x/L = 0.15, mode 2 (745 GHz) stands 0.2 decades over mode 1, the search
+/// started at 6 THz, past the flexural band, in the record's non-flexural
+/// motion, whose floor never flattens, and all 4 096 bins were handed on,
+/// the non-flexural lines with them (issue 69, defect 8). So when no flat
+/// floor is found from there, the search is repeated from
+/// [`BAND_SEARCH_START`] times the lowest line (a local maximum over ±2 bins
+/// of the three-bin average) within [`LOW_LINE_DECADES`] of the strongest
+/// (in that column the floor then first reads flat at 3.39–3.44 THz at
+/// segments of 2 048–8 192 samples; the six-column record's band ends at
+/// 3.39). A PSD whose floor never flattens from either start is kept whole.
 fn flexural_band(psd: &[f64]) -> usize {
     let n = psd.len();
     let smooth = |i: usize| {
@@ -307,19 +331,30 @@ fn flexural_band(psd: &[f64]) -> usize {
             scratch.select_nth_unstable_by(k, f64::total_cmp).1.log10()
         })
         .collect();
+    // the first bin from `start` whose floor is flat over the octave above
+    let flat_from = |start: usize| {
+        (start..n)
+            .take_while(|&i| 2 * (i + 1) <= n)
+            .find(|&i| {
+                let lowest = floor[i..2 * (i + 1)].iter().copied().fold(f64::INFINITY, f64::min);
+                floor[i] - lowest <= FLAT_FLOOR_DECADES
+            })
+            .map(|i| i + 1)
+    };
     // psd[i] is bin i + 1 (bin 0 is not returned): frequencies scale as i + 1
-    let start = ((strongest + 1) as f64 * BAND_SEARCH_START) as usize;
-    for i in start..n {
-        let top = (2 * (i + 1)).min(n);
-        if 2 * (i + 1) > n {
-            break;
-        }
-        let lowest = floor[i..top].iter().copied().fold(f64::INFINITY, f64::min);
-        if floor[i] - lowest <= FLAT_FLOOR_DECADES {
-            return i + 1;
-        }
-    }
-    n
+    let from = |line: usize| flat_from(((line + 1) as f64 * BAND_SEARCH_START) as usize);
+    // no flat floor above that: the strongest line may not be the
+    // fundamental (a column near a clamp), and the search started past the
+    // flexural band; searched again from the lowest line within
+    // LOW_LINE_DECADES of it, if any (issue 69, defect 8, see the doc)
+    let lowest = || {
+        (2..strongest).find(|&i| {
+            let v = smooth(i);
+            v >= smooth(strongest) * 10f64.powf(-LOW_LINE_DECADES)
+                && (i.saturating_sub(2)..(i + 3).min(n)).all(|j| smooth(j) <= v)
+        })
+    };
+    from(strongest).or_else(|| lowest().and_then(from)).unwrap_or(n)
 }
 
 /// The narrowest clear line of `psd` within its flexural band (the lines
