@@ -574,3 +574,75 @@ fn importance_evidence_from_an_optimum_adapts_and_never_claims_a_missed_tail() {
         }
     }
 }
+
+/// A start from a sub-model's posterior (`tmcmc_from`, issue 66): the 2-D
+/// conjugate Gaussian P (prior N(0, I), likelihood centred at (0.5, 0.3),
+/// precision 20·I) started from the posterior of the 1-D reference
+/// L_ref(θ) = exp(−10(θ₁ − 0.5)²) on θ₁ (drawn exactly: N(10/21, 1/21)) with
+/// prior draws of θ₂, Z_ref its closed form. ln Z must be P's closed form
+/// within the module's Monte Carlo rule over 20 seeds, in a few stages (the
+/// start's weights L/L_ref = e^{−10(θ₂ − 0.3)²} hold an ESS of a third of
+/// the samples at Δp = 1); the same run from the prior takes more.
+#[test]
+fn a_start_from_a_sub_models_posterior_reaches_the_closed_form_in_fewer_stages() {
+    use nanobeam::bayes::tmcmc::{tmcmc_from, Start};
+    use nanobeam::bayes::Control;
+    use rand::SeedableRng;
+    let full =
+        Gaussian::new(vec![0.0, 0.0], DMatrix::identity(2, 2), vec![0.5, 0.3], DMatrix::identity(2, 2) * 20.0, 0.0);
+    let sub = Gaussian::new(vec![0.0], DMatrix::identity(1, 1), vec![0.5], DMatrix::identity(1, 1) * 20.0, 0.0);
+    let (mu, var) = sub.posterior_mean_cov();
+    let reference = |t: &[f64]| sub.log_likelihood(&t[..1]);
+    let config = TmcmcConfig { n_samples: 1000, ..Default::default() };
+    let (mut values, mut stages) = (vec![], vec![]);
+    for seed in 0..SEEDS {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1000 + seed);
+        let samples = (0..config.n_samples)
+            .map(|_| {
+                let z: f64 = StandardNormal.sample(&mut rng);
+                vec![mu[0] + var[(0, 0)].sqrt() * z, StandardNormal.sample(&mut rng)]
+            })
+            .collect();
+        let start = Start {
+            samples,
+            reference: &reference,
+            log_evidence: sub.exact_log_evidence(),
+            log_evidence_se: 0.0,
+            least_best_log_likelihood: f64::NEG_INFINITY,
+        };
+        let r = tmcmc_from(&full, &TmcmcConfig { seed, ..config.clone() }, &Control::default(), Some(&start)).unwrap();
+        values.push(r.log_evidence);
+        stages.push(r.stages.len() - 1);
+    }
+    assert_unbiased("start from a sub-model", &values, full.exact_log_evidence());
+    let from_prior = tmcmc(&full, &config).unwrap().stages.len() - 1;
+    assert!(stages.iter().all(|&s| s <= 3 && s < from_prior), "stages {stages:?} against {from_prior} from the prior");
+}
+
+/// A start far from the posterior (the reference centred at θ₁ = 3, where P's
+/// likelihood is e^{−62} of its peak) is not taken when the peak's ln L is
+/// known (0, less a draw's plausible shortfall of 1 nat): the run is the
+/// prior's, bit for bit. Its weights alone would take it (L/L_ref varies only
+/// with θ₂ there: an ESS of a third of the samples).
+#[test]
+fn a_start_far_from_the_posterior_falls_back_to_the_prior() {
+    use nanobeam::bayes::tmcmc::{tmcmc_from, Start};
+    use nanobeam::bayes::Control;
+    use rand::SeedableRng;
+    let full =
+        Gaussian::new(vec![0.0, 0.0], DMatrix::identity(2, 2), vec![0.5, 0.3], DMatrix::identity(2, 2) * 20.0, 0.0);
+    let reference = |t: &[f64]| -200.0 * (t[0] - 3.0).powi(2);
+    let config = TmcmcConfig { n_samples: 500, seed: 4, ..Default::default() };
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+    let samples =
+        (0..config.n_samples).map(|_| vec![3.0 + 0.05 * rng.gen::<f64>(), StandardNormal.sample(&mut rng)]).collect();
+    let start = Start {
+        samples,
+        reference: &reference,
+        log_evidence: 0.0,
+        log_evidence_se: 0.0,
+        least_best_log_likelihood: -1.0,
+    };
+    let from_start = tmcmc_from(&full, &config, &Control::default(), Some(&start)).unwrap();
+    assert_eq!(from_start, tmcmc(&full, &config).unwrap());
+}

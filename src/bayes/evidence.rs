@@ -57,7 +57,7 @@ use crate::bayes::laplace::{laplace_log_evidence_with_step, LaplaceEvidence};
 use crate::bayes::map::{map_estimate, multi_start_from, polish_best, MapResult};
 use crate::bayes::posterior::Counted;
 use crate::bayes::rng::{child_seed, Purpose};
-use crate::bayes::tmcmc::{tmcmc_controlled, TmcmcConfig, TmcmcResult};
+use crate::bayes::tmcmc::{tmcmc_controlled, tmcmc_from, Start, TmcmcConfig, TmcmcResult};
 use crate::bayes::{BayesError, Posterior};
 use crate::error::InputError;
 
@@ -223,11 +223,27 @@ pub fn estimate<P: Posterior>(
     sub_models: &[SubModelMap<'_>],
     control: &Control,
 ) -> Result<Evidence, BayesError> {
+    estimate_from(posterior, s, seed, multimodal, sub_models, None, control)
+}
+
+/// [`estimate`] whose TMCMC run starts from `start` ([`tmcmc_from`]: a
+/// sub-model's posterior, with the tempering from its likelihood to this
+/// one's) instead of the prior when given; `None` is [`estimate`]. The
+/// reference likelihood's evaluations are the caller's to count.
+pub fn estimate_from<P: Posterior>(
+    posterior: &P,
+    s: &EvidenceSettings,
+    seed: u64,
+    multimodal: bool,
+    sub_models: &[SubModelMap<'_>],
+    start: Option<&Start>,
+    control: &Control,
+) -> Result<Evidence, BayesError> {
     s.validate()?;
     let started = std::time::Instant::now();
     let d = posterior.dim();
     let counted_tmcmc = Counted::new(posterior);
-    let t = tmcmc_controlled(&counted_tmcmc, &s.tmcmc_config(d, seed), control)?;
+    let t = tmcmc_from(&counted_tmcmc, &s.tmcmc_config(d, seed), control, start)?;
     // the searches and batches below poll the control at every evaluation
     let counted = Controlled::new(&counted_tmcmc, control);
     let mut map = map_from_best(&counted, &t, s)?;

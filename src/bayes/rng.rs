@@ -58,6 +58,10 @@ pub enum Purpose {
     /// sub-model, paired with that sub-model's posterior draws in the
     /// population of an evidence from an optimum (`diagnose::evidence`).
     ImportancePopulation = 18,
+    /// Prior draws of the parameters a diagnosed model adds to the sub-model
+    /// whose posterior draws start its TMCMC run (`diagnose::evidence`), one
+    /// stream `[0, 0]` drawn in sample order.
+    NestedStart = 19,
 }
 
 /// The stream keyed by `(seed, purpose, index)`.

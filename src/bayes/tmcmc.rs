@@ -25,6 +25,10 @@
 //! Δ ~ 0.5) neither break the Cholesky factorisation nor the moves. Nothing else
 //! in the algorithm depends on coordinate units.
 //!
+//! A run can also start from a population other than the prior's
+//! ([`tmcmc_from`], [`Start`]: a sub-model's posterior, tempered from its
+//! likelihood to this one's), with every step above on L/L_ref.
+//!
 //! Determinism: every random stream is a ChaCha8 generator keyed by
 //! (seed, stage, sample index, purpose); the per-sample work runs in parallel
 //! with rayon but each sample owns its stream and all reductions are done
@@ -161,44 +165,132 @@ pub fn tmcmc_controlled(
     config: &TmcmcConfig,
     control: &Control,
 ) -> Result<TmcmcResult, BayesError> {
+    tmcmc_from(posterior, config, control, None)
+}
+
+/// ln L_ref(θ) of a [`Start`].
+pub type Reference<'a> = &'a (dyn Fn(&[f64]) -> f64 + Sync);
+
+/// Where [`tmcmc_from`] starts instead of the prior: a population drawn from
+/// q₀(θ) = π(θ)·L_ref(θ)/Z_ref, the posterior of the same prior under a
+/// reference likelihood L_ref whose evidence Z_ref is known (e.g. a
+/// sub-model's posterior draws, with prior draws of the parameters this
+/// posterior adds, when the sub-model's likelihood is L_ref read on the
+/// shared parameters and the two priors agree on them).
+///
+/// The tempering then runs on the path π_p(θ) ∝ π(θ)·L_ref(θ)^(1−p)·L(θ)^p
+/// from p = 0 (q₀) to p = 1 (the posterior), and every step of the module
+/// doc holds with L replaced by L/L_ref: the plausibility weights are
+/// (L/L_ref)^Δp, the Metropolis moves target π_p, and
+/// ln Z = ln Z_ref + Σ_j S_j (the product of the stages' ratios
+/// Z_{p_{j+1}}/Z_{p_j}, telescoping from Z_0 = Z_ref). Where L_ref is close
+/// to L (a cause that the data barely need), two to five stages reach p = 1,
+/// against 12–16 from the prior on the diagnoses measured
+/// (`benches/README.md`); each move then costs one
+/// evaluation of L_ref besides L's (none in the last stage, where its power
+/// is 0).
+pub struct Start<'a> {
+    /// The population, `n_samples` vectors drawn from q₀.
+    pub samples: Vec<Vec<f64>>,
+    /// ln L_ref(θ).
+    pub reference: Reference<'a>,
+    /// ln Z_ref and its standard error (added in quadrature to the run's).
+    pub log_evidence: f64,
+    pub log_evidence_se: f64,
+    /// The least ln L the start's best sample must reach to be taken
+    /// (e.g. the best ln L found elsewhere less a posterior draw's plausible
+    /// shortfall; −∞: no such check). The weights L/L_ref cannot see a peak
+    /// of L that no start sample comes near: their spread is small where the
+    /// whole start lies far from it.
+    pub least_best_log_likelihood: f64,
+}
+
+/// [`tmcmc_controlled`] from `start` ([`Start`]) instead of the prior when
+/// given and taken (its best sample reaches
+/// [`Start::least_best_log_likelihood`] and its weights at Δp = 1 hold
+/// [`START_MIN_ESS_FRACTION`]); `None`, or a start not taken, is
+/// [`tmcmc_controlled`], bit for bit (the start's solves spent besides). A start population
+/// of another size or dimension, or with a sample outside the prior's
+/// support, is [`BayesError::BadPriorSample`] (a bug of the caller).
+pub fn tmcmc_from(
+    posterior: &dyn Posterior,
+    config: &TmcmcConfig,
+    control: &Control,
+    start: Option<&Start>,
+) -> Result<TmcmcResult, BayesError> {
     config.validate()?;
     let n = config.n_samples;
     let d = posterior.dim();
     let seed = config.seed;
 
-    // Stage 0: prior samples.
-    let mut samples: Vec<Vec<f64>> = (0..n)
-        .into_par_iter()
-        .map(|i| {
-            let mut rng = stream(seed, Purpose::TmcmcPrior, [0, i as u64]);
-            posterior.sample_prior(&mut rng as &mut dyn RngCore)
-        })
-        .collect();
-    if let Some((index, s)) = samples.iter().enumerate().find(|(_, s)| s.len() != d) {
+    // Stage 0: prior samples, or the start's.
+    let likelihoods = |samples: &[Vec<f64>], f: &(dyn Fn(&[f64]) -> f64 + Sync)| -> Result<Vec<f64>, BayesError> {
+        let l = samples
+            .par_iter()
+            .map(|th| if control.is_cancelled() { f64::NEG_INFINITY } else { finite_or_neg_inf(f(th)) })
+            .collect();
+        control.check()?;
+        Ok(l)
+    };
+    let prior_samples = || -> Vec<Vec<f64>> {
+        (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let mut rng = stream(seed, Purpose::TmcmcPrior, [0, i as u64]);
+                posterior.sample_prior(&mut rng as &mut dyn RngCore)
+            })
+            .collect()
+    };
+    let log_likelihood = |th: &[f64]| posterior.log_likelihood(th);
+    let mut start = start;
+    let mut from_start = None;
+    if let Some(st) = start {
+        if st.samples.len() != n {
+            return Err(BayesError::BadPriorSample { index: st.samples.len(), got: d, expected: d });
+        }
+        // checked before any likelihood is spent on them
+        if let Some(index) = st.samples.iter().position(|th| th.len() != d || !posterior.log_prior(th).is_finite()) {
+            return Err(BayesError::BadPriorSample { index, got: st.samples[index].len(), expected: d });
+        }
+        let loglik = likelihoods(&st.samples, &log_likelihood)?;
+        let logref = likelihoods(&st.samples, st.reference)?;
+        let ratio: Vec<f64> =
+            loglik.iter().zip(&logref).map(|(&l, &r)| if r.is_finite() { l - r } else { f64::NEG_INFINITY }).collect();
+        let best = loglik.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if best >= st.least_best_log_likelihood && start_is_close(&ratio) {
+            from_start = Some((st.samples.clone(), loglik, logref));
+        } else {
+            start = None;
+        }
+    }
+    let prior = prior_samples();
+    if let Some((index, s)) = prior.iter().enumerate().find(|(_, s)| s.len() != d) {
         return Err(BayesError::BadPriorSample { index, got: s.len(), expected: d });
     }
-    let mut loglik: Vec<f64> =
-        samples
-            .par_iter()
-            .map(|th| {
-                if control.is_cancelled() {
-                    f64::NEG_INFINITY
-                } else {
-                    finite_or_neg_inf(posterior.log_likelihood(th))
-                }
-            })
-            .collect();
-    control.check()?;
+    let prior_sd = weighted_mean_cov(&prior, &vec![1.0 / n as f64; n]).1;
+    // ln L_ref of each sample: 0 from the prior (L_ref ≡ 1, Z_ref = 1)
+    let (mut samples, mut loglik, mut logref) = match from_start {
+        Some(s) => s,
+        None => {
+            let loglik = likelihoods(&prior, &log_likelihood)?;
+            (prior, loglik, vec![0.0; n])
+        }
+    };
     let mut logprior: Vec<f64> = samples.par_iter().map(|th| posterior.log_prior(th)).collect();
-    let prior_sd = weighted_mean_cov(&samples, &vec![1.0 / n as f64; n]).1;
 
     let mut p = 0.0;
     let mut stages = vec![0.0];
     let mut increments = Vec::new();
     let mut acceptance = Vec::new();
     let mut betas = Vec::new();
-    let mut se2 = 0.0;
+    let mut se2 = start.map_or(0.0, |st| st.log_evidence_se * st.log_evidence_se);
     let mut beta = config.beta;
+    // ln(L/L_ref) of each sample, the plausibility's exponent (ln L from the prior)
+    let excess = |loglik: &[f64], logref: &[f64]| -> Vec<f64> {
+        // (a sample with L_ref = 0 cannot come from q₀: it takes no weight)
+        let ratio = |l: f64, r: f64| if r.is_finite() { l - r } else { f64::NEG_INFINITY };
+        loglik.iter().zip(logref).map(|(&l, &r)| if start.is_some() { ratio(l, r) } else { l }).collect()
+    };
 
     let mut steps = config.mh_steps;
     let mut stage = 0usize;
@@ -208,15 +300,17 @@ pub fn tmcmc_controlled(
         }
         stage += 1;
         control.check()?;
-        let l_max = loglik.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let ex = excess(&loglik, &logref);
+        let l_max = ex.iter().copied().filter(|x| !x.is_nan()).fold(f64::NEG_INFINITY, f64::max);
         if !l_max.is_finite() {
             return Err(BayesError::NoFiniteLikelihood { stage });
         }
+        let ex: Vec<f64> = ex.into_iter().map(finite_or_neg_inf).collect();
         // Next exponent.
-        let dp = next_increment(&loglik, l_max, 1.0 - p, config.target_cov);
+        let dp = next_increment(&ex, l_max, 1.0 - p, config.target_cov);
         let p_next = if dp >= 1.0 - p { 1.0 } else { p + dp };
         let dp = p_next - p;
-        let w: Vec<f64> = loglik.iter().map(|&l| (dp * (l - l_max)).exp()).collect();
+        let w: Vec<f64> = ex.iter().map(|&l| (dp * (l - l_max)).exp()).collect();
         let sum_w: f64 = w.iter().sum();
         let mean_w = sum_w / n as f64;
         increments.push(dp * l_max + mean_w.ln());
@@ -228,19 +322,23 @@ pub fn tmcmc_controlled(
         let chol = proposal_factor(&samples, &wbar, &prior_sd);
 
         let idx = resample(seed, stage, &wbar);
-        let population = Population { samples: &samples, logprior: &logprior, loglik: &loglik };
-        let walk = Walk { chol: &chol, beta, p: p_next, steps, seed, stage };
+        let population = Population { samples: &samples, logprior: &logprior, loglik: &loglik, logref: &logref };
+        // the reference's power 1 − p is 0 in the last stage: its moves need no L_ref
+        let reference = start.filter(|_| p_next < 1.0).map(|st| st.reference);
+        let walk = Walk { chol: &chol, beta, p: p_next, steps, seed, stage, reference };
         let moved = mh_moves(posterior, &population, &idx, &walk, control);
         control.check()?;
-        let accepted: usize = moved.iter().map(|m| m.3).sum();
+        let accepted: usize = moved.iter().map(|m| m.4).sum();
         let rate = accepted as f64 / (n * steps) as f64;
         samples = Vec::with_capacity(n);
         logprior = Vec::with_capacity(n);
         loglik = Vec::with_capacity(n);
-        for (th, lp, ll, _) in moved {
+        logref = Vec::with_capacity(n);
+        for (th, lp, ll, lr, _) in moved {
             samples.push(th);
             logprior.push(lp);
             loglik.push(ll);
+            logref.push(lr);
         }
         acceptance.push(rate);
         betas.push(beta);
@@ -260,7 +358,7 @@ pub fn tmcmc_controlled(
     }
 
     Ok(TmcmcResult {
-        log_evidence: increments.iter().sum(),
+        log_evidence: start.map_or(0.0, |st| st.log_evidence) + increments.iter().sum::<f64>(),
         log_evidence_se: se2.sqrt(),
         samples,
         log_likelihoods: loglik,
@@ -269,6 +367,34 @@ pub fn tmcmc_controlled(
         acceptance,
         beta: betas,
     })
+}
+
+/// The least Kish effective sample size, as a fraction of the samples, of
+/// the plausibility weights L/L_ref of a [`Start`] population at the full
+/// step Δp = 1 for the start to be taken: 0.02 (else [`tmcmc_from`] runs from
+/// the prior). Why: the stage rule's CoV = 1 is an ESS of half the samples,
+/// and a start whose weights at Δp = 1 lie further apart bridges two distant
+/// posteriors geometrically, in more stages than the prior needs, each move
+/// at two solves. Measured on hidden case 201 (a clean record, every
+/// pair computed; `benches/README.md`): with no floor, a shear pair (shear
+/// misfits there: its start's ESS fraction 0.0025) took 75 stages and 900
+/// thousand solves against 73 thousand from the prior; the pairs' fractions
+/// were 0.003–0.27, and the starts taken at 0.1, 0.02 and 0.005 took 2–3,
+/// 2–5 and 2–10 stages, against 12–16 from the prior, for 1.85, 1.81 and
+/// 1.85 million solves in all (2.02 from the prior).
+pub const START_MIN_ESS_FRACTION: f64 = 0.02;
+
+/// Whether a start whose samples have ln(L/L_ref) `ratio` is taken
+/// ([`START_MIN_ESS_FRACTION`]).
+fn start_is_close(ratio: &[f64]) -> bool {
+    let max = ratio.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !max.is_finite() {
+        return false;
+    }
+    let w: Vec<f64> = ratio.iter().map(|r| (r - max).exp()).collect();
+    let (sum, sum2) = w.iter().fold((0.0, 0.0), |(a, b), x| (a + x, b + x * x));
+    let ess = sum * sum / sum2;
+    ess >= START_MIN_ESS_FRACTION * ratio.len() as f64
 }
 
 /// Coefficient of variation (population std / mean) of w_i = exp(dp(ℓ_i − ℓ_max)).
@@ -327,15 +453,18 @@ fn resample(seed: u64, stage: usize, wbar: &[f64]) -> Vec<usize> {
         .collect()
 }
 
-/// The current population: samples with their log prior and log likelihood.
+/// The current population: samples with their log prior, log likelihood
+/// and log reference likelihood ([`Start`]; 0 from the prior).
 struct Population<'a> {
     samples: &'a [Vec<f64>],
     logprior: &'a [f64],
     loglik: &'a [f64],
+    logref: &'a [f64],
 }
 
 /// One stage's random walk: proposal θ + β·L·z with L the Cholesky factor of
-/// the weighted covariance, target π(θ)·L(θ)^p, `steps` moves per sample.
+/// the weighted covariance, target π(θ)·L(θ)^p (times L_ref(θ)^(1−p) with a
+/// `reference`), `steps` moves per sample.
 struct Walk<'a> {
     chol: &'a [Vec<f64>],
     beta: f64,
@@ -343,29 +472,30 @@ struct Walk<'a> {
     steps: usize,
     seed: u64,
     stage: usize,
+    reference: Option<Reference<'a>>,
 }
 
 /// Metropolis moves of every resampled parent `idx[i]`, in parallel, one
-/// stream per sample: (θ, log prior, log likelihood, accepted moves). A
-/// sample that finds `control` cancelled is not moved (the caller discards
-/// the stage).
+/// stream per sample: (θ, log prior, log likelihood, log reference
+/// likelihood, accepted moves). A sample that finds `control` cancelled is
+/// not moved (the caller discards the stage).
 fn mh_moves(
     posterior: &dyn Posterior,
     pop: &Population,
     idx: &[usize],
     w: &Walk,
     control: &Control,
-) -> Vec<(Vec<f64>, f64, f64, usize)> {
+) -> Vec<(Vec<f64>, f64, f64, f64, usize)> {
     let d = posterior.dim();
     idx.par_iter()
         .enumerate()
         .map(|(i, &k)| {
             let mut rng = stream(w.seed, Purpose::TmcmcMove, [w.stage as u64, i as u64]);
             let mut th = pop.samples[k].clone();
-            let (mut lp, mut ll) = (pop.logprior[k], pop.loglik[k]);
+            let (mut lp, mut ll, mut lr) = (pop.logprior[k], pop.loglik[k], pop.logref[k]);
             let mut acc = 0usize;
             if control.is_cancelled() {
-                return (th, lp, ll, acc);
+                return (th, lp, ll, lr, acc);
             }
             let mut z = vec![0.0; d];
             for _ in 0..w.steps {
@@ -383,15 +513,26 @@ fn mh_moves(
                 if ll_new == f64::NEG_INFINITY {
                     continue;
                 }
-                let log_alpha = lp_new + w.p * ll_new - lp - w.p * ll;
+                let (log_alpha, lr_new) = match w.reference {
+                    None => (lp_new + w.p * ll_new - lp - w.p * ll, lr),
+                    Some(reference) => {
+                        let lr_new = finite_or_neg_inf(reference(&prop));
+                        if lr_new == f64::NEG_INFINITY {
+                            continue;
+                        }
+                        let q = 1.0 - w.p;
+                        (lp_new + q * lr_new + w.p * ll_new - lp - q * lr - w.p * ll, lr_new)
+                    }
+                };
                 if u.ln() < log_alpha {
                     th = prop;
                     lp = lp_new;
                     ll = ll_new;
+                    lr = lr_new;
                     acc += 1;
                 }
             }
-            (th, lp, ll, acc)
+            (th, lp, ll, lr, acc)
         })
         .collect()
 }

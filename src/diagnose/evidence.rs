@@ -7,7 +7,9 @@
 //! in `search`, the bar a flagged model must reach to be replicated.
 
 use crate::bayes::evidence::{self, AtOptimum, Evidence, EvidenceSettings, SubModelMap};
+use crate::bayes::posterior::Counted;
 use crate::bayes::rng::{stream, Purpose};
+use crate::bayes::tmcmc::Start;
 use crate::bayes::{BayesError, Posterior};
 use crate::calibration::{ParameterSet, Target};
 
@@ -74,12 +76,91 @@ pub fn run_model(
     seed: u64,
     sub_models: &[&ModelRun],
 ) -> Result<ModelRun, BayesError> {
+    run_model_from(model, posterior, s, seed, sub_models, None)
+}
+
+/// [`run_model`] whose TMCMC run starts from the posterior of `start`'s
+/// sub-model, one whose prior this model's agrees with on their shared
+/// parameters (the caller's rule, `search`), instead of the prior, when its
+/// best sample comes within [`evidence::missed_peak_nats`] of `start`'s ln L
+/// (the best log-likelihood of this model found elsewhere: its screening
+/// search's)
+/// ([`crate::bayes::tmcmc::tmcmc_from`]): the population pairs `start`'s posterior draws (cycled)
+/// for the shared parameters, by name, with prior draws (stream `(seed,
+/// NestedStart, [0, 0])`) for the ones this model adds, which is a draw of
+/// q₀ ∝ π·L_start when the prior factorises so; the tempering runs from
+/// L_start to this model's likelihood, each move evaluating both (counted in
+/// the forward solves). A population the prior refuses (no such agreement)
+/// falls back to [`run_model`].
+///
+/// Why: from the prior TMCMC spends seven or more stages of 400 samples ×
+/// up to 15 moves (40–70 thousand solves) rediscovering the sub-model's
+/// posterior, which the search has already sampled; where the added cause
+/// changes little, one or two stages from it reach this posterior. What the
+/// start cannot see is a mode of this posterior that the sub-model's
+/// posterior and the added parameters' prior both miss; the global and
+/// nested MAP searches of a posterior multimodal by construction, the
+/// importance evidence at the MAP and the missed-peak flag
+/// (`bayes::evidence`) are kept as they were for that.
+pub fn run_model_from(
+    model: Model,
+    posterior: ClassPosterior,
+    s: &DiagnoseSettings,
+    seed: u64,
+    sub_models: &[&ModelRun],
+    start: Option<(&ModelRun, f64)>,
+) -> Result<ModelRun, BayesError> {
     let names: Vec<Vec<String>> = sub_models.iter().map(|r| r.posterior.names()).collect();
     let subs: Vec<SubModelMap<'_>> =
         sub_models.iter().zip(&names).map(|(r, names)| SubModelMap { names, map: &r.map }).collect();
     let multimodal = multimodal_by_construction(posterior.inner().parameters());
-    let e = evidence::estimate(&posterior, &evidence_settings(s), seed, multimodal, &subs, &s.control)?;
-    Ok(ModelRun::new(model, posterior, e))
+    let settings = evidence_settings(s);
+    let Some((sub, peak)) = start.filter(|(r, _)| !r.draws.is_empty()) else {
+        let e = evidence::estimate(&posterior, &settings, seed, multimodal, &subs, &s.control)?;
+        return Ok(ModelRun::new(model, posterior, e));
+    };
+    let own = posterior.names();
+    let sub_names = sub.posterior.names();
+    // where each of the sub-model's parameters sits in this model's
+    let Some(at): Option<Vec<usize>> = sub_names.iter().map(|n| own.iter().position(|m| m == n)).collect() else {
+        let e = evidence::estimate(&posterior, &settings, seed, multimodal, &subs, &s.control)?;
+        return Ok(ModelRun::new(model, posterior, e));
+    };
+    let mut rng = stream(seed, Purpose::NestedStart, [0, 0]);
+    let samples: Vec<Vec<f64>> = (0..s.samples)
+        .map(|j| {
+            let mut theta = posterior.sample_prior(&mut rng);
+            let draw = &sub.draws[j % sub.draws.len()];
+            for (k, &i) in at.iter().enumerate() {
+                theta[i] = draw[k];
+            }
+            theta
+        })
+        .collect();
+    let counted = Counted::new(&sub.posterior);
+    let reference = |theta: &[f64]| {
+        let a: Vec<f64> = at.iter().map(|&i| theta[i]).collect();
+        counted.log_likelihood(&a)
+    };
+    let start = Start {
+        samples,
+        reference: &reference,
+        log_evidence: sub.log_evidence,
+        log_evidence_se: sub.log_evidence_se,
+        least_best_log_likelihood: peak - evidence::missed_peak_nats(own.len(), s.samples),
+    };
+    match evidence::estimate_from(&posterior, &settings, seed, multimodal, &subs, Some(&start), &s.control) {
+        Ok(mut e) => {
+            e.forward_evaluations += counted.count();
+            Ok(ModelRun::new(model, posterior, e))
+        }
+        Err(BayesError::BadPriorSample { .. }) => {
+            let mut e = evidence::estimate(&posterior, &settings, seed, multimodal, &subs, &s.control)?;
+            e.forward_evaluations += counted.count();
+            Ok(ModelRun::new(model, posterior, e))
+        }
+        Err(other) => Err(other),
+    }
 }
 
 /// How far below the best of a model's sub-models another sub-model's

@@ -11,10 +11,11 @@ use rayon::prelude::*;
 use crate::bayes::rng::{child_seed, Purpose};
 use crate::bayes::{BayesError, Posterior};
 use crate::beam::Support;
-use crate::calibration::{MeasuredData, ParameterSet};
+use crate::calibration::{MeasuredData, ParameterSet, Target};
 
 use super::classes::{model_posterior, ClassPosterior, Model, ModelClass, NominalScales};
 use super::evidence::{self, ModelRun};
+use super::mirror;
 use super::ppc;
 use super::predictive::predictive;
 use super::screen;
@@ -137,12 +138,15 @@ impl Problem<'_> {
                 let posterior = self.posterior(&m);
                 let mut spent = 0;
                 let mut settings = self.settings.clone();
+                // the best ln L of the screening search: where a start from a sub-model must reach
+                let mut peak = f64::NEG_INFINITY;
                 if !m.causes().is_empty() && !subs.is_empty() {
                     let bound = bound.unwrap_or_else(|| {
                         let seed = child_seed(self.seed, Purpose::ModelClass, [model_key(&m), 1]);
                         screen::likelihood_max(m.clone(), &posterior, &subs, self.settings, seed)
                     });
                     spent += bound.forward_evaluations;
+                    peak = bound.log_likelihood_max_found;
                     if hopeless {
                         settings.samples =
                             (settings.samples / screen::HOPELESS_SAMPLE_DIVISOR).max(DiagnoseSettings::MIN_SAMPLES);
@@ -167,7 +171,8 @@ impl Problem<'_> {
                         }
                     }
                 }
-                let run = evidence::run_model(m.clone(), posterior, &settings, seed, &subs);
+                let start = self.start_sub(&m, &subs).filter(|_| peak.is_finite()).map(|r| (r, peak));
+                let run = evidence::run_model_from(m.clone(), posterior, &settings, seed, &subs, start);
                 control.advance(1);
                 match run {
                     // a candidate no prior draw can explain; the base and the
@@ -213,6 +218,50 @@ impl Problem<'_> {
 }
 
 impl Problem<'_> {
+    /// The sub-model whose posterior starts `m`'s TMCMC run
+    /// ([`evidence::run_model_from`]): of `subs` (one cause fewer), the one of
+    /// highest evidence whose prior `m`'s extends, so that `m`'s prior is the
+    /// sub-model's on the shared parameters times a prior of the added ones
+    /// alone, and a sub-model posterior draw with a prior draw of the added
+    /// parameters is a draw of q₀ ∝ π·L_sub (`bayes::tmcmc::Start`):
+    /// - every parameter of the sub-model is one of `m`'s, by name, with the
+    ///   same prior and sampling coordinate;
+    /// - no constraint couples a shared parameter with an added one: the
+    ///   relaxations' distinctness (`classes::DISTINCT_RELAXATIONS`, on every Ω
+    ///   of a posterior of two or more) needs the sub-model to hold all of
+    ///   `m`'s relaxations or none, when `m` has two or more; the folded end
+    ///   springs (`mirror::folds_end_springs`, an order between the two) need
+    ///   the sub-model to fold them as `m` does when it has them.
+    ///
+    /// `None` (TMCMC from the prior) when no sub-model qualifies.
+    fn start_sub<'r>(&self, m: &Model, subs: &[&'r ModelRun]) -> Option<&'r ModelRun> {
+        let d = self.data;
+        let own = self.posterior(m);
+        let own_params = &own.inner().parameters().params;
+        let own_coords = own.coordinates();
+        let omegas =
+            |p: &[crate::calibration::Parameter]| p.iter().filter(|q| matches!(q.target, Target::Omega(_))).count();
+        let springs = |c: &Model| c.causes().contains(&ModelClass::SupportRotationalStiffness);
+        let folds = |c: &Model| mirror::folds_end_springs(c, &d.beam, &d.mode_scans);
+        subs.iter()
+            .copied()
+            .filter(|sub| {
+                let params = &sub.posterior.inner().parameters().params;
+                let coords = sub.posterior.coordinates();
+                let shared = params.iter().zip(coords).all(|(q, c)| {
+                    own_params
+                        .iter()
+                        .zip(own_coords)
+                        .any(|(o, oc)| o.name == q.name && o.prior == q.prior && o.target == q.target && oc == c)
+                });
+                let (mine, theirs) = (omegas(own_params), omegas(params));
+                let relaxations = mine < 2 || theirs == mine || theirs == 0;
+                let ends = !springs(&sub.model) || folds(&sub.model) == folds(m);
+                shared && relaxations && ends
+            })
+            .max_by(|a, b| a.log_evidence.total_cmp(&b.log_evidence))
+    }
+
     /// The evidence bounds of `models` (`screen`), each searched from its
     /// sub-models' MAPs among `done`, in parallel and in their order.
     fn bounds(&self, models: &[Model], done: &[ModelRun]) -> Result<Vec<screen::Bound>, DiagnoseError> {
