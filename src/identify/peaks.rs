@@ -46,26 +46,6 @@
 //! A local maximum with a higher sample inside its own half-power band is a
 //! bump on the flank of a larger resonance, not a peak.
 //!
-//! A periodogram's line many bins wide can fit no scale on its raw bins:
-//! its largest bin overshoots the line's top (by ≈ s·√(2 ln m) of it over m
-//! bins), which puts the half-power level near the top, and the bins there,
-//! each its level times Gamma(ν, 1/ν), fall below that level often enough
-//! to break the run of samples above it after a few bins. Issue 69, defect
-//! 11: a PSD sweep (ν = 10, s = 0.31) of a simply supported tube, whose
-//! mode 1 (ζ = 0.064) spans 48 samples at half power, read a run of 3 at
-//! the ±160 scale (too few for it) and stood 2.2 sd at ±40 (the baseline
-//! inside the line); neither the diagram nor the peaks then started mode
-//! 1, and the refinement moved mode 4's start there. So a PSD is read a
-//! second time on the mean of the 2·[`PEAK_HALF_WIDTH`] + 1 bins around
-//! each bin (relative sd s/√5), its local maxima declared as above (the
-//! baseline still the raw bins' medians, the statistic the mean's height
-//! over the raw s: for the same excess a stricter test than the raw bins'),
-//! except where a raw bin declared the line already. Mode 1 of that sweep:
-//! 34 samples at the ±160 scale, 18.8 sd. On a white stretch the mean
-//! stands t raw sd above its level (t ≥ [`MIN_THRESHOLD`]) only as a
-//! ≥ t·√5 ≈ 8.9-sd excursion of the mean, so the second reading adds no
-//! false alarm that matters to [`FALSE_ALARM`].
-//!
 //! # Initial pole
 //! ω_d is the peak's abscissa, σ the half-width at half power of the excess
 //! y − b (|H|: the excess falls to 1/√2; PSD: to 1/2), its crossings
@@ -192,16 +172,18 @@ pub fn detect(x: &[f64], y: &[Complex64], series: Series) -> Vec<Peak> {
         let m = v.len();
         (median(&mut v) * 1.4826 / 1.5f64.sqrt(), m)
     };
-    // the peak at `i` read on `shape` (the raw level, or a PSD's mean over
-    // ±PEAK_HALF_WIDTH bins), at the scale whose window fits the resonance
-    // (see the module doc); the baseline is always the raw level's
-    let evaluate = |shape: &[f64], i: usize| -> Option<Peak> {
-        let yi = shape[i];
+    let mut peaks = Vec::new();
+    for i in PEAK_HALF_WIDTH..n - PEAK_HALF_WIDTH {
+        let yi = level[i];
+        if !(i - PEAK_HALF_WIDTH..=i + PEAK_HALF_WIDTH).all(|j| j == i || level[j] < yi) {
+            continue;
+        }
         let (s, m) = noise(i);
         if !(s > 0.0) {
-            return None;
+            continue;
         }
         let t = threshold(series, n, s) * estimate_inflation(threshold(series, n, s), m);
+        // the scale whose window fits the resonance (see the module doc)
         let mut chosen = None;
         for k in 0..SCALES {
             let w = BASE_WINDOW * 4usize.pow(k);
@@ -217,48 +199,25 @@ pub fn detect(x: &[f64], y: &[Complex64], series: Series) -> Vec<Peak> {
                 continue;
             }
             let tolerance = HALF_POWER_TOLERANCE * s * if series == Series::Psd { base.max(0.0) } else { 1.0 };
-            let Some(band) = half_power_band(x, shape, i, base, series, tolerance) else { continue };
+            let Some(band) = half_power_band(x, &level, i, base, series, tolerance) else { continue };
             let fits = band.count <= w / 2 && (k == 0 || band.count > w / 8);
             if fits {
                 chosen = Some((stat, band));
                 break;
             }
         }
-        let (stat, band) = chosen?;
-        (stat >= t).then(|| Peak {
+        let Some((stat, band)) = chosen else { continue };
+        if stat < t {
+            continue;
+        }
+        peaks.push(Peak {
             index: i,
             pole: Complex64::new(-band.sigma, x[i]),
             statistic: stat,
             samples_above_half: band.count,
             samples_near_half: band.near,
             threshold: t,
-        })
-    };
-    let local_max =
-        |shape: &[f64], i: usize| (i - PEAK_HALF_WIDTH..=i + PEAK_HALF_WIDTH).all(|j| j == i || shape[j] < shape[i]);
-    let mut peaks: Vec<Peak> = (PEAK_HALF_WIDTH..n - PEAK_HALF_WIDTH)
-        .filter(|&i| local_max(&level, i))
-        .filter_map(|i| evaluate(&level, i))
-        .collect();
-    if series == Series::Psd {
-        // a periodogram's line that no raw bin declares, read on the mean
-        // over ±PEAK_HALF_WIDTH bins (see the module doc, issue 69, defect
-        // 11); a line a raw bin declared (within the merge distance of
-        // `identify`, max(1 %, 2σ)) is not declared twice
-        let mean: Vec<f64> = (0..n)
-            .map(|j| {
-                let w = &level[j.saturating_sub(PEAK_HALF_WIDTH)..(j + PEAK_HALF_WIDTH + 1).min(n)];
-                w.iter().sum::<f64>() / w.len() as f64
-            })
-            .collect();
-        let raw: Vec<f64> = peaks.iter().map(|p| p.pole.im).collect();
-        peaks.extend(
-            (PEAK_HALF_WIDTH..n - PEAK_HALF_WIDTH)
-                .filter(|&i| local_max(&mean, i))
-                .filter_map(|i| evaluate(&mean, i))
-                .filter(|p| raw.iter().all(|&w| (w - p.pole.im).abs() > (0.01 * p.pole.im).max(-2.0 * p.pole.re))),
-        );
-        peaks.sort_by_key(|p| p.index);
+        });
     }
     peaks
 }
