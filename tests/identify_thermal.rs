@@ -278,17 +278,7 @@ fn the_cc7_column_near_a_clamp_hands_on_its_flexural_band() {
 #[test]
 #[ignore = "about 15 s: run with --ignored"]
 fn identify_on_the_cc7_column_near_a_clamp_numbers_its_six_lines() {
-    let path = std::env::temp_dir().join(format!("nanobeam-cc7-slice3-{}.csv", std::process::id()));
-    std::fs::write(&path, cc7_column("thermal_slice3_y_m")).unwrap();
-    let root = env!("CARGO_MANIFEST_DIR");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_nanobeam"))
-        .args(["identify", "--beam", &format!("{root}/data/md/tube-cc7.yaml")])
-        .arg(&path)
-        .output()
-        .unwrap();
-    std::fs::remove_file(&path).unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let yaml: serde_yaml::Value = serde_yaml::from_slice(&out.stdout).unwrap();
+    let yaml = identify_on_cc7_beam("cc7-slice3", &cc7_column("thermal_slice3_y_m"));
     let modes = yaml["modes"].as_sequence().unwrap();
     let peaks_ghz = [305.0, 751.0, 1318.0, 1953.0, 2612.0, 3308.0];
     assert_eq!(modes.len(), peaks_ghz.len(), "{modes:?}");
@@ -628,17 +618,7 @@ fn a_longer_record_of_the_same_lines_gets_the_segment_its_lines_ask_for() {
 #[ignore = "about 50 s: run with --ignored"]
 fn identify_on_a_2_ns_record_of_cc7_lines_finds_the_six_modes() {
     const CC7_GHZ: [f64; 6] = [305.0, 751.0, 1318.0, 1953.0, 2612.0, 3308.0];
-    let path = std::env::temp_dir().join(format!("nanobeam-long-record-{}.csv", std::process::id()));
-    std::fs::write(&path, csv(&langevin_tube_of(&CC7_GHZ, 100_000, 1))).unwrap();
-    let root = env!("CARGO_MANIFEST_DIR");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_nanobeam"))
-        .args(["identify", "--beam", &format!("{root}/data/md/tube-cc7.yaml")])
-        .arg(&path)
-        .output()
-        .unwrap();
-    std::fs::remove_file(&path).unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let yaml: serde_yaml::Value = serde_yaml::from_slice(&out.stdout).unwrap();
+    let yaml = identify_on_cc7_beam("long-record", &csv(&langevin_tube_of(&CC7_GHZ, 100_000, 1)));
     let modes = yaml["modes"].as_sequence().unwrap();
     assert_eq!(modes.len(), 6, "{modes:?}");
     let gamma = 1.0 / 5e-12;
@@ -650,4 +630,20 @@ fn identify_on_a_2_ns_record_of_cc7_lines_finds_the_six_modes() {
         let dz = (get("zeta") - gamma / (2.0 * w)) / get("zeta_sd");
         assert!(dw.abs() < 4.0 && dz.abs() < 4.0, "mode {}: omega {dw:.2} sd, zeta {dz:.2} sd off", k + 1);
     }
+}
+
+/// `nanobeam identify --beam data/md/tube-cc7.yaml` on the record `text`
+/// (written to a temporary file named by `tag`): its YAML report; the run must succeed.
+fn identify_on_cc7_beam(tag: &str, text: &str) -> serde_yaml::Value {
+    let path = std::env::temp_dir().join(format!("nanobeam-{tag}-{}.csv", std::process::id()));
+    std::fs::write(&path, text).unwrap();
+    let root = env!("CARGO_MANIFEST_DIR");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_nanobeam"))
+        .args(["identify", "--beam", &format!("{root}/data/md/tube-cc7.yaml")])
+        .arg(&path)
+        .output()
+        .unwrap();
+    std::fs::remove_file(&path).unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    serde_yaml::from_slice(&out.stdout).unwrap()
 }
