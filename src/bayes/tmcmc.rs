@@ -224,7 +224,7 @@ pub fn tmcmc_from(
     let seed = config.seed;
 
     // Stage 0: prior samples, or the start's.
-    let likelihoods = |samples: &[Vec<f64>], f: &(dyn Fn(&[f64]) -> f64 + Sync)| -> Result<Vec<f64>, BayesError> {
+    let likelihoods = |samples: &[Vec<f64>], f: Reference| -> Result<Vec<f64>, BayesError> {
         let l = samples
             .par_iter()
             .map(|th| if control.is_cancelled() { f64::NEG_INFINITY } else { finite_or_neg_inf(f(th)) })
@@ -254,8 +254,7 @@ pub fn tmcmc_from(
         }
         let loglik = likelihoods(&st.samples, &log_likelihood)?;
         let logref = likelihoods(&st.samples, st.reference)?;
-        let ratio: Vec<f64> =
-            loglik.iter().zip(&logref).map(|(&l, &r)| if r.is_finite() { l - r } else { f64::NEG_INFINITY }).collect();
+        let ratio: Vec<f64> = loglik.iter().zip(&logref).map(|(&l, &r)| log_ratio(l, r)).collect();
         let best = loglik.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         if best >= st.least_best_log_likelihood && start_is_close(&ratio) {
             from_start = Some((st.samples.clone(), loglik, logref));
@@ -287,9 +286,7 @@ pub fn tmcmc_from(
     let mut beta = config.beta;
     // ln(L/L_ref) of each sample, the plausibility's exponent (ln L from the prior)
     let excess = |loglik: &[f64], logref: &[f64]| -> Vec<f64> {
-        // (a sample with L_ref = 0 cannot come from q₀: it takes no weight)
-        let ratio = |l: f64, r: f64| if r.is_finite() { l - r } else { f64::NEG_INFINITY };
-        loglik.iter().zip(logref).map(|(&l, &r)| if start.is_some() { ratio(l, r) } else { l }).collect()
+        loglik.iter().zip(logref).map(|(&l, &r)| if start.is_some() { log_ratio(l, r) } else { l }).collect()
     };
 
     let mut steps = config.mh_steps;
@@ -383,6 +380,16 @@ pub fn tmcmc_from(
 /// 2–5 and 2–10 stages, against 12–16 from the prior, for 1.85, 1.81 and
 /// 1.85 million solves in all (2.02 from the prior).
 pub const START_MIN_ESS_FRACTION: f64 = 0.02;
+
+/// ln(L/L_ref) of a sample with ln L = `l`, ln L_ref = `r`: −∞ where L_ref = 0
+/// (such a sample cannot come from q₀ and takes no weight).
+fn log_ratio(l: f64, r: f64) -> f64 {
+    if r.is_finite() {
+        l - r
+    } else {
+        f64::NEG_INFINITY
+    }
+}
 
 /// Whether a start whose samples have ln(L/L_ref) `ratio` is taken
 /// ([`START_MIN_ESS_FRACTION`]).

@@ -93,10 +93,11 @@ pub fn run_model(
 /// the forward solves). A population the prior refuses (no such agreement)
 /// falls back to [`run_model`].
 ///
-/// Why: from the prior TMCMC spends seven or more stages of 400 samples ×
-/// up to 15 moves (40–70 thousand solves) rediscovering the sub-model's
-/// posterior, which the search has already sampled; where the added cause
-/// changes little, one or two stages from it reach this posterior. What the
+/// Why: from the prior TMCMC spends 12–16 stages of 400 samples × up to 15
+/// moves (40–70 thousand solves) rediscovering the sub-model's posterior,
+/// which the search has already sampled; where the added cause changes
+/// little, two to five stages from it reach this posterior
+/// (`benches/README.md`). What the
 /// start cannot see is a mode of this posterior that the sub-model's
 /// posterior and the added parameters' prior both miss; the global and
 /// nested MAP searches of a posterior multimodal by construction, the

@@ -171,7 +171,7 @@ impl Problem<'_> {
                         }
                     }
                 }
-                let start = self.start_sub(&m, &subs).filter(|_| peak.is_finite()).map(|r| (r, peak));
+                let start = self.start_sub(&posterior, &m, &subs).filter(|_| peak.is_finite()).map(|r| (r, peak));
                 let run = evidence::run_model_from(m.clone(), posterior, &settings, seed, &subs, start);
                 control.advance(1);
                 match run {
@@ -218,8 +218,8 @@ impl Problem<'_> {
 }
 
 impl Problem<'_> {
-    /// The sub-model whose posterior starts `m`'s TMCMC run
-    /// ([`evidence::run_model_from`]): of `subs` (one cause fewer), the one of
+    /// The sub-model whose posterior starts the TMCMC run of `m` (posterior
+    /// `own`; [`evidence::run_model_from`]): of `subs` (one cause fewer), the one of
     /// highest evidence whose prior `m`'s extends, so that `m`'s prior is the
     /// sub-model's on the shared parameters times a prior of the added ones
     /// alone, and a sub-model posterior draw with a prior draw of the added
@@ -234,9 +234,8 @@ impl Problem<'_> {
     ///   the sub-model to fold them as `m` does when it has them.
     ///
     /// `None` (TMCMC from the prior) when no sub-model qualifies.
-    fn start_sub<'r>(&self, m: &Model, subs: &[&'r ModelRun]) -> Option<&'r ModelRun> {
+    fn start_sub<'r>(&self, own: &ClassPosterior, m: &Model, subs: &[&'r ModelRun]) -> Option<&'r ModelRun> {
         let d = self.data;
-        let own = self.posterior(m);
         let own_params = &own.inner().parameters().params;
         let own_coords = own.coordinates();
         let omegas =
