@@ -665,30 +665,52 @@ fn scaled_relaxations(beam: &BeamSpec, omega_ref: f64) -> ([(f64, f64); MAX_INTE
     (ivs, nv)
 }
 
+/// Reusable solvers per thread for [`modal`]: two, the most recently used
+/// first, each keeping the mesh of the last beam it solved and that mesh's
+/// caches. A tempered run started from a sub-model's posterior
+/// (`bayes::tmcmc::tmcmc_from`) evaluates two models at every move, the
+/// model's and its sub-model's, whose meshes differ when one has a strain
+/// gradient (the C² mesh) or shear deformation (the Timoshenko mesh) and the
+/// other has not: with one solver per thread every call rebuilt the mesh and
+/// its caches, the C² mesh's wavenumber blocks with their O(n_e²)
+/// invariance check included (the paper's Case-3 diagnosis: a relaxation +
+/// strain-gradient pair's moves at 150 µs a solve against 5.5 µs,
+/// `benches/README.md`).
+const THREAD_SOLVERS: usize = 2;
+
 thread_local! {
-    /// One reusable solver per thread for [`modal`]: its caches (mesh
-    /// integrals, pencil eigenpairs) change how fast a result comes, never its
-    /// bits, so sharing it across calls and chains of a thread keeps outputs
-    /// independent of the thread schedule.
-    static THREAD_SOLVER: std::cell::RefCell<ModalSolver> = std::cell::RefCell::new(ModalSolver::new());
+    /// The caches change how fast a result comes, never its bits, so sharing
+    /// the solvers across calls and chains of a thread keeps outputs
+    /// independent of the thread schedule and of which slot serves a call.
+    static THREAD_SOLVER: std::cell::RefCell<[ModalSolver; THREAD_SOLVERS]> =
+        std::cell::RefCell::new(std::array::from_fn(|_| ModalSolver::new()));
+}
+
+/// `f` on this thread's solver whose mesh is `beam`'s, else on its least
+/// recently used one (which rebuilds its mesh); the solver used moves to the
+/// front. A fresh solver when the thread's are busy (a re-entrant call).
+fn with_thread_solver<R>(beam: &BeamSpec, f: impl FnOnce(&mut ModalSolver) -> R) -> R {
+    THREAD_SOLVER.with(|s| match s.try_borrow_mut() {
+        Ok(mut slots) => {
+            let i = slots.iter().position(|m| m.mesh.as_ref().is_some_and(|mesh| mesh.matches(beam)));
+            let i = i.unwrap_or(THREAD_SOLVERS - 1);
+            slots[..=i].rotate_right(1);
+            f(&mut slots[0])
+        }
+        Err(_) => f(&mut ModalSolver::new()),
+    })
 }
 
 /// Modal parameters by the fastest exact path (see [`ModalSolver`]), through
-/// this thread's reusable solver (a fresh one if that is busy, e.g. on a
+/// this thread's reusable solvers (a fresh one if those are busy, e.g. on a
 /// re-entrant call).
 pub fn modal(beam: &BeamSpec, n_modes: usize) -> Result<ModalResult, BeamError> {
-    THREAD_SOLVER.with(|s| match s.try_borrow_mut() {
-        Ok(mut solver) => solver.modal(beam, n_modes),
-        Err(_) => ModalSolver::new().modal(beam, n_modes),
-    })
+    with_thread_solver(beam, |solver| solver.modal(beam, n_modes))
 }
 
-/// [`ModalSolver::observables`] through this thread's reusable solver (see [`modal`]).
+/// [`ModalSolver::observables`] through this thread's reusable solvers (see [`modal`]).
 pub fn modal_observables(beam: &BeamSpec, modes: &[usize], n_modes: usize, out: &mut [f64]) -> Result<bool, BeamError> {
-    THREAD_SOLVER.with(|s| match s.try_borrow_mut() {
-        Ok(mut solver) => solver.observables(beam, modes, n_modes, out),
-        Err(_) => ModalSolver::new().observables(beam, modes, n_modes, out),
-    })
+    with_thread_solver(beam, |solver| solver.observables(beam, modes, n_modes, out))
 }
 
 /// Path (b): exact decoupling.
@@ -775,6 +797,37 @@ mod tests {
             shear_deformation: None,
             section: None,
         }
+    }
+
+    /// The thread's solvers ([`with_thread_solver`]) serve beams on three
+    /// meshes in turn (the cubic mesh, the C² mesh of a strain gradient, the
+    /// Timoshenko mesh), as a tempered run from a sub-model's posterior
+    /// alternates a model and its sub-model: every result must be a fresh
+    /// solver's, bit for bit, and the slot that served a beam must still hold
+    /// its mesh after the other mesh's call (the reuse the slots exist for).
+    #[test]
+    fn alternating_meshes_on_one_thread_give_a_fresh_solvers_bits() {
+        use crate::beam::spec::ShearDeformation;
+        let plain = beam(Support::SimplySupported, 0.7, 0.0, None);
+        let gradient = BeamSpec { strain_gradient_length_nm: 0.3, ..plain.clone() };
+        let shear = BeamSpec {
+            shear_deformation: Some(ShearDeformation { poisson_ratio: 0.2, shear_coefficient: 0.8 }),
+            ..plain.clone()
+        };
+        let order = [&gradient, &plain, &gradient, &plain, &shear, &gradient, &shear, &plain];
+        for (k, b) in order.iter().enumerate() {
+            let fresh = ModalSolver::new().modal(b, 4).unwrap();
+            assert_eq!(modal(b, 4).unwrap(), fresh, "call {k}");
+        }
+        // after gradient, plain, gradient: both meshes held, the latest in front
+        for b in [&gradient, &plain, &gradient] {
+            modal(b, 4).unwrap();
+        }
+        THREAD_SOLVER.with(|s| {
+            let slots = s.borrow();
+            let held = |b: &BeamSpec| slots.iter().position(|m| m.mesh.as_ref().is_some_and(|mesh| mesh.matches(b)));
+            assert_eq!((held(&gradient), held(&plain)), (Some(0), Some(1)));
+        });
     }
 
     /// Every combination the calibrations use: supports × ẽ (including 0 and
