@@ -40,7 +40,11 @@ pub(super) fn stabilisation_diagram(sc: &Scaled, max_order: usize) -> Result<Dia
         };
         // order n has 2n + 2 real unknowns: keep ≥ 2 equations per unknown
         let top = max_order.min(n.saturating_sub(2) / 2);
-        let l = lscf::Lscf::new(&sc.x, &h, top, 1.0);
+        let l = if sc.kind == FitKind::Psd {
+            lscf::Lscf::stacked(&sc.x, &h, top, 1.0)
+        } else {
+            lscf::Lscf::normal(&sc.x, &h, top, 1.0)
+        };
         (2..=top).step_by(2).filter_map(|o| l.poles(o).map(|ps| (o, ps))).unzip()
     };
     if orders.is_empty() {
