@@ -673,8 +673,7 @@ fn scaled_relaxations(beam: &BeamSpec, omega_ref: f64) -> ([(f64, f64); MAX_INTE
 /// gradient (the C² mesh) or shear deformation (the Timoshenko mesh) and the
 /// other has not: with one solver per thread every call rebuilt the mesh and
 /// its caches, the C² mesh's wavenumber blocks with their O(n_e²)
-/// invariance check included (the paper's Case-3 diagnosis: a relaxation +
-/// strain-gradient pair's moves at 150 µs a solve against 5.5 µs,
+/// invariance check included (measured on the paper's Case-3 diagnosis:
 /// `benches/README.md`).
 const THREAD_SOLVERS: usize = 2;
 
