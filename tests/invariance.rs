@@ -116,15 +116,20 @@ fn reference() -> &'static (Vec<Vec<f64>>, Modes) {
     })
 }
 
-proptest! {
-    // 4 cases: each is one `identify` (about 1 s in the test build)
-    #![proptest_config(ProptestConfig {
-        cases: 4,
+/// `cases` proptest cases, the same on every run, as CI needs
+/// (`tests/beam_properties.rs` fixes its seed too).
+fn fixed_seed(cases: u32) -> ProptestConfig {
+    ProptestConfig {
+        cases,
         failure_persistence: None,
-        // the same cases on every run, as CI needs (tests/beam_properties.rs does the same)
         rng_seed: proptest::test_runner::RngSeed::Fixed(0x696e_7661_7269_616e),
         ..ProptestConfig::default()
-    })]
+    }
+}
+
+proptest! {
+    // 4 cases: each is one `identify` (about 1 s in the test build)
+    #![proptest_config(fixed_seed(4))]
 
     /// A time origin anywhere from −1 ns to +100 ns (the 2 ns,
     /// 20 ns and −0.175 ns among them; 100 ns is 120 record lengths) gives
@@ -182,13 +187,7 @@ fn decay_reference() -> &'static Modes {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 3,
-        failure_persistence: None,
-        // the same cases on every run, as CI needs (tests/beam_properties.rs does the same)
-        rng_seed: proptest::test_runner::RngSeed::Fixed(0x696e_7661_7269_616e),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(fixed_seed(3))]
 
     /// The free decay from a time origin of −1 s … +1 s (500 record lengths;
     /// the times still resolve the 1 µs step to 10⁻⁹ of it): ω, ζ and sd bit
@@ -222,13 +221,7 @@ fn times_rounded_to_float32_change_nothing() {
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig {
-        cases: 4,
-        failure_persistence: None,
-        // the same cases on every run, as CI needs (tests/beam_properties.rs does the same)
-        rng_seed: proptest::test_runner::RngSeed::Fixed(0x696e_7661_7269_616e),
-        ..ProptestConfig::default()
-    })]
+    #![proptest_config(fixed_seed(4))]
 
     /// A common scale that is no power of two (1e-6 … 1e6) rounds every
     /// sample differently (a relative change of 1e-16): ω and ζ must move
