@@ -78,7 +78,7 @@ pub fn non_negative(field: &str, value: f64) -> Result<(), InputError> {
 /// unknown variant, wrong type, syntax, alias bombs) into a one-line
 /// [`InputError`] that names the full field path, the value and what is allowed.
 pub fn parse_yaml<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, InputError> {
-    serde_yaml::from_str(text).map_err(|e| serde_error("", &e.to_string()))
+    serde_yaml::from_str(text).map_err(|e| serde_error("", &e.to_string(), text))
 }
 
 /// [`parse_yaml`] for an already parsed YAML value found at `prefix` (e.g.
@@ -89,8 +89,8 @@ pub fn from_yaml_value<T: serde::de::DeserializeOwned>(
 ) -> Result<T, InputError> {
     // Through text, so that serde_yaml tracks the path inside the value
     // (`from_value` reports none: `parameters.delta.prior.mean` became `parameters.delta.mean`).
-    let text = serde_yaml::to_string(&value).map_err(|e| serde_error(prefix, &e.to_string()))?;
-    serde_yaml::from_str(&text).map_err(|e| serde_error(prefix, &e.to_string()))
+    let text = serde_yaml::to_string(&value).map_err(|e| serde_error(prefix, &e.to_string(), ""))?;
+    serde_yaml::from_str(&text).map_err(|e| serde_error(prefix, &e.to_string(), &text))
 }
 
 /// Largest finite `f64`, as written in messages.
@@ -137,11 +137,19 @@ pub fn clip_list(list: &str, max: usize) -> String {
     format!("{out}, … ({} in all)", items.len())
 }
 
-/// One serde_yaml message → `invalid <path> = <value>: allowed <range>`.
+/// Most characters of a YAML parser's complaint in a message (the rest of
+/// the line, with a 40-character value and a file name, stays under 200).
+const COMPLAINT_CHARS: usize = 120;
+
+/// One serde_yaml message about `text` → `invalid <path> = <value>: allowed <range>`.
 ///
 /// serde_yaml writes `[path: ]<what>[ at line L column C]`, where `path` is
-/// the dotted field path with sequence indices (`modes[3].zeta_sd`).
-pub fn serde_error(prefix: &str, msg: &str) -> InputError {
+/// the dotted field path with sequence indices (`modes[3].zeta_sd`). The
+/// value slot holds what the document has there: a required field that is
+/// not there is `''` (nothing written, as the CLI shows an empty flag
+/// value), and a syntax error shows the line of `text` the parser stopped
+/// at (issue 69: the slot held "(missing)" and "(not valid YAML …)").
+pub fn serde_error(prefix: &str, msg: &str, text: &str) -> InputError {
     let msg = msg.lines().next().unwrap_or("").trim();
     let (body, location) = match msg.rfind(" at line ") {
         Some(i) => (&msg[..i], Some(msg[i + 1..].to_string())),
@@ -166,7 +174,7 @@ pub fn serde_error(prefix: &str, msg: &str) -> InputError {
         return InputError::new(join(path, Some(&name)), name, allowed);
     }
     if let Some(name) = backticked(what, "missing field `") {
-        return InputError::new(join(path, Some(&name)), "(missing)", "a value: this field is required");
+        return InputError::new(join(path, Some(&name)), "''", "a value; the field is required and the file has none");
     }
     if let Some(name) = backticked(what, "duplicate field `") {
         return InputError::new(join(path, Some(&name)), format!("{name} twice"), "each field once");
@@ -197,7 +205,33 @@ pub fn serde_error(prefix: &str, msg: &str) -> InputError {
         return InputError::new(here, "(nesting too deep)", "at most 128 nested levels");
     }
     let at = location.map(|l| format!(" {l}")).unwrap_or_default();
-    InputError::new(here, format!("(not valid YAML{at})"), format!("well-formed YAML: {}", what.replace('\n', " ")))
+    let complaint = clip_chars(&format!("{}{at}", what.replace('\n', " ")), COMPLAINT_CHARS);
+    InputError::new(here, stopped_at(msg, text), format!("well-formed YAML: {complaint}"))
+}
+
+/// The line of `text` a YAML parser's message `msg` points at, as written
+/// (cut to [`VALUE_CHARS`]): the first `line L` of the message whose line
+/// holds text (serde_yaml names where it stopped, then where the construct
+/// it was reading began: "found unexpected end of stream at line 2 column 1,
+/// while scanning a quoted scalar at line 1 column 12"), `''` for none.
+fn stopped_at(msg: &str, text: &str) -> String {
+    let lines: Vec<&str> = text.lines().collect();
+    msg.match_indices("line ")
+        .filter_map(|(i, _)| {
+            msg[i + "line ".len()..].split(|c: char| !c.is_ascii_digit()).next()?.parse::<usize>().ok()
+        })
+        .filter_map(|l| lines.get(l.checked_sub(1)?).map(|t| t.trim()))
+        .find(|t| !t.is_empty())
+        .map_or_else(|| "''".to_string(), |t| format!("`{}`", clip(t)))
+}
+
+/// `text` cut to `max` characters, ending in `…` when cut.
+fn clip_chars(text: &str, max: usize) -> String {
+    if text.chars().count() <= max {
+        text.to_string()
+    } else {
+        format!("{}…", text.chars().take(max - 1).collect::<String>())
+    }
 }
 
 /// Splits `path: rest` when the head is a field path (no spaces).

@@ -278,7 +278,7 @@ fn clap_errors_are_one_line() {
         ),
         (vec!["frf", p], "invalid --input-x-nm"),
         (vec!["bogus"], "invalid command = bogus"),
-        (vec![], "invalid command = (missing)"),
+        (vec![], "invalid command = '': allowed one of: "),
         // issue 69: the argument as written in the value slot, not "(unknown argument)"
         (vec!["modal", p, "--foo"], "invalid argument = --foo: "),
     ] {

@@ -203,7 +203,7 @@ fn first_mode_bounds_name_first_mode() {
     let (code, line) = code_line(&nanobeam(&id[..4], dir.path()));
     assert_eq!(code, 2, "{line}");
     assert!(
-        line.starts_with("invalid --first-mode = absent: allowed a numbering the prior decides: lines from 9.3"),
+        line.starts_with("invalid --first-mode = '': allowed a numbering the prior decides: lines from 9.3"),
         "{line}"
     );
     // issue 69: one line of at most 200 characters ("modes 1, 3 and 1, 2")

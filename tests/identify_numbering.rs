@@ -310,7 +310,7 @@ fn confusion(count: usize, seed: u64) -> Confusion {
             }
             Err(e) => {
                 let message = e.to_string();
-                assert!(message.starts_with("invalid --first-mode = absent: allowed"), "{message}");
+                assert!(message.starts_with("invalid --first-mode = '': allowed"), "{message}");
                 out.refused += 1;
             }
         }

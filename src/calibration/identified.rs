@@ -79,7 +79,8 @@ fn one_based(m: &[usize]) -> String {
 /// with `first_mode` the stated number of the lowest (checked, see the
 /// module doc), and a warning when the stated number fits much worse than
 /// another. Exit-2 errors name `--first-mode` with its value as written
-/// (`absent` when not given). The frequencies' σ are taken as negligible
+/// (`''` when not given: nothing written, as the CLI shows an empty value;
+/// issue 69: "absent" read as a value). The frequencies' σ are taken as negligible
 /// beside the margins; [`number_modes_with_sd`] takes them.
 pub fn number_modes_checked(
     beam: &BeamSpec,
@@ -256,7 +257,7 @@ fn check_unique(
         let i = (0..chosen.modes.len()).find(|&i| chosen.modes[i] != other.modes[i]).unwrap_or(0);
         return Err(InputError::new(
             "--first-mode",
-            first.map_or("absent".to_string(), |f| f.to_string()),
+            first.map_or("''".to_string(), |f| f.to_string()),
             format!(
                 "a numbering the prior decides: lines from {:.3e} rad/s fit both modes {} and {} of its beams; a shape scan of line {} or e0a would decide",
                 omegas_rad_s[0],
@@ -268,7 +269,7 @@ fn check_unique(
     };
     Err(InputError::new(
         "--first-mode",
-        first.map_or("absent".to_string(), |f| f.to_string()),
+        first.map_or("''".to_string(), |f| f.to_string()),
         format!(
             "a numbering the prior decides: lines from {:.3e} rad/s fit both modes {} and {} of its beams; {decide}",
             omegas_rad_s[0],

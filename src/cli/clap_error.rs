@@ -43,9 +43,11 @@ pub fn one_line(e: &clap::Error, command: &clap::Command) -> Option<String> {
             let prior = ctx(ContextKind::PriorArg).map(|a| arg_name(&a)).unwrap_or_default();
             format!("invalid {name} = {name} {prior}: allowed one of {name}, {prior}, not both")
         }
-        ErrorKind::MissingRequiredArgument => {
-            format!("invalid {} = (missing): allowed a value (required)", arg.unwrap_or_else(|| "argument".into()))
-        }
+        // nothing written is shown as `''`, as an empty value (issue 69: "(missing)")
+        ErrorKind::MissingRequiredArgument => format!(
+            "invalid {} = '': allowed a value; required and not given",
+            arg.unwrap_or_else(|| "argument".into())
+        ),
         ErrorKind::UnknownArgument => format!(
             "invalid argument = {}: allowed the command's options (see --help)",
             arg.unwrap_or_else(|| "''".into())
@@ -55,7 +57,7 @@ pub fn one_line(e: &clap::Error, command: &clap::Command) -> Option<String> {
             format!("invalid command = {value}: allowed {}", allowed_commands(command))
         }
         ErrorKind::MissingSubcommand | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
-            format!("invalid command = (missing): allowed {}", allowed_commands(command))
+            format!("invalid command = '': allowed {}", allowed_commands(command))
         }
         _ => {
             let first = e.render().to_string();

@@ -150,6 +150,33 @@ fn record_error(e: InputError, observations: &[ModeObservation]) -> CliError {
     CliError::Input(e)
 }
 
+/// The identification's refusals of a thermal record in the record's terms
+/// (issue 69, defect 8's subject): the record is fitted as the PSD of its
+/// displacement columns, whose abscissa `omega_rad_s` the record lacks, and
+/// whose "samples" are the PSD's bins, not the record's rows. The field names
+/// the PSD of the record's columns (`PSD of thermal_a_m,thermal_b_m`; the
+/// first and last of more than two) and the counts say bins.
+fn thermal_terms(e: IdentifyError, text: &str) -> IdentifyError {
+    let IdentifyError::Input(mut e) = e else { return e };
+    let header = text.strip_prefix('\u{feff}').unwrap_or(text).lines().next().unwrap_or("");
+    let names: Vec<String> = header.split(',').map(|n| n.trim().trim_matches('"').to_string()).collect();
+    if e.field != "omega_rad_s" || !crate::identify::thermal::is_thermal(&names) {
+        return e.into();
+    }
+    let columns = &names[1..];
+    let clip = |n: &String| crate::error::clip(n);
+    e.field = match columns {
+        [a] => format!("PSD of {}", clip(a)),
+        [a, b] => format!("PSD of {},{}", clip(a), clip(b)),
+        [a, .., z] => format!("PSD of {},…,{} ({} columns)", clip(a), clip(z), columns.len()),
+        [] => return e.into(),
+    };
+    for part in [&mut e.value, &mut e.allowed] {
+        *part = part.replace(" samples", " bins");
+    }
+    e.into()
+}
+
 /// Lines decades from the beam's modes (issue 69, defect 6) are a unit left
 /// in the record's abscissa: the error names its column as the header
 /// writes it (a thermal record is read as a PSD, a `frequency_hz` column as
@@ -220,7 +247,8 @@ pub fn identify_record(
     control.check().map_err(|c| CliError::Failure(c.to_string()))?;
     let settings = IdentifySettings { modes, max_order };
     let polled = control.clone();
-    let id = identify_controlled(&record, &settings, &Stop::new(move || polled.is_cancelled()))?;
+    let id = identify_controlled(&record, &settings, &Stop::new(move || polled.is_cancelled()))
+        .map_err(|e| thermal_terms(e, text))?;
     // numbered against every mode the record holds clearly (a subset chosen
     // by --modes is numbered within them, never renumbered into a gap)
     let found = &id.found_omegas_rad_s;

@@ -102,7 +102,7 @@ pub fn table_4_beam_from_yaml(text: &str) -> Result<BeamSpec, InputError> {
     let doc: serde_yaml::Value = crate::error::parse_yaml(text)?;
     let get = |path: &[&str]| -> Result<serde_yaml::Value, InputError> {
         path.iter().try_fold(&doc, |v, key| v.get(*key)).cloned().ok_or_else(|| {
-            InputError::new(path.join("."), "(missing)", "present, as `cargo xtask reproduce` writes it")
+            InputError::new(path.join("."), "''", "a value, as `cargo xtask reproduce` writes it; the file has none")
         })
     };
     let fixed = |key: &str| get(&["fixed_assumptions", key]);

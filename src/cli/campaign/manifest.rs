@@ -240,7 +240,13 @@ pub fn plan_manifest(text: &str, base: &Path, defaults: &Defaults) -> Result<Vec
         }
     }
     if !header.iter().any(|h| h == "record") {
-        return Err(malformed(0, 1, "record", "(missing)", "a header with a `record` column"));
+        // the header as written (issue 69: "(missing)" in the value slot)
+        return Err(InputError::new(
+            "manifest header",
+            format!("`{}`", crate::error::clip(&header.join(","))),
+            "a header with a `record` column (the others are optional: docs/campaign.md)",
+        )
+        .into());
     }
     let mut tasks = Vec::new();
     for (i, result) in reader.records().enumerate() {
@@ -496,6 +502,7 @@ mod tests {
         let e = plan_manifest("record,seed\n,1\n", Path::new(""), &defaults()).unwrap_err().to_string();
         assert!(e.contains("manifest row 1 (line 2), column record"), "{e}");
         let e = plan_manifest("beam\nb.yaml\n", Path::new(""), &defaults()).unwrap_err().to_string();
-        assert!(e.contains("column record"), "{e}");
+        // the header as written in the value slot (issue 69: "(missing)")
+        assert!(e.starts_with("invalid manifest header = `beam`: allowed a header with a `record` column"), "{e}");
     }
 }
