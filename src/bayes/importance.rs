@@ -107,8 +107,9 @@ pub struct MixtureProposal<'a> {
     t_norm: f64,
     g_norm: f64,
     /// kernel centres whitened once (y_k = L⁻¹θ_k), so each kernel costs d
-    /// flops per draw: |L⁻¹(x − θ_k)|² = |L⁻¹x − y_k|²
-    centres: Vec<DVector<f64>>,
+    /// flops per draw: |L⁻¹(x − θ_k)|² = |L⁻¹x − y_k|²; stored row after row
+    /// (k·d values) so that the loop over kernels runs on one slice
+    centres: Vec<f64>,
     chi2: ChiSquared<f64>,
 }
 
@@ -145,7 +146,10 @@ impl<'a> MixtureProposal<'a> {
             - 0.5 * df * (T_DOF * std::f64::consts::PI).ln()
             - t.half_log_det;
         let g_norm = -0.5 * df * (2.0 * std::f64::consts::PI).ln() - kde.half_log_det - (k as f64).ln();
-        let centres = population.iter().map(|p| &kde.l_inv * DVector::from_column_slice(p)).collect();
+        let centres = population
+            .iter()
+            .flat_map(|p| (&kde.l_inv * DVector::from_column_slice(p)).data.as_vec().clone())
+            .collect();
         let chi2 = ChiSquared::new(T_DOF).expect("T_DOF > 0");
         Ok(Self { center, population, t, kde, t_norm, g_norm, centres, chi2 })
     }
@@ -241,10 +245,11 @@ impl Proposal for MixtureProposal<'_> {
         let df = x.len() as f64;
         let lt = self.t_norm - 0.5 * (T_DOF + df) * (1.0 + self.t.mahalanobis2(x, self.center) / T_DOF).ln();
         let y = &self.kde.l_inv * DVector::from_column_slice(x);
+        let y = y.as_slice();
         let lk: Vec<f64> = self
             .centres
-            .iter()
-            .map(|c| self.g_norm - 0.5 * y.iter().zip(c.iter()).map(|(a, b)| (a - b) * (a - b)).sum::<f64>())
+            .chunks_exact(y.len())
+            .map(|c| self.g_norm - 0.5 * y.iter().zip(c).map(|(a, b)| (a - b) * (a - b)).sum::<f64>())
             .collect();
         log_sum_exp(&[lt - std::f64::consts::LN_2, log_sum_exp(&lk) - std::f64::consts::LN_2])
     }

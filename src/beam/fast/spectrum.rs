@@ -150,16 +150,20 @@ fn direct_mu(mesh: &UnitMesh, t: f64, count: usize) -> Option<Vec<f64>> {
 /// Chebyshev coefficients of the degree-n interpolant through the Lobatto values
 /// f_j = f(cos(πj/n)), j = 0..=n (a DCT-I: c_k = (2/n)Σ″ f_j cos(πjk/n), ends
 /// halved). Hand-written: n ≤ 128 and O(n²) is nothing next to one eigen-solve,
-/// and no listed crate provides a DCT-I.
+/// and no listed crate provides a DCT-I. The 2n distinct cosines are computed
+/// once per call (the same expressions, so the same bits): the table builds
+/// call this for every mode, level and DOF, and n² cosines a call were 8 % of
+/// a 5-mode diagnosis's CPU (`benches/README.md`).
 pub(crate) fn lobatto_coefficients(f: &[f64]) -> Vec<f64> {
     let n = f.len() - 1;
+    // jk mod 2n keeps the cosine argument small (exact integer reduction)
+    let cos: Vec<f64> = (0..2 * n).map(|m| (std::f64::consts::PI * m as f64 / n as f64).cos()).collect();
     (0..=n)
         .map(|k| {
             let mut s = 0.0;
             for (j, &fj) in f.iter().enumerate() {
                 let w = if j == 0 || j == n { 0.5 } else { 1.0 };
-                // jk mod 2n keeps the cosine argument small (exact integer reduction)
-                s += w * fj * (std::f64::consts::PI * ((j * k) % (2 * n)) as f64 / n as f64).cos();
+                s += w * fj * cos[(j * k) % (2 * n)];
             }
             let c = 2.0 * s / n as f64;
             if k == 0 || k == n {
