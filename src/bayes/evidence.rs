@@ -309,7 +309,9 @@ pub enum AtOptimum {
 
 /// The evidence of `posterior` by importance sampling alone, from an
 /// optimum found elsewhere (`optimum`, with scales `scales` per coordinate,
-/// e.g. a posterior sd): the Laplace evidence at `optimum` (FD steps 0.05,
+/// e.g. a posterior sd), unless a global MAP search (stream `(seed,
+/// GlobalMapSearch, [0, 0])`) climbs [`MISSED_MODE_NATS`] above it (then
+/// [`AtOptimum::Unreliable`]): the Laplace evidence at `optimum` (FD steps 0.05,
 /// then 0.01 and 0.002 of `scales`, as [`estimate`]'s), and the importance
 /// evidence from the mixture of a Student-t there (the Laplace covariance)
 /// and a kernel density of `population` (≥ d + 2 points that cover the
@@ -459,8 +461,9 @@ pub fn estimate_at_optimum<P: Posterior>(
 /// (`tests/evidence.md`, "The evidence from an optimum, audited"): the
 /// shear-deformation single of 8 records sat at the sub-model's e0a,
 /// 9–156 nats below the evidence TMCMC found at the mode where shear and
-/// e0a trade (e0a ≈ 0.3–0.4 nm against the base's 0.6), and a pair of 4
-/// records 1.2–9.3 nats below. The search costs at most 2000 + 8 · 2 ·
+/// e0a trade (e0a ≈ 0.3–0.4 nm against the base's 0.6), and viscous damping
+/// + axial force 9.3 nats below on one record; the guard sends all of them
+/// to TMCMC and changes none of the 30 verdicts. The search costs at most 2000 + 8 · 2 ·
 /// `map_iters` solves and the polish 2 · `map_iters`, a fraction of the
 /// TMCMC run it saves or calls for.
 pub const MISSED_MODE_NATS: f64 = 1.0;
