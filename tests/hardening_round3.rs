@@ -41,7 +41,7 @@ fn nanobeam(args: &[&str], dir: &Path) -> (i32, String) {
 
 /// What no line may contain: prose or nothing in the value or range slot,
 /// and internal names.
-const BANNED: [&str; 13] = [
+const BANNED: [&str; 17] = [
     "(given)",
     "(not given)",
     "(unreadable)",
@@ -55,6 +55,10 @@ const BANNED: [&str; 13] = [
     "(missing)",
     "(not valid YAML",
     "= absent",
+    "with no stable resonance",
+    "= a record of",
+    "none clear",
+    "samples in the half-power band",
 ];
 
 /// A thermal record of `columns` displacement columns of white noise (no
@@ -73,6 +77,46 @@ fn thermal_noise(columns: usize, rows: usize) -> String {
     for i in 0..rows {
         let cells: Vec<String> = (0..columns).map(|_| format!("{:e}", 2e-11 * next())).collect();
         text.push_str(&format!("{:e},{}\n", i as f64 * 2e-14, cells.join(",")));
+    }
+    text
+}
+
+/// A fixed xorshift generator of numbers in [-0.5, 0.5) (the same on every run).
+fn xorshift(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    }
+}
+
+/// A record of 200 rows whose abscissa `column` runs 1e9, 2e9, … 2e11 and
+/// whose response `response` is 1 ± 0.005 (`spike`: row 100 is 100, one
+/// sample wide) or lognormal noise of sd ~0.3 in ln (no resonance at all).
+fn sweep(column: &str, response: &str, spike: bool) -> String {
+    let mut next = xorshift(0x2545_f491_4f6c_dd1d);
+    let mut text = format!("{column},{response}\n");
+    for i in 1..=200 {
+        let v = match (spike, i) {
+            (true, 100) => 100.0,
+            (true, _) => 1.0 + 0.01 * next(),
+            (false, _) => (next() + next() + next()).exp(),
+        };
+        text.push_str(&format!("{i}e9,{v:e}\n"));
+    }
+    text
+}
+
+/// A thermal record of one column, `rows` rows 20 fs apart, holding a
+/// sinusoid of angular step `step` per row (1e-11 m) and noise of 1e-13 m.
+fn thermal_line(rows: usize, step: f64) -> String {
+    let mut next = xorshift(0x9e37_79b9_7f4a_7c15);
+    let mut text = String::from("time_s,thermal_a_m\n");
+    for k in 0..rows {
+        let x = 1e-11 * (step * k as f64).sin() + 2e-13 * next();
+        text.push_str(&format!("{:e},{x:e}\n", k as f64 * 2e-14));
     }
     text
 }
@@ -286,6 +330,50 @@ fn cases() -> Vec<Case> {
             vec!["identify", "rec.csv", "--beam", "beam.yaml"],
             format!("invalid PSD of {names} = "),
         ));
+    }
+    // a record written in Hz is refused in Hz under its own column, and a
+    // refusal of the whole record has a value in its slot: the count, the
+    // band, the frequency, the length (issue 69, round three's remainder:
+    // tests/hardening_round3.md, "The value slot, continued")
+    let identify = || vec!["identify", "rec.csv", "--beam", "beam.yaml"];
+    for (what, text, start) in [
+        (
+            "a sweep in Hz with a resonance one sample wide",
+            sweep("frequency_hz", "h_abs_m_per_n", true),
+            "invalid frequency_hz = [9.9707e10, 1.0029e11] Hz: allowed >= 3 samples (it has 1) in this half-power band of a peak ",
+        ),
+        (
+            "a one-sided PSD in Hz with a resonance one sample wide",
+            sweep("frequency_hz", "psd_one_sided_m2_per_hz", true),
+            "invalid frequency_hz = 1.0001e11 Hz: allowed a line >= 5 noise sd high, >= 3 samples wide at half power (the clearest of 1 in the band: ",
+        ),
+        (
+            "a sweep in Hz of noise alone",
+            sweep("frequency_hz", "h_abs_m_per_n", false),
+            "invalid frequency_hz = 200 samples: allowed a record with at least one resonance stable",
+        ),
+        (
+            "a one-sided PSD in Hz of noise alone",
+            sweep("frequency_hz", "psd_one_sided_m2_per_hz", false),
+            "invalid frequency_hz = 200 samples: allowed a record with at least one resonance stable",
+        ),
+        (
+            "a sweep in rad/s of noise alone",
+            sweep("omega_rad_s", "h_abs_m_per_n", false),
+            "invalid omega_rad_s = 200 samples: allowed a record with at least one resonance stable",
+        ),
+        (
+            "a thermal record too short for its strongest line",
+            thermal_line(300, std::f64::consts::TAU / 150.0),
+            "invalid time_s (the record's length) = 6.000e-12 s: allowed at least ",
+        ),
+        (
+            "a thermal record whose line is narrower than its bins",
+            thermal_line(4096, 0.7),
+            "invalid time_s (the record's length) = 8.192e-11 s: allowed at least ",
+        ),
+    ] {
+        out.push((what, vec![("beam.yaml", BEAM.into()), ("rec.csv", text)], identify(), start.into()));
     }
     out
 }
