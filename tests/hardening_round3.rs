@@ -6,6 +6,9 @@
 //! runs the binary; the replay with the old and new lines is in
 //! `tests/hardening_round3.md`.
 
+mod common_hardening;
+
+use common_hardening::MEASURED;
 use std::path::Path;
 use std::process::Command;
 
@@ -41,7 +44,7 @@ fn nanobeam(args: &[&str], dir: &Path) -> (i32, String) {
 
 /// What no line may contain: prose or nothing in the value or range slot,
 /// and internal names.
-const BANNED: [&str; 17] = [
+const BANNED: [&str; 22] = [
     "(given)",
     "(not given)",
     "(unreadable)",
@@ -59,6 +62,11 @@ const BANNED: [&str; 17] = [
     "= a record of",
     "none clear",
     "samples in the half-power band",
+    "(a list)",
+    "(a mapping)",
+    "(alias expansion)",
+    "(nesting too deep)",
+    "(empty)",
 ];
 
 /// A thermal record of `columns` displacement columns of white noise (no
@@ -375,6 +383,55 @@ fn cases() -> Vec<Case> {
     ] {
         out.push((what, vec![("beam.yaml", BEAM.into()), ("rec.csv", text)], identify(), start.into()));
     }
+    // a list or a mapping where a value belongs, an alias bomb, nesting too
+    // deep: the file's text there, not "(a list)", "(alias expansion)" …
+    for (what, value, start) in [
+        (
+            "a flow list as a number",
+            "[8.0, 9.0]",
+            "invalid length_nm = `[8.0, 9.0]`: allowed a finite number, not a list",
+        ),
+        (
+            "a block list as a number",
+            "\n  - 8.0\n  - 9.0",
+            "invalid length_nm = `- 8.0` … (2 lines): allowed a finite number, not a list",
+        ),
+        (
+            "a flow mapping as a number",
+            "{ a: 1 }",
+            "invalid length_nm = `{ a: 1 }`: allowed a finite number, not a mapping",
+        ),
+        (
+            "a block mapping as a number",
+            "\n  a: 1\n  b: 2\n  c: 3",
+            "invalid length_nm = `a: 1` … (3 lines): allowed a finite number, not a mapping",
+        ),
+    ] {
+        let beam = BEAM.replace("length_nm: 8.0", &format!("length_nm: {value}"));
+        out.push((what, vec![("b.yaml", beam)], vec!["modal", "b.yaml"], start.into()));
+    }
+    let mut bomb = String::from("parameters:\n  a0: &a0 [1,1,1,1,1,1,1,1,1,1]\n");
+    for i in 1..9 {
+        bomb += &format!("  a{i}: &a{i} [{}]\n", vec![format!("*a{}", i - 1); 10].join(","));
+    }
+    out.push((
+        "an alias bomb",
+        vec![("m.yaml", format!("{MEASURED}{bomb}"))],
+        vec!["calibrate", "m.yaml"],
+        "invalid MEASURED.yaml = `a1: &a1 [*a0,*a0,*a0,*a0,*a0,*a0,*a0,*a0…` (49 characters): allowed aliases expanding to a bounded size".into(),
+    ));
+    out.push((
+        "nesting too deep",
+        vec![("m.yaml", format!("{MEASURED}parameters: {{ a: {}{} }}\n", "[".repeat(200), "]".repeat(200)))],
+        vec!["calibrate", "m.yaml"],
+        "invalid MEASURED.yaml = `[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[…` (".into(),
+    ));
+    out.push((
+        "a manifest row without its record",
+        vec![("beam.yaml", BEAM.into()), ("m.csv", "record,beam\n,beam.yaml\n".into())],
+        vec!["campaign", "m.csv"],
+        "invalid manifest row 1 (line 2), column record = '': allowed the path of a record file".into(),
+    ));
     out
 }
 
