@@ -451,6 +451,11 @@ fn every_bad_input_gets_one_short_line_naming_its_field() {
             && line.starts_with(&start)
             && !BANNED.iter().any(|b| err.contains(b))
             && !line.ends_with("allowed one of:");
+        // `REPLAY_PRINT=1 cargo test --test hardening_round3 -- --nocapture`
+        // prints every line (the replay tables of tests/hardening_round3.md)
+        if std::env::var_os("REPLAY_PRINT").is_some() {
+            println!("{what} {args:?}: exit {code}, {} chars: {line}", line.chars().count());
+        }
         if !ok {
             failures.push(format!("{what} {args:?}: exit {code}, {} chars: {err}", line.chars().count()));
         }
