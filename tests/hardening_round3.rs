@@ -129,6 +129,27 @@ fn thermal_line(rows: usize, step: f64) -> String {
     text
 }
 
+/// A magnitude sweep in Hz of BEAM's modes 1 and 2 (ω = 9.3e11 and 3.8e12
+/// rad/s, ζ = 0.02 and 0.01), 2 000 rows 0.5 GHz apart, every frequency
+/// (row and mode) times `scale`, with a ripple of 1e-3.
+fn two_mode_sweep_hz(scale: f64) -> String {
+    let modes = [(9.3e11 * scale, 0.02), (3.8e12 * scale, 0.01)];
+    let mut text = String::from("frequency_hz,h_abs_m_per_n\n");
+    for i in 1..=2000 {
+        let f = i as f64 * 5e8 * scale;
+        let w = std::f64::consts::TAU * f;
+        let (re, im) = modes.iter().fold((0.0, 0.0), |(re, im), &(wk, z)| {
+            let (a, b) = (wk * wk - w * w, 2.0 * z * wk * w);
+            let d = a * a + b * b;
+            (re + a / d, im - b / d)
+        });
+        // |H| ~ 1/ω²: near 1e-1 m/N whatever the scale
+        let h = f64::hypot(re, im) * 1e24 * scale * scale * (1.0 + 1e-3 * (1.7 * i as f64).sin());
+        text.push_str(&format!("{f:e},{h:e}\n"));
+    }
+    text
+}
+
 /// Each case: (what, files to write, arguments, the line's start).
 type Case = (&'static str, Vec<(&'static str, String)>, Vec<&'static str>, String);
 
@@ -383,6 +404,19 @@ fn cases() -> Vec<Case> {
     ] {
         out.push((what, vec![("beam.yaml", BEAM.into()), ("rec.csv", text)], identify(), start.into()));
     }
+    // the numbering's refusals of a record in Hz show Hz
+    out.push((
+        "a sweep in Hz two numberings fit",
+        vec![("beam.yaml", BEAM.into()), ("rec.csv", two_mode_sweep_hz(1.0))],
+        identify(),
+        "invalid --first-mode = '': allowed a numbering the prior decides: lines from 1.480e11 Hz fit both modes 1, 2 and 1, 3".into(),
+    ));
+    out.push((
+        "a sweep in Hz six decades below the beam",
+        vec![("beam.yaml", BEAM.into()), ("rec.csv", two_mode_sweep_hz(1e-6))],
+        identify(),
+        "invalid frequency_hz = lines at 1.480e5 to 6.048e5 Hz: allowed a column in Hz: lines near the --beam model's modes (".into(),
+    ));
     // a list or a mapping where a value belongs, an alias bomb, nesting too
     // deep: the file's text there, not "(a list)", "(alias expansion)" …
     for (what, value, start) in [

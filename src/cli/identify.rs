@@ -190,27 +190,44 @@ fn hz_terms(e: IdentifyError, text: &str) -> IdentifyError {
         return e.into();
     }
     e.field = first.to_string();
-    for part in [&mut e.value, &mut e.allowed] {
-        *part = rad_s_as_hz(part);
+    hz_values(e, text).into()
+}
+
+/// Every frequency written `X rad/s` in `e`'s value and allowed part shown
+/// in Hz when the record's abscissa is `frequency_hz` (the numbering's
+/// refusals: "lines from 1.480e11 Hz fit both …"; issue 69).
+fn hz_values(mut e: InputError, text: &str) -> InputError {
+    let header = text.strip_prefix('\u{feff}').unwrap_or(text).lines().next().unwrap_or("");
+    if header.split(',').next().unwrap_or("").trim().trim_matches('"') == "frequency_hz" {
+        for part in [&mut e.value, &mut e.allowed] {
+            *part = rad_s_as_hz(part);
+        }
     }
-    e.into()
+    e
 }
 
 /// `text` with each frequency followed by ` rad/s` (`6.2832e11 rad/s`,
-/// `[6.2648e11, 6.3016e11] rad/s`) divided by 2π and followed by ` Hz`,
-/// written with the same number of significant digits.
+/// `[6.2648e11, 6.3016e11] rad/s`, `1.0e3 to 2.0e3 rad/s`) divided by 2π and
+/// followed by ` Hz`, written with the same number of significant digits.
 fn rad_s_as_hz(text: &str) -> String {
     let mut out = String::new();
     let mut rest = text;
     while let Some(i) = rest.find(" rad/s") {
         let head = &rest[..i];
-        // the numbers just before: `X` or `[X, Y]`
+        // the numbers just before: `X`, `[X, Y]` or `X to Y`
         let start = if head.ends_with(']') { head.rfind('[') } else { head.rfind([' ', '(']).map(|j| j + 1) };
-        let start = start.unwrap_or(0);
+        let mut start = start.unwrap_or(0);
+        let mut separator = ", ";
+        if let Some(before) = head[..start].strip_suffix(" to ") {
+            let from = before.rfind([' ', '(']).map_or(0, |j| j + 1);
+            if before[from..].parse::<f64>().is_ok() {
+                (start, separator) = (from, " to ");
+            }
+        }
         let numbers = &head[start..];
         let converted: Option<Vec<String>> = numbers
             .trim_matches(['[', ']'])
-            .split(", ")
+            .split(separator)
             .map(|n| {
                 let v: f64 = n.parse().ok()?;
                 let digits = n.split(['e', 'E']).next().unwrap_or(n).split('.').nth(1).map_or(0, str::len);
@@ -220,7 +237,7 @@ fn rad_s_as_hz(text: &str) -> String {
         match converted {
             Some(c) => {
                 out.push_str(&head[..start]);
-                out.push_str(&if numbers.starts_with('[') { format!("[{}]", c.join(", ")) } else { c.join(", ") });
+                out.push_str(&if numbers.starts_with('[') { format!("[{}]", c.join(", ")) } else { c.join(separator) });
                 out.push_str(" Hz");
             }
             None => {
@@ -317,7 +334,8 @@ pub fn identify_record(
             id.modes.iter().chain(&id.background_modes).find(|m| m.omega_rad_s == w).map_or(0.0, |m| m.omega_sd_rad_s)
         })
         .collect();
-    let numbered = number_modes_with_sd(&beam, found, Some(&sds), first_mode).map_err(|e| scale_error(e, text))?;
+    let numbered = number_modes_with_sd(&beam, found, Some(&sds), first_mode)
+        .map_err(|e| scale_error(hz_values(e, text), text))?;
     let all_numbers = numbered.numbers;
     let numbers: Vec<usize> = id
         .modes
@@ -560,5 +578,6 @@ mod tests {
         // the digits shown, not more: 1.2566e1 rad/s is 1.9999e0 Hz, 5 rad/s 8e-1 Hz
         assert_eq!(rad_s_as_hz(&text), "[1.0000e0, 1.9999e0] Hz of a line at 3.000e9 Hz (at 8e-1 Hz); 3 samples");
         assert_eq!(rad_s_as_hz("no number rad/s"), "no number rad/s");
+        assert_eq!(rad_s_as_hz("lines at 6.283e0 to 1.885e1 rad/s"), "lines at 1.000e0 to 3.000e0 Hz");
     }
 }
