@@ -117,6 +117,17 @@ pub fn clip(value: &str) -> String {
     }
 }
 
+/// `value` in backticks, cut as [`clip`] cuts it: `` `abc` `` or
+/// `` `first 40 characters…` (N characters) ``.
+pub fn clip_quoted(value: &str) -> String {
+    let n = value.chars().count();
+    if n <= VALUE_CHARS {
+        format!("`{value}`")
+    } else {
+        format!("`{}…` ({n} characters)", value.chars().take(VALUE_CHARS).collect::<String>())
+    }
+}
+
 /// A list of accepted names (serde's "one of `a`, `b`, …") cut to about
 /// `max` characters: the first names, then `…` and how many there are.
 pub fn clip_list(list: &str, max: usize) -> String {
@@ -184,6 +195,17 @@ pub fn serde_error(prefix: &str, msg: &str, text: &str) -> InputError {
     }
     if let Some(rest) = what.strip_prefix("invalid type: ").or_else(|| what.strip_prefix("invalid value: ")) {
         let (found, exp) = rest.split_once(", expected ").unwrap_or((rest, ""));
+        // a list or a mapping where a value belongs: the file's text there
+        // (issue 69: "(a list)", "(a mapping)" in the value slot)
+        let kind = match found {
+            "sequence" => Some("a list"),
+            "map" => Some("a mapping"),
+            _ => None,
+        };
+        if let Some(kind) = kind {
+            let value = location.as_deref().and_then(|l| node_at(text, l)).unwrap_or_else(|| found_value(found));
+            return InputError::new(here, value, format!("{}, not {kind}", expected_kind(exp)));
+        }
         let value = clip(&found_value(found));
         if exp == "f64" && looks_like_overflowing_number(&value) {
             return InputError::new(here, value, format!("a finite number, |x| <= {F64_MAX_TEXT}"));
@@ -194,15 +216,19 @@ pub fn serde_error(prefix: &str, msg: &str, text: &str) -> InputError {
         let (n, exp) = rest.split_once(", expected ").unwrap_or((rest, ""));
         return InputError::new(here, format!("{n} items"), exp.to_string());
     }
+    // serde_yaml names no place for an alias bomb: the first line using an
+    // alias, as written (issue 69: "(alias expansion)" in the value slot)
     if what.contains("repetition limit exceeded") {
+        let value = first_alias_line(text).unwrap_or_else(|| "*…".to_string());
         return InputError::new(
             here,
-            "(alias expansion)",
-            "a document whose anchors/aliases expand to a bounded size (alias bomb refused)",
+            value,
+            "aliases expanding to a bounded size (this document's expand without bound)",
         );
     }
     if what.contains("recursion limit exceeded") {
-        return InputError::new(here, "(nesting too deep)", "at most 128 nested levels");
+        let value = location.as_deref().and_then(|l| node_at(text, l)).unwrap_or_else(|| "[[[…".to_string());
+        return InputError::new(here, value, "at most 128 nested levels (this value nests deeper)");
     }
     let at = location.map(|l| format!(" {l}")).unwrap_or_default();
     let complaint = clip_chars(&format!("{}{at}", what.replace('\n', " ")), COMPLAINT_CHARS);
@@ -223,6 +249,49 @@ fn stopped_at(msg: &str, text: &str) -> String {
         .filter_map(|l| lines.get(l.checked_sub(1)?).map(|t| t.trim()))
         .find(|t| !t.is_empty())
         .map_or_else(|| "''".to_string(), |t| format!("`{}`", clip(t)))
+}
+
+/// The node of `text` at a serde_yaml location `line L column C` (both
+/// 1-based), as written: the rest of its line (cut to [`VALUE_CHARS`]), and
+/// for a block node spanning more lines (a `- item` list, a `key: value`
+/// mapping) `…` and how many lines it spans; `None` where the line has no
+/// text there.
+fn node_at(text: &str, location: &str) -> Option<String> {
+    let mut numbers =
+        location.split(|c: char| !c.is_ascii_digit()).filter(|t| !t.is_empty()).map(|t| t.parse::<usize>().ok());
+    let (line, column) = (numbers.next()??, numbers.next()??);
+    let lines: Vec<&str> = text.lines().collect();
+    let first = lines.get(line.checked_sub(1)?)?;
+    let node = first.chars().skip(column.checked_sub(1)?).collect::<String>();
+    let node = node.trim_end();
+    if node.is_empty() {
+        return None;
+    }
+    let indent = |l: &str| l.chars().take_while(|c| *c == ' ').count();
+    let block = !node.starts_with(['[', '{']);
+    let more = if block {
+        lines[line..]
+            .iter()
+            .take_while(|l| l.trim().is_empty() || indent(l) >= column - 1)
+            .filter(|l| !l.trim().is_empty())
+            .count()
+    } else {
+        0
+    };
+    let shown = clip_quoted(node);
+    Some(if more > 0 { format!("{shown} … ({} lines)", more + 1) } else { shown })
+}
+
+/// The first line of `text` that uses an alias (`*name` of an `&name`
+/// anchor), trimmed and cut to [`VALUE_CHARS`], in backticks.
+fn first_alias_line(text: &str) -> Option<String> {
+    let anchors: Vec<&str> = text
+        .split('&')
+        .skip(1)
+        .filter_map(|t| t.split(|c: char| c.is_whitespace() || ",[]{}".contains(c)).next())
+        .filter(|a| !a.is_empty())
+        .collect();
+    text.lines().find(|l| anchors.iter().any(|a| l.contains(&format!("*{a}")))).map(|l| clip_quoted(l.trim()))
 }
 
 /// `text` cut to `max` characters, ending in `…` when cut.
@@ -267,8 +336,8 @@ fn found_value(found: &str) -> String {
         }
     }
     match found {
-        "sequence" => "(a list)".to_string(),
-        "map" => "(a mapping)".to_string(),
+        "sequence" => "[…]".to_string(),
+        "map" => "{…}".to_string(),
         "unit value" => "(empty)".to_string(),
         other => other.to_string(),
     }

@@ -6,6 +6,9 @@
 //! runs the binary; the replay with the old and new lines is in
 //! `tests/hardening_round3.md`.
 
+mod common_hardening;
+
+use common_hardening::MEASURED;
 use std::path::Path;
 use std::process::Command;
 
@@ -41,7 +44,7 @@ fn nanobeam(args: &[&str], dir: &Path) -> (i32, String) {
 
 /// What no line may contain: prose or nothing in the value or range slot,
 /// and internal names.
-const BANNED: [&str; 13] = [
+const BANNED: [&str; 22] = [
     "(given)",
     "(not given)",
     "(unreadable)",
@@ -55,6 +58,15 @@ const BANNED: [&str; 13] = [
     "(missing)",
     "(not valid YAML",
     "= absent",
+    "with no stable resonance",
+    "= a record of",
+    "none clear",
+    "samples in the half-power band",
+    "(a list)",
+    "(a mapping)",
+    "(alias expansion)",
+    "(nesting too deep)",
+    "(empty)",
 ];
 
 /// A thermal record of `columns` displacement columns of white noise (no
@@ -73,6 +85,67 @@ fn thermal_noise(columns: usize, rows: usize) -> String {
     for i in 0..rows {
         let cells: Vec<String> = (0..columns).map(|_| format!("{:e}", 2e-11 * next())).collect();
         text.push_str(&format!("{:e},{}\n", i as f64 * 2e-14, cells.join(",")));
+    }
+    text
+}
+
+/// A fixed xorshift generator of numbers in [-0.5, 0.5) (the same on every run).
+fn xorshift(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+    }
+}
+
+/// A record of 200 rows whose abscissa `column` runs 1e9, 2e9, … 2e11 and
+/// whose response `response` is 1 ± 0.005 (`spike`: row 100 is 100, one
+/// sample wide) or lognormal noise of sd ~0.3 in ln (no resonance at all).
+fn sweep(column: &str, response: &str, spike: bool) -> String {
+    let mut next = xorshift(0x2545_f491_4f6c_dd1d);
+    let mut text = format!("{column},{response}\n");
+    for i in 1..=200 {
+        let v = match (spike, i) {
+            (true, 100) => 100.0,
+            (true, _) => 1.0 + 0.01 * next(),
+            (false, _) => (next() + next() + next()).exp(),
+        };
+        text.push_str(&format!("{i}e9,{v:e}\n"));
+    }
+    text
+}
+
+/// A thermal record of one column, `rows` rows 20 fs apart, holding a
+/// sinusoid of angular step `step` per row (1e-11 m) and noise of 1e-13 m.
+fn thermal_line(rows: usize, step: f64) -> String {
+    let mut next = xorshift(0x9e37_79b9_7f4a_7c15);
+    let mut text = String::from("time_s,thermal_a_m\n");
+    for k in 0..rows {
+        let x = 1e-11 * (step * k as f64).sin() + 2e-13 * next();
+        text.push_str(&format!("{:e},{x:e}\n", k as f64 * 2e-14));
+    }
+    text
+}
+
+/// A magnitude sweep in Hz of BEAM's modes 1 and 2 (ω = 9.3e11 and 3.8e12
+/// rad/s, ζ = 0.02 and 0.01), 2 000 rows 0.5 GHz apart, every frequency
+/// (row and mode) times `scale`, with a ripple of 1e-3.
+fn two_mode_sweep_hz(scale: f64) -> String {
+    let modes = [(9.3e11 * scale, 0.02), (3.8e12 * scale, 0.01)];
+    let mut text = String::from("frequency_hz,h_abs_m_per_n\n");
+    for i in 1..=2000 {
+        let f = i as f64 * 5e8 * scale;
+        let w = std::f64::consts::TAU * f;
+        let (re, im) = modes.iter().fold((0.0, 0.0), |(re, im), &(wk, z)| {
+            let (a, b) = (wk * wk - w * w, 2.0 * z * wk * w);
+            let d = a * a + b * b;
+            (re + a / d, im - b / d)
+        });
+        // |H| ~ 1/ω²: near 1e-1 m/N whatever the scale
+        let h = f64::hypot(re, im) * 1e24 * scale * scale * (1.0 + 1e-3 * (1.7 * i as f64).sin());
+        text.push_str(&format!("{f:e},{h:e}\n"));
     }
     text
 }
@@ -287,6 +360,112 @@ fn cases() -> Vec<Case> {
             format!("invalid PSD of {names} = "),
         ));
     }
+    // a record written in Hz is refused in Hz under its own column, and a
+    // refusal of the whole record has a value in its slot: the count, the
+    // band, the frequency, the length (issue 69, round three's remainder:
+    // tests/hardening_round3.md, "The value slot, continued")
+    let identify = || vec!["identify", "rec.csv", "--beam", "beam.yaml"];
+    for (what, text, start) in [
+        (
+            "a sweep in Hz with a resonance one sample wide",
+            sweep("frequency_hz", "h_abs_m_per_n", true),
+            "invalid frequency_hz = [9.9707e10, 1.0029e11] Hz: allowed >= 3 samples (it has 1) in this half-power band of a peak ",
+        ),
+        (
+            "a one-sided PSD in Hz with a resonance one sample wide",
+            sweep("frequency_hz", "psd_one_sided_m2_per_hz", true),
+            "invalid frequency_hz = 1.0001e11 Hz: allowed a line >= 5 noise sd high, >= 3 samples wide at half power (the clearest of 1 in the band: ",
+        ),
+        (
+            "a sweep in Hz of noise alone",
+            sweep("frequency_hz", "h_abs_m_per_n", false),
+            "invalid frequency_hz = 200 samples: allowed a record with at least one resonance stable",
+        ),
+        (
+            "a one-sided PSD in Hz of noise alone",
+            sweep("frequency_hz", "psd_one_sided_m2_per_hz", false),
+            "invalid frequency_hz = 200 samples: allowed a record with at least one resonance stable",
+        ),
+        (
+            "a sweep in rad/s of noise alone",
+            sweep("omega_rad_s", "h_abs_m_per_n", false),
+            "invalid omega_rad_s = 200 samples: allowed a record with at least one resonance stable",
+        ),
+        (
+            "a thermal record too short for its strongest line",
+            thermal_line(300, std::f64::consts::TAU / 150.0),
+            "invalid time_s (the record's length) = 6.000e-12 s: allowed at least ",
+        ),
+        (
+            "a thermal record whose line is narrower than its bins",
+            thermal_line(4096, 0.7),
+            "invalid time_s (the record's length) = 8.192e-11 s: allowed at least ",
+        ),
+    ] {
+        out.push((what, vec![("beam.yaml", BEAM.into()), ("rec.csv", text)], identify(), start.into()));
+    }
+    // the numbering's refusals of a record in Hz show Hz
+    out.push((
+        "a sweep in Hz two numberings fit",
+        vec![("beam.yaml", BEAM.into()), ("rec.csv", two_mode_sweep_hz(1.0))],
+        identify(),
+        "invalid --first-mode = '': allowed a numbering the prior decides: lines from 1.480e11 Hz fit both modes 1, 2 and 1, 3".into(),
+    ));
+    out.push((
+        "a sweep in Hz six decades below the beam",
+        vec![("beam.yaml", BEAM.into()), ("rec.csv", two_mode_sweep_hz(1e-6))],
+        identify(),
+        "invalid frequency_hz = lines at 1.480e5 to 6.048e5 Hz: allowed a column in Hz: lines near the --beam model's modes (".into(),
+    ));
+    // a list or a mapping where a value belongs, an alias bomb, nesting too
+    // deep: the file's text there, not "(a list)", "(alias expansion)" …
+    for (what, value, start) in [
+        (
+            "a flow list as a number",
+            "[8.0, 9.0]",
+            "invalid length_nm = `[8.0, 9.0]`: allowed a finite number, not a list",
+        ),
+        (
+            "a block list as a number",
+            "\n  - 8.0\n  - 9.0",
+            "invalid length_nm = `- 8.0` … (2 lines): allowed a finite number, not a list",
+        ),
+        (
+            "a flow mapping as a number",
+            "{ a: 1 }",
+            "invalid length_nm = `{ a: 1 }`: allowed a finite number, not a mapping",
+        ),
+        (
+            "a block mapping as a number",
+            "\n  a: 1\n  b: 2\n  c: 3",
+            "invalid length_nm = `a: 1` … (3 lines): allowed a finite number, not a mapping",
+        ),
+    ] {
+        let beam = BEAM.replace("length_nm: 8.0", &format!("length_nm: {value}"));
+        out.push((what, vec![("b.yaml", beam)], vec!["modal", "b.yaml"], start.into()));
+    }
+    let mut bomb = String::from("parameters:\n  a0: &a0 [1,1,1,1,1,1,1,1,1,1]\n");
+    for i in 1..9 {
+        bomb += &format!("  a{i}: &a{i} [{}]\n", vec![format!("*a{}", i - 1); 10].join(","));
+    }
+    out.push((
+        "an alias bomb",
+        vec![("m.yaml", format!("{MEASURED}{bomb}"))],
+        vec!["calibrate", "m.yaml"],
+        "invalid MEASURED.yaml = `a1: &a1 [*a0,*a0,*a0,*a0,*a0,*a0,*a0,*a0…` (49 characters): allowed aliases expanding to a bounded size".into(),
+    ));
+    out.push((
+        "nesting too deep",
+        vec![("m.yaml", format!("{MEASURED}parameters: {{ a: {}{} }}\n", "[".repeat(200), "]".repeat(200)))],
+        vec!["calibrate", "m.yaml"],
+        "invalid MEASURED.yaml = `[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[…` (".into(),
+    ));
+    out.push((
+        "a manifest row without its record",
+        vec![("beam.yaml", BEAM.into()), ("m.csv", "record,beam\n,beam.yaml\n".into())],
+        vec!["campaign", "m.csv"],
+        "invalid manifest row 1 (line 2), column record = '': allowed the path of a record file".into(),
+    ));
     out
 }
 
@@ -306,6 +485,11 @@ fn every_bad_input_gets_one_short_line_naming_its_field() {
             && line.starts_with(&start)
             && !BANNED.iter().any(|b| err.contains(b))
             && !line.ends_with("allowed one of:");
+        // `REPLAY_PRINT=1 cargo test --test hardening_round3 -- --nocapture`
+        // prints every line (the replay tables of tests/hardening_round3.md)
+        if std::env::var_os("REPLAY_PRINT").is_some() {
+            println!("{what} {args:?}: exit {code}, {} chars: {line}", line.chars().count());
+        }
         if !ok {
             failures.push(format!("{what} {args:?}: exit {code}, {} chars: {err}", line.chars().count()));
         }

@@ -118,8 +118,8 @@ fn an_unresolved_line_is_refused_naming_the_record_length() {
         })
         .collect();
     let e = Measurement::from_csv(&csv(&[col])).unwrap_err().to_string();
-    assert!(e.starts_with("invalid time_s = a record of"), "{e}");
-    assert!(e.contains("a record of at least"), "{e}");
+    assert!(e.starts_with("invalid time_s (the record's length) = "), "{e}");
+    assert!(e.contains(" s: allowed at least "), "{e}");
     assert!(!e.contains('\n'));
 }
 
@@ -326,7 +326,7 @@ fn langevin_cantilever(n: usize, seed: u64) -> Vec<Vec<f64>> {
 /// (LAMMPS) gets the same refusal. About 1 s in the debug build.
 #[test]
 fn a_cantilever_record_whose_fundamental_is_unresolved_names_the_length_it_needs() {
-    let prefix = "invalid time_s = a record of 2.000e-10 s: allowed a record resolving its strongest line";
+    let prefix = "invalid time_s (the record's length) = 2.000e-10 s: allowed at least ";
     for seed in 0..3 {
         let e = Measurement::from_csv(&csv(&langevin_cantilever(10_001, seed))).unwrap_err().to_string();
         assert!(e.starts_with(prefix), "{e}");

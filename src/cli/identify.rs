@@ -177,6 +177,80 @@ fn thermal_terms(e: IdentifyError, text: &str) -> IdentifyError {
     e.into()
 }
 
+/// The identification's refusals of a record written in `frequency_hz` in the
+/// record's terms (issue 69): the record is read as `omega_rad_s` (ω = 2πf),
+/// so its refusals named that column and showed rad/s. The field names the
+/// record's column and every frequency written `X rad/s` (or `[X, Y] rad/s`)
+/// is shown in Hz.
+fn hz_terms(e: IdentifyError, text: &str) -> IdentifyError {
+    let IdentifyError::Input(mut e) = e else { return e };
+    let header = text.strip_prefix('\u{feff}').unwrap_or(text).lines().next().unwrap_or("");
+    let first = header.split(',').next().unwrap_or("").trim().trim_matches('"');
+    if e.field != "omega_rad_s" || first != "frequency_hz" {
+        return e.into();
+    }
+    e.field = first.to_string();
+    hz_values(e, text).into()
+}
+
+/// Every frequency written `X rad/s` in `e`'s value and allowed part shown
+/// in Hz when the record's abscissa is `frequency_hz` (the numbering's
+/// refusals: "lines from 1.480e11 Hz fit both …"; issue 69).
+fn hz_values(mut e: InputError, text: &str) -> InputError {
+    let header = text.strip_prefix('\u{feff}').unwrap_or(text).lines().next().unwrap_or("");
+    if header.split(',').next().unwrap_or("").trim().trim_matches('"') == "frequency_hz" {
+        for part in [&mut e.value, &mut e.allowed] {
+            *part = rad_s_as_hz(part);
+        }
+    }
+    e
+}
+
+/// `text` with each frequency followed by ` rad/s` (`6.2832e11 rad/s`,
+/// `[6.2648e11, 6.3016e11] rad/s`, `1.0e3 to 2.0e3 rad/s`) divided by 2π and
+/// followed by ` Hz`, written with the same number of significant digits.
+fn rad_s_as_hz(text: &str) -> String {
+    let mut out = String::new();
+    let mut rest = text;
+    while let Some(i) = rest.find(" rad/s") {
+        let head = &rest[..i];
+        // the numbers just before: `X`, `[X, Y]` or `X to Y`
+        let start = if head.ends_with(']') { head.rfind('[') } else { head.rfind([' ', '(']).map(|j| j + 1) };
+        let mut start = start.unwrap_or(0);
+        let mut separator = ", ";
+        if let Some(before) = head[..start].strip_suffix(" to ") {
+            let from = before.rfind([' ', '(']).map_or(0, |j| j + 1);
+            if before[from..].parse::<f64>().is_ok() {
+                (start, separator) = (from, " to ");
+            }
+        }
+        let numbers = &head[start..];
+        let converted: Option<Vec<String>> = numbers
+            .trim_matches(['[', ']'])
+            .split(separator)
+            .map(|n| {
+                let v: f64 = n.parse().ok()?;
+                let digits = n.split(['e', 'E']).next().unwrap_or(n).split('.').nth(1).map_or(0, str::len);
+                Some(format!("{:.*e}", digits, v / std::f64::consts::TAU))
+            })
+            .collect();
+        match converted {
+            Some(c) => {
+                out.push_str(&head[..start]);
+                out.push_str(&if numbers.starts_with('[') { format!("[{}]", c.join(", ")) } else { c.join(separator) });
+                out.push_str(" Hz");
+            }
+            None => {
+                out.push_str(head);
+                out.push_str(" rad/s");
+            }
+        }
+        rest = &rest[i + " rad/s".len()..];
+    }
+    out.push_str(rest);
+    out
+}
+
 /// Lines decades from the beam's modes (issue 69, defect 6) are a unit left
 /// in the record's abscissa: the error names its column as the header
 /// writes it (a thermal record is read as a PSD, a `frequency_hz` column as
@@ -248,7 +322,7 @@ pub fn identify_record(
     let settings = IdentifySettings { modes, max_order };
     let polled = control.clone();
     let id = identify_controlled(&record, &settings, &Stop::new(move || polled.is_cancelled()))
-        .map_err(|e| thermal_terms(e, text))?;
+        .map_err(|e| hz_terms(thermal_terms(e, text), text))?;
     // numbered against every mode the record holds clearly (a subset chosen
     // by --modes is numbered within them, never renumbered into a gap)
     let found = &id.found_omegas_rad_s;
@@ -260,7 +334,8 @@ pub fn identify_record(
             id.modes.iter().chain(&id.background_modes).find(|m| m.omega_rad_s == w).map_or(0.0, |m| m.omega_sd_rad_s)
         })
         .collect();
-    let numbered = number_modes_with_sd(&beam, found, Some(&sds), first_mode).map_err(|e| scale_error(e, text))?;
+    let numbered = number_modes_with_sd(&beam, found, Some(&sds), first_mode)
+        .map_err(|e| scale_error(hz_values(e, text), text))?;
     let all_numbers = numbered.numbers;
     let numbers: Vec<usize> = id
         .modes
@@ -484,5 +559,25 @@ fn stabilisation(id: &Identification) -> ScatterPlot {
         ],
         ref_lines: id.modes.iter().map(|m| RefLine::Vertical(m.omega_rad_s)).collect(),
         size: (800, 500),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::rad_s_as_hz;
+
+    #[test]
+    fn frequencies_in_rad_s_are_shown_in_hz_with_their_digits() {
+        let tau = std::f64::consts::TAU;
+        let text = format!(
+            "[{:.4e}, {:.4e}] rad/s of a line at {:.3e} rad/s (at 5 rad/s); 3 samples",
+            tau,
+            2.0 * tau,
+            3e9 * tau
+        );
+        // the digits shown, not more: 1.2566e1 rad/s is 1.9999e0 Hz, 5 rad/s 8e-1 Hz
+        assert_eq!(rad_s_as_hz(&text), "[1.0000e0, 1.9999e0] Hz of a line at 3.000e9 Hz (at 8e-1 Hz); 3 samples");
+        assert_eq!(rad_s_as_hz("no number rad/s"), "no number rad/s");
+        assert_eq!(rad_s_as_hz("lines at 6.283e0 to 1.885e1 rad/s"), "lines at 1.000e0 to 3.000e0 Hz");
     }
 }

@@ -169,28 +169,30 @@ pub(super) fn assemble(
         .into());
     }
     if by_peak.is_empty() {
+        // the value is the clearest resonance's frequency (or the band when
+        // none was fitted), the explanation the allowed part (issue 69: a
+        // sentence in the value slot, 261 characters)
+        let in_band_count = (0..all.len()).filter(|&r| in_band(all[r].omega_rad_s)).count();
         let best = (0..all.len())
             .filter(|&r| in_band(all[r].omega_rad_s))
             .max_by(|&a, &b| all[a].peak_snr.total_cmp(&all[b].peak_snr));
-        let what = match best {
-            Some(r) => format!(
-                "{} fitted resonances in the band, none clear: the clearest, at {:.4e} rad/s, stands {:.3e} noise sd high{}",
-                (0..all.len()).filter(|&r| in_band(all[r].omega_rad_s)).count(),
-                all[r].omega_rad_s,
-                all[r].peak_snr,
-                if resolved(r) { "" } else { " and is narrower than the sampling" }
+        let wanted =
+            format!("a line >= {threshold} noise sd high, >= {MIN_POINTS_PER_RESONANCE} samples wide at half power");
+        let (value, allowed) = match best {
+            Some(r) => (
+                format!("{:.4e} rad/s", all[r].omega_rad_s),
+                format!(
+                    "{wanted} (the clearest of {in_band_count} in the band: {:.3e} sd{})",
+                    all[r].peak_snr,
+                    if resolved(r) { "" } else { ", under-sampled" },
+                ),
             ),
-            None => "no fitted resonance in the band".to_string(),
+            None => (
+                format!("[{:.4e}, {:.4e}] rad/s", sc.band.0 * w_unit, sc.band.1 * w_unit),
+                format!("{wanted} (none fitted in this band)"),
+            ),
         };
-        return Err(InputError::new(
-            m.abscissa_name(),
-            what,
-            format!(
-                "a record with a resonance standing >= {threshold} noise sd (fitted noise model: {}) above the noise at it, with >= {MIN_POINTS_PER_RESONANCE} samples in its half-power band",
-                noise_model.kind
-            ),
-        )
-        .into());
+        return Err(InputError::new(m.abscissa_name(), value, allowed).into());
     }
     let keep = report.unwrap_or(by_peak.len()).min(by_peak.len());
     // `--modes K`: the K lowest modes the record shows clearly (a user asking

@@ -98,7 +98,7 @@ pub(super) fn merge_peaks(sc: &Scaled, initial: &mut Vec<Complex64>) -> Result<V
                     sc,
                     peak.pole,
                     peak.samples_near_half,
-                    &format!("a peak {:.1} noise sd above its baseline", peak.statistic),
+                    &format!("a peak {:.1} noise sd high", peak.statistic),
                 ));
             }
             // the noise moved samples of a line it does not show to be
@@ -183,22 +183,23 @@ pub(super) fn is_known(initial: &[Complex64], w: f64, sigma: f64) -> bool {
     initial.iter().any(|p| (p.norm() - w).abs() <= (FREQ_MERGE * w).max(2.0 * sigma.max(-p.re)))
 }
 
-/// The refusal of a resonance narrower than the sampling, in the record's terms.
+/// The refusal of a resonance narrower than the sampling, in the record's
+/// terms: the value is the resonance's half-power band, the count and what
+/// found the resonance (`what`: a peak's height, a stable pole) go to the
+/// allowed part (issue 69: the value slot held a sentence, 245 characters).
 pub(super) fn under_sampled(sc: &Scaled, p: Complex64, count: usize, what: &str) -> InputError {
     let (lo, hi) = (p.im + p.re, p.im - p.re);
     let advice = match sc.kind {
-        FitKind::Psd => "a PSD with finer bins (longer Welch segments, hence a longer record)",
-        _ => "a sweep sampled more densely around the resonance",
+        FitKind::Psd => "finer PSD bins (a longer record)",
+        _ => "a denser sweep there",
     };
     InputError::new(
         "omega_rad_s",
+        format!("[{:.4e}, {:.4e}] rad/s", lo * sc.x_ref, hi * sc.x_ref),
         format!(
-            "{count} samples in the half-power band [{:.4e}, {:.4e}] rad/s of the resonance at {:.4e} rad/s ({what})",
-            lo * sc.x_ref,
-            hi * sc.x_ref,
+            ">= {MIN_POINTS_PER_RESONANCE} samples (it has {count}) in this half-power band of {what} at {:.4e} rad/s: {advice}",
             p.im * sc.x_ref,
         ),
-        format!(">= {MIN_POINTS_PER_RESONANCE} samples per resonance ({advice})"),
     )
 }
 
@@ -208,7 +209,7 @@ pub(super) fn check_points_per_resonance(sc: &Scaled, modes: &[Complex64]) -> Re
         let (lo, hi) = (p.im + p.re, p.im - p.re);
         let count = sc.x.iter().filter(|&&x| x >= lo && x <= hi).count();
         if count < MIN_POINTS_PER_RESONANCE {
-            return Err(under_sampled(sc, *p, count, "a pole stable in the stabilisation diagram"));
+            return Err(under_sampled(sc, *p, count, "a stable pole"));
         }
     }
     Ok(())

@@ -141,8 +141,8 @@ fn attempt(
     if in_band == 0 {
         return Err(InputError::new(
             m.abscissa_name(),
-            format!("{} samples with no stable resonance", m.len()),
-            "a record with at least one resonance stable in the stabilisation diagram",
+            format!("{} samples", m.len()),
+            "a record with at least one resonance stable in the stabilisation diagram (these have none)",
         )
         .into());
     }

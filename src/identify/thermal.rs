@@ -169,14 +169,14 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
         }
         let rows = seg * (MIN_AVERAGES.div_ceil(columns.len()) + 1) / 2;
         return Err(InputError::new(
-            "time_s",
-            format!("a record of {record_s:.3e} s"),
+            RECORD_LENGTH,
+            format!("{record_s:.3e} s"),
             format!(
-                "a record resolving its strongest line ({:.3e} Hz: half-power band from {edge:.1} bins of {:.3e} Hz, \
-                 < {LOW_EDGE_BINS}): at least {:.3e} s, or a weaker bath",
+                "at least {:.3e} s, or a weaker bath, resolving its strongest line ({:.3e} Hz: half-power band from \
+                 {edge:.1} bins of {:.3e} Hz, < {LOW_EDGE_BINS})",
+                rows as f64 * dt,
                 peak as f64 / (finest as f64 * dt),
                 1.0 / (finest as f64 * dt),
-                rows as f64 * dt
             ),
         ));
     }
@@ -217,18 +217,17 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
         Some((bin, width)) if width < UNRESOLVED_LINE_BINS => {
             let f_hz = bin as f64 / (finest as f64 * dt);
             return Err(InputError::new(
-                "time_s",
-                format!("a record of {record_s:.3e} s"),
+                RECORD_LENGTH,
+                format!("{record_s:.3e} s"),
                 format!(
-                    "a record that resolves its lines: the line at {:.4e} Hz spans {width:.1} bins of {:.3e} Hz \
-                     (segments of {:.3e} s, {} averages), fewer than {UNRESOLVED_LINE_BINS} (half a bin wide \
-                     or less); a record of at least {:.3e} s ({:.1}x longer) gives segments fine enough",
+                    "at least {:.3e} s ({:.1}x longer): the line at {:.4e} Hz spans {width:.1} bins of {:.3e} Hz \
+                     ({} averages of {:.3e} s), < {UNRESOLVED_LINE_BINS}",
+                    record_s * 2.0 * MIN_LINE_BINS / width,
+                    2.0 * MIN_LINE_BINS / width,
                     f_hz,
                     1.0 / (finest as f64 * dt),
-                    finest as f64 * dt,
                     averages(finest),
-                    record_s * 2.0 * MIN_LINE_BINS / width,
-                    2.0 * MIN_LINE_BINS / width
+                    finest as f64 * dt,
                 ),
             ));
         }
@@ -264,6 +263,11 @@ pub fn psd_of(time_s: &[f64], columns: &[Vec<f64>]) -> Result<(Vec<f64>, Vec<f64
     value.truncate(keep);
     Ok((omega, value))
 }
+
+/// The field of a refusal of the record's length: the value is the length
+/// in seconds, what it needs the allowed part (issue 69: the value slot held
+/// "a record of 6.000e-12 s").
+pub const RECORD_LENGTH: &str = "time_s (the record's length)";
 
 /// Factor above the frequency of the record's strongest line at which the band's top is first
 /// looked for (see `flexural_band`).

@@ -215,6 +215,22 @@ fn malformed(row: usize, line: u64, column: &str, value: impl std::fmt::Display,
     InputError::new(format!("manifest row {row} (line {line}), column {column}"), value, allowed).into()
 }
 
+/// Line `line` (1-based; the first that is not a `#` comment for the header,
+/// `line` 1) of `text` as written, cut and quoted by
+/// [`crate::error::clip_quoted`]; `''` for an empty or absent line.
+fn written_line(text: &str, line: u64) -> String {
+    let mut lines = text.lines();
+    let found = match line {
+        0 => None,
+        1 => lines.find(|l| !l.trim_start().starts_with('#')),
+        _ => lines.nth(line as usize - 1),
+    };
+    match found.map(str::trim).filter(|l| !l.is_empty()) {
+        Some(l) => crate::error::clip_quoted(l),
+        None => "''".to_string(),
+    }
+}
+
 /// Parses a manifest's text; relative paths are resolved against `base`.
 /// Lines starting with `#` are comments.
 pub fn plan_manifest(text: &str, base: &Path, defaults: &Defaults) -> Result<Vec<Task>, CliError> {
@@ -226,7 +242,7 @@ pub fn plan_manifest(text: &str, base: &Path, defaults: &Defaults) -> Result<Vec
         .from_reader(text.as_bytes());
     let header: Vec<String> = reader
         .headers()
-        .map_err(|e| InputError::new("manifest header", "(unreadable)", format!("a CSV header line ({e})")))?
+        .map_err(|e| InputError::new("manifest header", written_line(text, 1), format!("a CSV header line ({e})")))?
         .iter()
         .map(str::to_string)
         .collect();
@@ -253,7 +269,12 @@ pub fn plan_manifest(text: &str, base: &Path, defaults: &Defaults) -> Result<Vec
         let row = i + 1;
         let record = result.map_err(|e| {
             let line = e.position().map_or(0, |p| p.line());
-            malformed(row, line, "(all)", "(unreadable)", &format!("a CSV row ({e})"))
+            // the row as written (issue 69: "(unreadable)" in the value slot)
+            CliError::from(InputError::new(
+                format!("manifest row {row} (line {line})"),
+                written_line(text, line),
+                format!("a CSV row ({e})"),
+            ))
         })?;
         let line = record.position().map_or(0, |p| p.line());
         if record.len() != header.len() {
@@ -271,7 +292,7 @@ pub fn plan_manifest(text: &str, base: &Path, defaults: &Defaults) -> Result<Vec
             cells.set(name, value.to_string());
         }
         if cells.record.is_empty() {
-            return Err(malformed(row, line, "record", "(empty)", "the path of a record file"));
+            return Err(malformed(row, line, "record", "''", "the path of a record file"));
         }
         tasks.push(task(row, &cells, base, defaults));
     }
