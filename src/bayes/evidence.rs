@@ -461,11 +461,11 @@ pub fn estimate_at_optimum<P: Posterior>(
 /// (`tests/evidence.md`, "The evidence from an optimum, audited"): the
 /// shear-deformation single of 8 records sat at the sub-model's e0a,
 /// 9–156 nats below the evidence TMCMC found at the mode where shear and
-/// e0a trade (e0a ≈ 0.3–0.4 nm against the base's 0.6), and viscous damping
-/// + axial force 9.3 nats below on one record; the guard sends all of them
-/// to TMCMC and changes none of the 30 verdicts. The search costs at most 2000 + 8 · 2 ·
-/// `map_iters` solves and the polish 2 · `map_iters`, a fraction of the
-/// TMCMC run it saves or calls for.
+/// e0a trade (e0a ≈ 0.3–0.4 nm against the base's 0.6), and the pair of
+/// viscous damping and axial force 9.3 nats below on one record; the guard
+/// sends all of them to TMCMC and changes none of the 30 verdicts. The
+/// search costs at most 2000 + 8 · 2 · `map_iters` solves and the polish
+/// 2 · `map_iters`, a fraction of the TMCMC run it saves or calls for.
 pub const MISSED_MODE_NATS: f64 = 1.0;
 
 /// An adapted proposal's centre, covariance and kernel population ([`adapt`]).
