@@ -150,6 +150,19 @@ fn record_error(e: InputError, observations: &[ModeObservation]) -> CliError {
     CliError::Input(e)
 }
 
+/// The column names of a record's header line as written (a byte-order mark
+/// dropped, each name trimmed and unquoted): what the refusals below name the
+/// record's columns by.
+fn header_names(text: &str) -> Vec<String> {
+    let header = text.strip_prefix('\u{feff}').unwrap_or(text).lines().next().unwrap_or("");
+    header.split(',').map(|n| n.trim().trim_matches('"').to_string()).collect()
+}
+
+/// The record's abscissa column is `frequency_hz`.
+fn in_hz(text: &str) -> bool {
+    header_names(text).first().is_some_and(|c| c == "frequency_hz")
+}
+
 /// The identification's refusals of a thermal record in the record's terms
 /// (issue 69, defect 8's subject): the record is fitted as the PSD of its
 /// displacement columns, whose abscissa `omega_rad_s` the record lacks, and
@@ -158,8 +171,7 @@ fn record_error(e: InputError, observations: &[ModeObservation]) -> CliError {
 /// first and last of more than two) and the counts say bins.
 fn thermal_terms(e: IdentifyError, text: &str) -> IdentifyError {
     let IdentifyError::Input(mut e) = e else { return e };
-    let header = text.strip_prefix('\u{feff}').unwrap_or(text).lines().next().unwrap_or("");
-    let names: Vec<String> = header.split(',').map(|n| n.trim().trim_matches('"').to_string()).collect();
+    let names = header_names(text);
     if e.field != "omega_rad_s" || !crate::identify::thermal::is_thermal(&names) {
         return e.into();
     }
@@ -184,12 +196,10 @@ fn thermal_terms(e: IdentifyError, text: &str) -> IdentifyError {
 /// is shown in Hz.
 fn hz_terms(e: IdentifyError, text: &str) -> IdentifyError {
     let IdentifyError::Input(mut e) = e else { return e };
-    let header = text.strip_prefix('\u{feff}').unwrap_or(text).lines().next().unwrap_or("");
-    let first = header.split(',').next().unwrap_or("").trim().trim_matches('"');
-    if e.field != "omega_rad_s" || first != "frequency_hz" {
+    if e.field != "omega_rad_s" || !in_hz(text) {
         return e.into();
     }
-    e.field = first.to_string();
+    e.field = "frequency_hz".to_string();
     hz_values(e, text).into()
 }
 
@@ -197,8 +207,7 @@ fn hz_terms(e: IdentifyError, text: &str) -> IdentifyError {
 /// in Hz when the record's abscissa is `frequency_hz` (the numbering's
 /// refusals: "lines from 1.480e11 Hz fit both …"; issue 69).
 fn hz_values(mut e: InputError, text: &str) -> InputError {
-    let header = text.strip_prefix('\u{feff}').unwrap_or(text).lines().next().unwrap_or("");
-    if header.split(',').next().unwrap_or("").trim().trim_matches('"') == "frequency_hz" {
+    if in_hz(text) {
         for part in [&mut e.value, &mut e.allowed] {
             *part = rad_s_as_hz(part);
         }
@@ -259,8 +268,8 @@ fn scale_error(e: InputError, text: &str) -> CliError {
     if e.field != SCALE_FIELD || !e.value.starts_with("lines at ") {
         return e.into();
     }
-    let header = text.strip_prefix('\u{feff}').unwrap_or(text).lines().next().unwrap_or("");
-    let column = header.split(',').next().unwrap_or("").trim().trim_matches('"');
+    let names = header_names(text);
+    let column = names.first().map_or("", String::as_str);
     let unit = match column {
         "time_s" => "seconds",
         "frequency_hz" => "Hz",
