@@ -159,6 +159,57 @@ fn the_foundation_with_coupling_extensions_matches_the_state_space_reference() {
     assert_eq!(checked, 24);
 }
 
+/// A compression past the buckling load of the beam without its foundation,
+/// held by the foundation (halfway between the two buckling loads): the
+/// coupled path's start vectors come from the pencil with the foundation
+/// (`beam::modal`, `held_by_foundation`), so no such beam takes the dense
+/// state space, which it did on every solve before (a diagnosis near
+/// buckling spent most of its time there, `tests/diagnose_near_buckling.rs`).
+/// At e0a = 0.1 nm: at 0.9 nm the compressed Timoshenko mesh has families
+/// whose pole lies above their relaxed order, which the numbering check
+/// sends to the state space (`tests/beam_axial_shear.rs`,
+/// `modes_near_buckling_are_numbered_by_frequency`).
+/// The poles agree with the state-space reference to 1e-9 relative, the
+/// bound of the test above (the state space's backward error ~eps·‖A‖ with
+/// ‖A‖/|s₁| ≲ 1e4 on these 12-element meshes, and the RQI's stopping test).
+#[test]
+fn a_compression_the_foundation_holds_takes_the_coupled_path() {
+    let shear = ShearDeformation { poisson_ratio: 0.2, shear_coefficient: 0.9 };
+    let mut checked = 0;
+    for support in Support::ALL {
+        for (sh, c, mass, spring) in [
+            (true, 0.0, false, 0.0),
+            (true, 2e-6, false, 0.0),
+            (false, 2e-6, true, 0.0),
+            (false, 0.0, false, 3e-19),
+            (true, 0.0, true, 3e-19),
+        ] {
+            let mut b = swcnt(support, 12);
+            b.nonlocal_e0a_nm = 0.1;
+            b.viscous_damping_n_s_m2 = c;
+            b.internal_variables = vec![InternalVariable { delta: 0.3, omega_rad_s: 4e11 }];
+            b.shear_deformation = sh.then_some(shear);
+            b.point_mass = mass.then_some(PointMass { mass_kg: 3e-26, x_nm: 2.9 });
+            b.support_rotational_stiffness_n_m_rad = spring;
+            let free = buckling_load_n(&b).unwrap();
+            let w1 = modal(&b, 4).unwrap().modes[0].omega_rad_s;
+            b.elastic_foundation_n_m2 = 0.5 * rho_a(&b) * w1 * w1;
+            let held = buckling_load_n(&b).unwrap();
+            assert!(held < free, "{support:?}: the foundation raises the buckling load");
+            b.axial_force_n = 0.5 * (free + held);
+            let mut solver = ModalSolver::new();
+            let fast = solver.modal(&b, 4).unwrap();
+            assert_ne!(solver.last_path(), Some(SolverPath::StateSpaceFallback), "{support:?}\n{b:?}");
+            let reference = modal_state_space(&b, 4).unwrap();
+            for (f, r) in fast.modes.iter().zip(&reference.modes) {
+                assert!((f.pole - r.pole).norm() <= 1e-9 * r.pole.norm(), "{support:?}: {f:?} vs {r:?}\n{b:?}");
+            }
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 20);
+}
+
 /// The loss of stability: simply supported, the FE bound is a Rayleigh–Ritz
 /// upper bound on λ₁ (error ≤ (π/20)⁴/720 ≈ 2e-7 relative at 20 elements,
 /// as above), so k = −(1 − 1e-4)·k_cr of the continuum is stable and

@@ -201,9 +201,16 @@ pub fn omnibus(obs: &[Observable], draws: &Draws) -> Omnibus {
 /// `family_alpha`: half of it for the single observables (Šidák over them),
 /// half for the [`omnibus`] check (Bonferroni between the two, so the
 /// family-wise level stays at most `family_alpha`).
+///
+/// A check that could not be computed (no predictive draw: every forward
+/// solve of the posterior's draws failed, so its p-value is NaN) counts as a
+/// misfit: a model whose fit cannot be shown is not one that explains the
+/// data. (Before, `NaN < level` was false and such a model passed: set 710 of
+/// `tests/diagnose_extensions.rs`, a gate pull, was once named
+/// axial-force + loss-factor on predictive draws that had all failed.)
 pub fn misfit_detected(checks: &[Check], omnibus: &Omnibus, family_alpha: f64) -> bool {
     let per_test = sidak_level(family_alpha / 2.0, checks.len());
-    checks.iter().any(|c| c.ppp < per_test) || omnibus.p < family_alpha / 2.0
+    checks.iter().any(|c| !(c.ppp >= per_test)) || !(omnibus.p >= family_alpha / 2.0)
 }
 
 /// Šidák per-test level for `tests` tests at family-wise level `family_alpha`.
@@ -237,6 +244,23 @@ mod tests {
         assert!(!r[0].in_95); // 2 > 1.96: outside the central 95 % interval
         assert!((sidak_level(0.01, 10) - 0.001004529).abs() < 1e-8);
         assert!((z_threshold(0.0455002638963584) - 2.0).abs() < 1e-9);
+    }
+
+    /// No predictive draw (every solve of the posterior's draws failed): the
+    /// checks are NaN, and the model cannot be shown to fit, so it misfits.
+    #[test]
+    fn a_model_without_predictive_draws_misfits() {
+        let o = [
+            Observable { mode: 1, quantity: Quantity::Omega, x_nm: None, value: 2.0, sd: 1.0 },
+            Observable { mode: 1, quantity: Quantity::Zeta, x_nm: None, value: 0.01, sd: 0.001 },
+        ];
+        let none = Draws { predictions: Vec::new(), beta_sq: Vec::new() };
+        let checks = check_fitted(&o, &none);
+        assert!(checks.iter().all(|c| c.ppp.is_nan()));
+        assert!(misfit_detected(&checks, &omnibus(&o, &none), 0.05));
+        // and a fitting model with draws does not
+        let fits = Draws { predictions: vec![vec![2.0, 0.01]; 50], beta_sq: vec![1.0; 50] };
+        assert!(!misfit_detected(&check_fitted(&o, &fits), &omnibus(&o, &fits), 0.05));
     }
 
     #[test]

@@ -31,7 +31,8 @@
 //!   blocks bordered by χ₀, χ_L, s_L (det T̃(s) as block determinants times
 //!   a 3 × 3 Schur complement, the order by Haynsworth's inertia), and
 //!   `shear_poles`, Newton on its bordered determinant for the oscillatory
-//!   poles (opt-in: `ModalSolver::with_shear_blocks`);
+//!   poles (opt-in: `ModalSolver::with_shear_blocks`; a tension, not a
+//!   compression: `modal.rs`'s `families_below`);
 //! - `shear_continuum`: the uniform simply supported Timoshenko beam with an
 //!   axial force, viscous damping, springs or a point mass in closed form
 //!   (the mesh's continuum limit, within the mesh's discretisation error),
