@@ -33,6 +33,20 @@ fn k_unit(b: &BeamSpec) -> f64 {
     ei(b) / (b.length_nm * 1e-9).powi(4)
 }
 
+/// The paper's short SWCNT with a relaxation (Δ = 0.3, Ω = 4e11 rad/s), the
+/// given e0a, and the coupling extensions (shear κ = 0.9, viscous C, a point
+/// mass 3e-26 kg at 2.9 nm, a support spring) the coupled-path tests vary.
+fn coupled_beam(support: Support, e0a_nm: f64, (sh, c, mass, spring): (bool, f64, bool, f64)) -> BeamSpec {
+    let mut b = swcnt(support, 12);
+    b.nonlocal_e0a_nm = e0a_nm;
+    b.viscous_damping_n_s_m2 = c;
+    b.internal_variables = vec![InternalVariable { delta: 0.3, omega_rad_s: 4e11 }];
+    b.shear_deformation = sh.then_some(ShearDeformation { poisson_ratio: 0.2, shear_coefficient: 0.9 });
+    b.point_mass = mass.then_some(PointMass { mass_kg: 3e-26, x_nm: 2.9 });
+    b.support_rotational_stiffness_n_m_rad = spring;
+    b
+}
+
 /// Simply supported continuum: EI w⁗ + (1 − μ∂²)(ρA ẅ + k w) = 0, w = sin(αx).
 fn closed_form_omega2(b: &BeamSpec, n: usize) -> f64 {
     let a = n as f64 * PI / (b.length_nm * 1e-9);
@@ -123,7 +137,6 @@ fn the_foundation_shifts_every_omega_squared_by_k_over_rho_a_on_every_support() 
 /// leaves every result bitwise as without the field.
 #[test]
 fn the_foundation_with_coupling_extensions_matches_the_state_space_reference() {
-    let shear = ShearDeformation { poisson_ratio: 0.2, shear_coefficient: 0.9 };
     let mut checked = 0;
     for support in Support::ALL {
         for (k_rel, axial, sh, c, mass, spring) in [
@@ -134,13 +147,7 @@ fn the_foundation_with_coupling_extensions_matches_the_state_space_reference() {
             (2.0, 0.0, true, 0.0, false, 0.0),
             (-0.3, 0.2, true, 2e-6, true, 3e-19),
         ] {
-            let mut b = swcnt(support, 12);
-            b.nonlocal_e0a_nm = 0.9;
-            b.viscous_damping_n_s_m2 = c;
-            b.internal_variables = vec![InternalVariable { delta: 0.3, omega_rad_s: 4e11 }];
-            b.shear_deformation = sh.then_some(shear);
-            b.point_mass = mass.then_some(PointMass { mass_kg: 3e-26, x_nm: 2.9 });
-            b.support_rotational_stiffness_n_m_rad = spring;
+            let mut b = coupled_beam(support, 0.9, (sh, c, mass, spring));
             let plain = modal(&b, 4).unwrap();
             let mut zero = b.clone();
             zero.elastic_foundation_n_m2 = 0.0;
@@ -174,7 +181,6 @@ fn the_foundation_with_coupling_extensions_matches_the_state_space_reference() {
 /// ‖A‖/|s₁| ≲ 1e4 on these 12-element meshes, and the RQI's stopping test).
 #[test]
 fn a_compression_the_foundation_holds_takes_the_coupled_path() {
-    let shear = ShearDeformation { poisson_ratio: 0.2, shear_coefficient: 0.9 };
     let mut checked = 0;
     for support in Support::ALL {
         for (sh, c, mass, spring) in [
@@ -184,13 +190,7 @@ fn a_compression_the_foundation_holds_takes_the_coupled_path() {
             (false, 0.0, false, 3e-19),
             (true, 0.0, true, 3e-19),
         ] {
-            let mut b = swcnt(support, 12);
-            b.nonlocal_e0a_nm = 0.1;
-            b.viscous_damping_n_s_m2 = c;
-            b.internal_variables = vec![InternalVariable { delta: 0.3, omega_rad_s: 4e11 }];
-            b.shear_deformation = sh.then_some(shear);
-            b.point_mass = mass.then_some(PointMass { mass_kg: 3e-26, x_nm: 2.9 });
-            b.support_rotational_stiffness_n_m_rad = spring;
+            let mut b = coupled_beam(support, 0.1, (sh, c, mass, spring));
             let free = buckling_load_n(&b).unwrap();
             let w1 = modal(&b, 4).unwrap().modes[0].omega_rad_s;
             b.elastic_foundation_n_m2 = 0.5 * rho_a(&b) * w1 * w1;
