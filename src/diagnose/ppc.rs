@@ -205,9 +205,8 @@ pub fn omnibus(obs: &[Observable], draws: &Draws) -> Omnibus {
 /// A check that could not be computed (no predictive draw: every forward
 /// solve of the posterior's draws failed, so its p-value is NaN) counts as a
 /// misfit: a model whose fit cannot be shown is not one that explains the
-/// data. (Before, `NaN < level` was false and such a model passed: set 710 of
-/// `tests/diagnose_extensions.rs`, a gate pull, was once named
-/// axial-force + loss-factor on predictive draws that had all failed.)
+/// data. Hence the comparisons `!(p >= level)`: `p < level` is false for a
+/// NaN and read such a model as fitting (`benches/README.md`, 2026-12-08).
 pub fn misfit_detected(checks: &[Check], omnibus: &Omnibus, family_alpha: f64) -> bool {
     let per_test = sidak_level(family_alpha / 2.0, checks.len());
     checks.iter().any(|c| !(c.ppp >= per_test)) || !(omnibus.p >= family_alpha / 2.0)
