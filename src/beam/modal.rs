@@ -752,10 +752,11 @@ fn coupled_path(
     eigen: &mut EigenCache,
     poles: Poles,
 ) -> (SolverPath, Result<ModalResult, BeamError>) {
-    let (path, result) = coupled_unchecked(model, n_modes, eigen, poles);
-    let result = result.and_then(|r| match families_below(model, n_modes, &r) {
+    let kt = model.k_total();
+    let (path, result) = coupled_unchecked(model, &kt, n_modes, eigen, poles);
+    let result = result.and_then(|r| match families_below(model, &kt, n_modes, &r) {
         None => Ok(r),
-        Some(count) => match lowest_by_frequency(model, n_modes, count, poles, eigen, &r) {
+        Some(count) => match lowest_by_frequency(model, &kt, n_modes, count, poles, eigen, &r) {
             Ok(Some(sorted)) => Ok(sorted),
             Ok(None) => Ok(r),
             // the dense state space decides, where it can run; beyond its
@@ -767,15 +768,15 @@ fn coupled_path(
     (path, result)
 }
 
-/// The relaxed, static stiffness K̃ + K̃_spring + K̃_N + k̃_f M̃_beam: positive
+/// The relaxed, static stiffness K̃ + K̃_spring + K̃_N + k̃_f M̃_beam from
+/// `kt` = [`ScaledModel::k_total`] (borrowed without a foundation): positive
 /// definite for every validated beam ([`BeamSpec::validate`]: the buckling
 /// load and the foundation's loss of stability are checked on it).
-fn relaxed_stiffness(model: &ScaledModel) -> SymBand {
-    let kt = model.k_total();
+fn relaxed_stiffness<'a>(model: &ScaledModel, kt: &'a SymBand) -> std::borrow::Cow<'a, SymBand> {
     if model.foundation != 0.0 {
-        kt.plus_scaled(model.foundation, &model.m_beam)
+        std::borrow::Cow::Owned(kt.plus_scaled(model.foundation, &model.m_beam))
     } else {
-        kt
+        std::borrow::Cow::Borrowed(kt)
     }
 }
 
@@ -812,7 +813,7 @@ fn relaxed_stiffness(model: &ScaledModel) -> SymBand {
 /// and C² meshes every family's relaxed stiffness grows as k⁴ or faster, and
 /// a compression below the buckling load takes from it at most the fraction
 /// it takes from mode 1 (ẽ²|ñ| < 1 there), so the order holds.
-fn families_below(model: &ScaledModel, n_modes: usize, result: &ModalResult) -> Option<usize> {
+fn families_below(model: &ScaledModel, kt: &SymBand, n_modes: usize, result: &ModalResult) -> Option<usize> {
     if !(model.axial < 0.0 && model.mesh.shear.is_some()) {
         return None;
     }
@@ -826,7 +827,7 @@ fn families_below(model: &ScaledModel, n_modes: usize, result: &ModalResult) -> 
         return None;
     }
     let sigma = (top / model.omega_ref).powi(2) * (1.0 - NUMBERING_MARGIN);
-    let below = match relaxed_stiffness(model).ldl_inertia(&model.m, sigma, &mut Vec::new()) {
+    let below = match relaxed_stiffness(model, kt).ldl_inertia(&model.m, sigma, &mut Vec::new()) {
         Some((below, _)) => below,
         None => n_modes + 1,
     };
@@ -868,21 +869,19 @@ const MAX_FAMILIES: usize = 48;
 /// to 1e-8.
 fn lowest_by_frequency(
     model: &ScaledModel,
+    kt: &SymBand,
     n_modes: usize,
     mut count: usize,
     poles: Poles,
     eigen: &mut EigenCache,
     first: &ModalResult,
 ) -> Result<Option<ModalResult>, BeamError> {
-    let kt = model.k_total();
     let cap = model.n().min(MAX_FAMILIES);
     while count <= cap {
-        let held = held_by_foundation(model, &kt, count);
+        let held = held_by_foundation(model, kt, count);
         let pairs = match &held {
             Some(pairs) => pairs.as_ref().map_err(Clone::clone)?.as_slice(),
-            None => {
-                eigen.lowest(model.mesh, &model.pencil_params(), &kt, &model.m, model.point_mass.as_ref(), count)?
-            }
+            None => eigen.lowest(model.mesh, &model.pencil_params(), kt, &model.m, model.point_mass.as_ref(), count)?,
         };
         let mut result = general_path(model, count, pairs, Poles::Oscillatory)?;
         if !result.overdamped.is_empty() || result.modes.len() < n_modes {
@@ -896,7 +895,7 @@ fn lowest_by_frequency(
         for (i, m) in result.modes.iter_mut().enumerate() {
             m.mode = i + 1;
         }
-        match families_below(model, count, &result) {
+        match families_below(model, kt, count, &result) {
             None if same => return Ok(None),
             // the families sorted have no real poles: where they are asked for
             // (a hysteretic loss has none), the dense state space gives them
@@ -909,21 +908,22 @@ fn lowest_by_frequency(
     Err(BeamError::numerical("coupled path: the lowest modes in the order of |s| not found"))
 }
 
+/// The coupled path proper (see [`coupled_path`]); `kt` = [`ScaledModel::k_total`].
 fn coupled_unchecked(
     model: &ScaledModel,
+    kt: &SymBand,
     n_modes: usize,
     eigen: &mut EigenCache,
     poles: Poles,
 ) -> (SolverPath, Result<ModalResult, BeamError>) {
-    let kt = model.k_total();
-    if let Some(held) = held_by_foundation(model, &kt, n_modes) {
+    if let Some(held) = held_by_foundation(model, kt, n_modes) {
         return (SolverPath::CoupledRqi, held.and_then(|pairs| general_path(model, n_modes, &pairs, poles)));
     }
-    let pairs =
-        match eigen.lowest(model.mesh, &model.pencil_params(), &kt, &model.m, model.point_mass.as_ref(), n_modes) {
-            Ok(pairs) => pairs,
-            Err(e) => return (SolverPath::CoupledRqi, Err(e)),
-        };
+    let pairs = match eigen.lowest(model.mesh, &model.pencil_params(), kt, &model.m, model.point_mass.as_ref(), n_modes)
+    {
+        Ok(pairs) => pairs,
+        Err(e) => return (SolverPath::CoupledRqi, Err(e)),
+    };
     match general_path(model, n_modes, pairs, poles) {
         // (not with a loss factor: the dense state space, the reference that
         // checks this path's assignment, has no form for it)
@@ -936,7 +936,7 @@ fn coupled_unchecked(
             let count = (SUBSPACE_FACTOR * n_modes).min(model.n());
             let params = model.pencil_params();
             let stiffness = |x: &[f64]| model.mesh.pencil_stiffness(&params, x);
-            let result = lowest_eigenpairs(&kt, &model.m, count, &mut Vec::new(), &stiffness)
+            let result = lowest_eigenpairs(kt, &model.m, count, &mut Vec::new(), &stiffness)
                 .and_then(|pairs| subspace_path(model, n_modes, &pairs));
             (SolverPath::CoupledSubspace, result)
         }
@@ -970,7 +970,7 @@ fn held_by_foundation(model: &ScaledModel, kt: &SymBand, n_modes: usize) -> Opti
     if matches!(kt.ldl_inertia(&model.m, 0.0, &mut work), Some((0, _))) {
         return None;
     }
-    let held = kt.plus_scaled(model.foundation, &model.m_beam);
+    let held = relaxed_stiffness(model, kt);
     let params = model.pencil_params();
     let stiffness =
         |x: &[f64]| model.mesh.pencil_stiffness(&params, x) + model.foundation * model.m_beam.bilinear(x, x);

@@ -206,7 +206,7 @@ pub fn omnibus(obs: &[Observable], draws: &Draws) -> Omnibus {
 /// solve of the posterior's draws failed, so its p-value is NaN) counts as a
 /// misfit: a model whose fit cannot be shown is not one that explains the
 /// data. Hence the comparisons `!(p >= level)`: `p < level` is false for a
-/// NaN and read such a model as fitting (`benches/README.md`, 2026-12-08).
+/// NaN and read such a model as fitting (the case that showed it: `benches/README.md`).
 pub fn misfit_detected(checks: &[Check], omnibus: &Omnibus, family_alpha: f64) -> bool {
     let per_test = sidak_level(family_alpha / 2.0, checks.len());
     checks.iter().any(|c| !(c.ppp >= per_test)) || !(omnibus.p >= family_alpha / 2.0)
