@@ -150,6 +150,41 @@ fn two_mode_sweep_hz(scale: f64) -> String {
     text
 }
 
+/// Near-Gaussian noise of sd 1 from `next` (three of its numbers, summed, times 2).
+fn gauss(next: &mut impl FnMut() -> f64) -> f64 {
+    2.0 * (next() + next() + next())
+}
+
+/// [`ring_down`] with its amplitudes times `amplitude` and noise of sd
+/// `noise` (m) from a fixed xorshift: 3 000 rows whose lines stand a few
+/// noise sd high.
+fn ring_down_in_noise(amplitude: f64, noise: f64) -> String {
+    let modes = [(9.3e11_f64, 0.02_f64, 1e-11 * amplitude), (3.8e12, 0.01, 4e-12 * amplitude)];
+    let dt = std::f64::consts::TAU / 3.8e12 / 20.0;
+    let mut next = xorshift(0x9e37_79b9_7f4a_7c15);
+    let mut text = String::from("time_s,displacement_m\n");
+    for i in 0..3000 {
+        let t = i as f64 * dt;
+        let x: f64 = modes.iter().map(|&(w, z, a)| a * (-z * w * t).exp() * (w * (1.0 - z * z).sqrt() * t).cos()).sum();
+        let x = x + noise * gauss(&mut next);
+        text.push_str(&format!("{t:e},{x:e}\n"));
+    }
+    text
+}
+
+/// A thermal record of one column, `rows` rows 20 fs apart: a sinusoid of
+/// angular step `step` per row and amplitude `amplitude` (m) in near-Gaussian
+/// noise of sd `noise` (m) from a fixed xorshift.
+fn thermal_in_noise(rows: usize, step: f64, amplitude: f64, noise: f64) -> String {
+    let mut next = xorshift(0x9e37_79b9_7f4a_7c15);
+    let mut text = String::from("time_s,thermal_a_m\n");
+    for k in 0..rows {
+        let x = amplitude * (step * k as f64).sin() + noise * gauss(&mut next);
+        text.push_str(&format!("{:e},{x:e}\n", k as f64 * 2e-14));
+    }
+    text
+}
+
 /// Each case: (what, files to write, arguments, the line's start).
 type Case = (&'static str, Vec<(&'static str, String)>, Vec<&'static str>, String);
 
@@ -465,6 +500,31 @@ fn cases() -> Vec<Case> {
         vec![("beam.yaml", BEAM.into()), ("m.csv", "record,beam\n,beam.yaml\n".into())],
         vec!["campaign", "m.csv"],
         "invalid manifest row 1 (line 2), column record = '': allowed the path of a record file".into(),
+    ));
+    // a record in Hz or in seconds is refused in Hz: the mode a measured-data
+    // file refuses (the two-mode sweep 42 decades down, against a beam whose
+    // mode 1 is there: omega below the file's 1e-30 rad/s), a ring-down's and
+    // a thermal record's clearest line when none is clear (tests/
+    // hardening_round3.md, "The value slot, the leftovers")
+    let slow = "length_nm: 8.0e27\ndiameter_nm: 1.0e27\nyoungs_modulus_pa: 1.338e-9\ndensity_kg_m3: 2.3e12\nsupport: simply-supported\nelements: 20\n";
+    out.push((
+        "a sweep in Hz whose mode a measured-data file refuses",
+        vec![("beam.yaml", slow.into()), ("rec.csv", two_mode_sweep_hz(1e-42))],
+        vec!["identify", "rec.csv", "--beam", "beam.yaml", "--first-mode", "1"],
+        "invalid omega_rad_s (the mode identified at 1.4801e-31 Hz) = ".into(),
+    ));
+    out.push((
+        "a ring-down whose lines are not clear",
+        vec![("beam.yaml", BEAM.into()), ("rec.csv", ring_down_in_noise(0.1, 1e-11))],
+        identify(),
+        "invalid time_s = 3.3297e12 Hz: allowed a line >= 5 noise sd high, >= 3 samples wide at half power".into(),
+    ));
+    out.push((
+        "a thermal record whose line is not clear",
+        vec![("beam.yaml", BEAM.into()), ("rec.csv", thermal_in_noise(8000, 0.1, 3.5e-12, 1e-11))],
+        identify(),
+        "invalid PSD of thermal_a_m = 8.0098e11 Hz: allowed a line >= 5 noise sd high, >= 3 bins wide at half power"
+            .into(),
     ));
     out
 }

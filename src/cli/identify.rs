@@ -128,17 +128,22 @@ fn check_first_mode_fits(first: Option<usize>, k: usize, beam: &BeamSpec) -> Res
 /// property of the record: name the quantity the file refused (`zeta_sd`, not
 /// the record's abscissa: issue 69, defect 7) and the mode by the frequency
 /// the record shows it at.
-fn record_error(e: InputError, observations: &[ModeObservation]) -> CliError {
+/// The frequency is in the record's unit: Hz for a record written in Hz or
+/// in seconds, whose user never wrote rad/s (issue 69).
+fn record_error(e: InputError, observations: &[ModeObservation], text: &str) -> CliError {
     if let Some(rest) = e.field.strip_prefix("modes[") {
         let (index, quantity) = rest.split_once(']').unwrap_or((rest, ""));
         let quantity = quantity.trim_start_matches('.');
         let mode = index.parse::<usize>().ok().and_then(|i| observations.get(i));
         let field = match mode {
-            Some(m) => format!(
-                "{} (the mode identified at {:.4e} rad/s)",
-                if quantity.is_empty() { "mode" } else { quantity },
-                m.omega_rad_s
-            ),
+            Some(m) => {
+                let at = format!("{:.4e} rad/s", m.omega_rad_s);
+                format!(
+                    "{} (the mode identified at {})",
+                    if quantity.is_empty() { "mode" } else { quantity },
+                    if in_rad_s(text) { at } else { rad_s_as_hz(&at) }
+                )
+            }
             None => e.field.clone(),
         };
         return CliError::Input(InputError::new(
@@ -161,6 +166,26 @@ fn header_names(text: &str) -> Vec<String> {
 /// The record's abscissa column is `frequency_hz`.
 fn in_hz(text: &str) -> bool {
     header_names(text).first().is_some_and(|c| c == "frequency_hz")
+}
+
+/// The record's abscissa column is `omega_rad_s`: its user wrote rad/s.
+fn in_rad_s(text: &str) -> bool {
+    header_names(text).first().is_some_and(|c| c == "omega_rad_s")
+}
+
+/// The identification's refusals of a record written in seconds (a
+/// ring-down, a thermal record, whose lines are fitted in rad/s) show each
+/// frequency in Hz, as a thermal record's length refusals do: its user never
+/// wrote rad/s (issue 69). The field is left as named ([`thermal_terms`]
+/// names a thermal record's PSD).
+fn time_terms(e: IdentifyError, text: &str) -> IdentifyError {
+    let IdentifyError::Input(mut e) = e else { return e };
+    if header_names(text).first().is_some_and(|c| c == "time_s") {
+        for part in [&mut e.value, &mut e.allowed] {
+            *part = rad_s_as_hz(part);
+        }
+    }
+    e.into()
 }
 
 /// The identification's refusals of a thermal record in the record's terms
@@ -331,7 +356,7 @@ pub fn identify_record(
     let settings = IdentifySettings { modes, max_order };
     let polled = control.clone();
     let id = identify_controlled(&record, &settings, &Stop::new(move || polled.is_cancelled()))
-        .map_err(|e| hz_terms(thermal_terms(e, text), text))?;
+        .map_err(|e| time_terms(hz_terms(thermal_terms(e, text), text), text))?;
     // numbered against every mode the record holds clearly (a subset chosen
     // by --modes is numbered within them, never renumbered into a gap)
     let found = &id.found_omegas_rad_s;
@@ -364,7 +389,7 @@ pub fn identify_record(
             zeta_sd: m.zeta_sd,
         })
         .collect();
-    let file = measured_file(beam, observations.clone()).map_err(|e| record_error(e, &observations))?;
+    let file = measured_file(beam, observations.clone()).map_err(|e| record_error(e, &observations, text))?;
     Ok(Identified { identification: id, observations, file, numbering_warning: numbered.warning })
 }
 
