@@ -78,7 +78,48 @@ pub fn non_negative(field: &str, value: f64) -> Result<(), InputError> {
 /// unknown variant, wrong type, syntax, alias bombs) into a one-line
 /// [`InputError`] that names the full field path, the value and what is allowed.
 pub fn parse_yaml<T: serde::de::DeserializeOwned>(text: &str) -> Result<T, InputError> {
-    serde_yaml::from_str(text).map_err(|e| serde_error("", &e.to_string(), text))
+    serde_yaml::from_str(text).map_err(|e| enum_error::<T>("", &e.to_string(), text))
+}
+
+/// What serde_yaml expects where an enum is given a list or a mapping (it
+/// reads those as a tagged variant); no user writes a tag there.
+const ENUM_TAG: &str = "a YAML tag starting with '!'";
+
+/// [`serde_error`], with the names an enum field allows when the message is
+/// serde_yaml's about a list or a mapping given to it ([`ENUM_TAG`]; issue
+/// 69: "allowed a YAML tag starting with '!', not a list").
+fn enum_error<T: serde::de::DeserializeOwned>(prefix: &str, msg: &str, text: &str) -> InputError {
+    let mut e = serde_error(prefix, msg, text);
+    if let Some(names) = msg.contains(ENUM_TAG).then(|| enum_names::<T>(msg, text)).flatten() {
+        e.allowed = e.allowed.replacen(ENUM_TAG, &clip_list(&names, LIST_CHARS), 1);
+    }
+    e
+}
+
+/// The names the enum at the field serde_yaml's message `msg` points at
+/// allows (serde's "one of `a`, `b`"): `text` parsed again with a name no enum has
+/// in that place, whose refusal lists them.
+fn enum_names<T: serde::de::DeserializeOwned>(msg: &str, text: &str) -> Option<String> {
+    let msg = msg.lines().next()?.trim();
+    let body = msg.rfind(" at line ").map_or(msg, |i| &msg[..i]);
+    let (path, _) = split_path(body);
+    let mut doc: serde_yaml::Value = serde_yaml::from_str(text).ok()?;
+    let mut node = &mut doc;
+    for segment in path.split('.').filter(|s| !s.is_empty()) {
+        let mut parts = segment.split('[');
+        let key = parts.next()?;
+        if !key.is_empty() {
+            node = node.get_mut(key)?;
+        }
+        for index in parts {
+            node = node.get_mut(index.strip_suffix(']')?.parse::<usize>().ok()?)?;
+        }
+    }
+    *node = serde_yaml::Value::String("?".into());
+    let again = serde_yaml::to_string(&doc).ok()?;
+    let refusal = serde_yaml::from_str::<T>(&again).err()?.to_string();
+    let (_, what) = split_path(refusal.lines().next()?);
+    backticked(what, "unknown variant `").map(|_| expected(what).split(" at line ").next().unwrap_or("").to_string())
 }
 
 /// [`parse_yaml`] for an already parsed YAML value found at `prefix` (e.g.
@@ -90,7 +131,7 @@ pub fn from_yaml_value<T: serde::de::DeserializeOwned>(
     // Through text, so that serde_yaml tracks the path inside the value
     // (`from_value` reports none: `parameters.delta.prior.mean` became `parameters.delta.mean`).
     let text = serde_yaml::to_string(&value).map_err(|e| serde_error(prefix, &e.to_string(), ""))?;
-    serde_yaml::from_str(&text).map_err(|e| serde_error(prefix, &e.to_string(), &text))
+    serde_yaml::from_str(&text).map_err(|e| enum_error::<T>(prefix, &e.to_string(), &text))
 }
 
 /// Largest finite `f64`, as written in messages.

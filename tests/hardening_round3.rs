@@ -44,7 +44,7 @@ fn nanobeam(args: &[&str], dir: &Path) -> (i32, String) {
 
 /// What no line may contain: prose or nothing in the value or range slot,
 /// and internal names.
-const BANNED: [&str; 22] = [
+const BANNED: [&str; 23] = [
     "(given)",
     "(not given)",
     "(unreadable)",
@@ -67,6 +67,7 @@ const BANNED: [&str; 22] = [
     "(alias expansion)",
     "(nesting too deep)",
     "(empty)",
+    "YAML tag",
 ];
 
 /// A thermal record of `columns` displacement columns of white noise (no
@@ -525,6 +526,39 @@ fn cases() -> Vec<Case> {
         identify(),
         "invalid PSD of thermal_a_m = 8.0098e11 Hz: allowed a line >= 5 noise sd high, >= 3 bins wide at half power"
             .into(),
+    ));
+    // an enum given a list or a mapping: the names it allows, not serde_yaml's
+    // "a YAML tag starting with '!'" (tests/hardening_round3.md, "The value
+    // slot, the leftovers")
+    let supports = "one of `simply-supported`, `clamped-clamped`, `clamped-free`, `clamped-pinned`";
+    for (what, value, start) in [
+        (
+            "an enum given a flow list",
+            "[clamped-clamped, simply-supported]",
+            format!("invalid support = `[clamped-clamped, simply-supported]`: allowed {supports}, not a list"),
+        ),
+        (
+            "an enum given a block mapping",
+            "\n  clamped: 1\n  free: 2",
+            format!("invalid support = `clamped: 1` … (2 lines): allowed {supports}, not a mapping"),
+        ),
+    ] {
+        let beam = BEAM.replace("support: simply-supported", &format!("support: {value}"));
+        out.push((what, vec![("b.yaml", beam)], vec!["modal", "b.yaml"], start));
+    }
+    out.push((
+        "an enum inside a mapping given a list",
+        vec![("m.yaml", {
+            let beam: String = BEAM
+                .replace("support: simply-supported", "support: [clamped-free]")
+                .lines()
+                .map(|l| format!("  {l}\n"))
+                .collect();
+            let (_, rest) = MEASURED.split_once('\n').unwrap();
+            format!("beam:\n{beam}{rest}")
+        })],
+        vec!["calibrate", "m.yaml"],
+        format!("invalid beam.support = `[clamped-free]`: allowed {supports}, not a list"),
     ));
     out
 }
