@@ -192,3 +192,30 @@ fn case_3_fourth_mode_prediction_matches_around_1250_ghz() {
     // "1.2e3 … 1.3e3") around the rounding range of the prediction.
     assert!(lo - 25.0 <= stated && stated <= hi + 25.0, "predicted [{lo}, {hi}] vs stated {stated}");
 }
+
+/// A published-values file that cannot be read, or is not UTF-8, is refused
+/// with what is there in the value slot (its path, its first characters as
+/// written) and what is allowed, on one short line (issue 69: "(unreadable)").
+#[test]
+fn an_unreadable_published_file_shows_what_is_there() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("published.yaml");
+    let binary = dir.path().join("binary.yaml");
+    std::fs::write(&binary, b"model:\n  n_elements: \xff\xfe 20\n").unwrap();
+    let cases = [
+        (missing.clone(), format!("`{}`", missing.display()), "a readable file ("),
+        (dir.path().to_path_buf(), format!("`{}`", dir.path().display()), "a readable file ("),
+        (binary, "`model:   n_elements: \u{fffd}\u{fffd} 20`".to_string(), "YAML text in UTF-8 (byte 22 is not UTF-8)"),
+    ];
+    for (path, value, allowed) in cases {
+        let e = Published::load(&path).unwrap_err();
+        let line = e.to_string();
+        assert!(
+            path.display().to_string().chars().count() <= 40,
+            "the temporary path is short enough to be shown whole"
+        );
+        assert_eq!((e.field.as_str(), e.value.as_str()), ("published.yaml", value.as_str()), "{line}");
+        assert!(e.allowed.starts_with(allowed), "{line}");
+        assert!(!line.contains("(unreadable)") && line.lines().count() == 1 && line.chars().count() <= 200, "{line}");
+    }
+}

@@ -22,7 +22,7 @@
 //! See [`frequency_unit_evidence`]: the conclusion is that "GHz" is cyclic
 //! frequency, ω/(2π) in 10⁹ Hz, so ω1 ≈ 133 GHz ≈ 8.4·10¹¹ rad/s.
 
-use crate::error::{parse_yaml, InputError};
+use crate::error::{clip_quoted, parse_yaml, InputError};
 use serde::Deserialize;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -286,10 +286,25 @@ impl Published {
         Ok(p)
     }
 
-    /// Reads and parses `path` (normally `paper/published.yaml`).
+    /// Reads and parses `path` (normally `paper/published.yaml`). A file that
+    /// cannot be read is refused with its path as the value; one that is not
+    /// UTF-8 text with its first characters as written (issue 69:
+    /// "(unreadable)" in the value slot).
     pub fn load(path: &Path) -> Result<Self, InputError> {
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            InputError::new(path.display().to_string(), "(unreadable)", format!("a readable file: {e}"))
+        let bytes = std::fs::read(path).map_err(|e| {
+            InputError::new(
+                "published.yaml",
+                clip_quoted(&path.display().to_string()),
+                format!("a readable file ({e})"),
+            )
+        })?;
+        let text = String::from_utf8(bytes).map_err(|e| {
+            let bytes = e.as_bytes();
+            InputError::new(
+                "published.yaml",
+                clip_quoted(&String::from_utf8_lossy(bytes).trim().replace(['\n', '\r'], " ")),
+                format!("YAML text in UTF-8 (byte {} is not UTF-8)", e.utf8_error().valid_up_to() + 1),
+            )
         })?;
         Self::from_yaml_str(&text)
     }
