@@ -9,8 +9,9 @@
 //! (Eringen's operator on inertia, damping, force and foundation alike). The
 //! cubic's roots come from nalgebra's complex Schur decomposition of its
 //! companion matrix, polished by Newton on the cubic itself. The axial force
-//! sends `src/` down its coupled path (RQI on T(s)), the rest down the
-//! decoupled families.
+//! sends `src/` down its wavenumber-block path (Newton on each block's
+//! determinant with the modulus G(s)(1 + iη)), the rest down the decoupled
+//! families.
 
 use std::f64::consts::PI;
 

@@ -43,6 +43,7 @@ use crate::beam::eigen_cache::EigenCache;
 use crate::beam::error::BeamError;
 use crate::beam::fast::axial_spectrum::{AxialBlocks, Bending};
 use crate::beam::fast::gradient_blocks::{GradientBending, GradientBlocks, GradientPencil};
+use crate::beam::fast::jet::Modulus;
 use crate::beam::fast::mass_blocks::MassScratch;
 use crate::beam::fast::mass_spectrum::MassSpectrumTable;
 use crate::beam::fast::shear_blocks::ShearBlocks;
@@ -102,7 +103,9 @@ use crate::beam::spec::{BeamSpec, Support, MAX_INTERNAL_VARIABLES};
 /// axial force, any C and internal variables, no point mass): a rank ≤ 2
 /// update of the same blocks, the poles roots of a 1 × 1 or 2 × 2 secular
 /// determinant (`spring_spectrum.rs`; again [`Self::modal`] only without
-/// internal variables). So does a strain gradient (the C² mesh) on a simply
+/// internal variables). These block paths, the point mass's with them, take
+/// a hysteretic loss factor too (whose poles are the oscillatory pairs
+/// alone, so [`Self::modal`] as well). So does a strain gradient (the C² mesh) on a simply
 /// supported mesh without springs or a point mass, with or without damping,
 /// internal variables, an axial force, a foundation or a loss factor (not
 /// beside a force): one 3 × 3 block per wavenumber (`gradient_blocks.rs`;
@@ -338,7 +341,8 @@ impl ModalSolver {
             if beam.point_mass.is_some() || mesh.springs(&sc.spring).next().is_some() || n_modes == 0 {
                 return None;
             }
-            // a loss factor beside the force takes the coupled reference (as on the cubic mesh)
+            // a loss factor beside the force takes the coupled reference (the
+            // blocks' RQI here has no hysteretic modulus, unlike the cubic mesh's)
             if sc.axial != 0.0 && beam.loss_factor != 0.0 {
                 return None;
             }
@@ -365,12 +369,13 @@ impl ModalSolver {
             return Some(sc.omega_ref);
         }
         // a loss factor takes the decoupled families at the end (the
-        // interpolated spectra) or, coupled, the general path: no block or
-        // continuum path has it
-        if beam.loss_factor != 0.0 {
-            let (spring, shear, mass) =
-                (mesh.springs(&sc.spring).next().is_some(), mesh.shear.is_some(), beam.point_mass.is_some());
-            if spring || sc.axial != 0.0 || (shear && sc.c != 0.0) || (mass && (shear || sc.c != 0.0)) {
+        // interpolated spectra), the Euler–Bernoulli wavenumber-block paths
+        // (its (1 + iη) multiplies G(s) there, `axial_spectrum.rs`) or,
+        // coupled on a Timoshenko mesh, the general path: no Timoshenko
+        // block or continuum path has it
+        if beam.loss_factor != 0.0 && mesh.shear.is_some() {
+            let (spring, mass) = (mesh.springs(&sc.spring).next().is_some(), beam.point_mass.is_some());
+            if spring || mass || sc.axial != 0.0 || sc.c != 0.0 {
                 return None;
             }
         }
@@ -381,11 +386,11 @@ impl ModalSolver {
         // or a point mass (k̃_f joins its P, `shear_continuum.rs`) or, coupled,
         // the general path; the springs with a point mass together, the
         // Timoshenko blocks, the other continuum paths and a loss factor
-        // beside a coupling do not have it
+        // beside a coupling on the Timoshenko mesh do not have it
         if sc.foundation != 0.0 {
             let (spring, mass) = (mesh.springs(&sc.spring).next().is_some(), beam.point_mass.is_some());
             let plain = mesh.shear.is_none() && !mass && !spring && sc.axial == 0.0;
-            let on_blocks = mesh.shear.is_none() && !(mass && spring) && beam.loss_factor == 0.0;
+            let on_blocks = mesh.shear.is_none() && !(mass && spring);
             let on_continuum = mesh.shear.is_some() && !mass && !spring && beam.loss_factor == 0.0;
             if !plain && !on_blocks && !on_continuum {
                 return None;
@@ -404,7 +409,8 @@ impl ModalSolver {
             let mass = (pm.mass_kg / (sc.rho_a * sc.l), pm.x_nm / beam.length_nm);
             let all = poles == Poles::All;
             let forces = (sc.axial, sc.foundation);
-            if !blocks.mass_family_roots(t, forces, mass, sc.c, &ivs[..nv], n_modes, all, mass_scratch, roots) {
+            let modulus = Modulus { ivs: &ivs[..nv], loss: beam.loss_factor };
+            if !blocks.mass_family_roots(t, forces, mass, sc.c, modulus, n_modes, all, mass_scratch, roots) {
                 return None;
             }
             self.last_mass_blocks = true;
@@ -515,7 +521,7 @@ impl ModalSolver {
                 spring,
                 mass,
                 sc.c,
-                &ivs[..nv],
+                Modulus { ivs: &ivs[..nv], loss: beam.loss_factor },
                 n_modes,
                 all,
                 spring_mass_scratch,
@@ -537,7 +543,8 @@ impl ModalSolver {
             let spring: [f64; 2] =
                 std::array::from_fn(|e| if mesh.spring_dofs[e].is_some() { sc.spring[e] } else { 0.0 });
             let forces = (sc.axial, sc.foundation);
-            if !blocks.spring_family_roots(t, forces, spring, sc.c, &ivs[..nv], n_modes, all, spring_scratch, roots) {
+            let modulus = Modulus { ivs: &ivs[..nv], loss: beam.loss_factor };
+            if !blocks.spring_family_roots(t, forces, spring, sc.c, modulus, n_modes, all, spring_scratch, roots) {
                 return None;
             }
             self.last_spring_blocks = true;
@@ -554,7 +561,8 @@ impl ModalSolver {
             let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
             let t = sc.e_tilde * sc.e_tilde;
             let all = poles == Poles::All;
-            if !blocks.family_roots(t, sc.axial, sc.foundation, sc.c, &ivs[..nv], n_modes, all, axial_scratch, roots) {
+            let modulus = Modulus { ivs: &ivs[..nv], loss: beam.loss_factor };
+            if !blocks.family_roots(t, sc.axial, sc.foundation, sc.c, modulus, n_modes, all, axial_scratch, roots) {
                 return None;
             }
             self.last_axial_blocks = true;

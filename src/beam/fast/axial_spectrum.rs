@@ -61,6 +61,18 @@
 //! beyond that neighbourhood for the modes a diagnosis fits; a start that
 //! reached one would fail the half-modulus test and the reference would run.
 //!
+//! # A hysteretic loss factor
+//! A loss factor η multiplies the relaxed stiffness alone: G(s)K̃ becomes
+//! G(s)(1 + iη)K̃ in the upper half plane (`ScaledModel::relaxation`), the
+//! force and the foundation staying elastic. The basis above splits K̃ and
+//! nothing else, so the factorisation holds with Q = (1 + iη)G·P in E_j, and
+//! the secular paths built on these blocks take (1 + iη)G(s) in place of
+//! G(s) ([`Modulus`]). The starts are the reference's: the oscillatory root
+//! of the one-term family s² + c̃s + a + b(1 + iη)G(s) = 0
+//! (`hysteretic_family_roots_into`); there are no real poles to ask for, as
+//! in the reference (`coupled::general_path`). Checked against the coupled
+//! reference in `tests/beam_loss_factor_blocks.rs`.
+//!
 //! # Accuracy
 //! The block entries are a few rounded operations on the element entries.
 //! The bending eigenvalue is the Schur complement K_uu − K_uv²/K_vv ∝ sin⁴(φ/2),
@@ -72,9 +84,10 @@
 
 use num_complex::Complex64;
 
+use crate::beam::fast::jet::Modulus;
 use crate::beam::fe::element;
 use crate::beam::fe::model::UnitMesh;
-use crate::beam::solve::family::{family_roots_into, Roots, REAL_TOL};
+use crate::beam::solve::family::{hysteretic_family_roots_into, Roots, REAL_TOL};
 use crate::beam::spec::Support;
 
 /// Largest residual ‖W⁻¹A U_j − U_j B_j‖∞ / ‖W⁻¹A‖-scale accepted for the
@@ -261,13 +274,13 @@ impl AxialBlocks {
     /// `false` when the path declines or a root search fails its tests (the
     /// caller then runs the reference).
     #[allow(clippy::too_many_arguments)]
-    pub fn family_roots(
+    pub(crate) fn family_roots(
         &self,
         t: f64,
         axial: f64,
         foundation: f64,
         c: f64,
-        ivs: &[(f64, f64)],
+        modulus: Modulus,
         n_modes: usize,
         all: bool,
         scratch: &mut Vec<Bending>,
@@ -283,7 +296,7 @@ impl AxialBlocks {
         for (b, out) in scratch.iter().zip(roots.iter_mut()) {
             let mm = b.m.form(b.x);
             let (a1, b1) = (b.n.form(b.x) / mm, b.k.form(b.x) / mm);
-            if family_roots_into(a1, b1, c, ivs, &mut starts).is_err() {
+            if hysteretic_family_roots_into(a1, b1, c, modulus.ivs, modulus.loss, &mut starts).is_err() {
                 return false;
             }
             // Real poles are left to the reference: every family has one near
@@ -298,7 +311,7 @@ impl AxialBlocks {
             // real starts never reach here (they end the path above), so
             // every start is an oscillatory pair's
             for &s0 in starts.iter().filter(|s| s.im > 0.0) {
-                let Some(s) = newton(b, c, ivs, s0) else { return false };
+                let Some(s) = newton(b, c, modulus, s0) else { return false };
                 if !accept_pair(s0, s, &mut found, &mut nfound, &mut fam) {
                     return false;
                 }
@@ -345,7 +358,8 @@ impl Jet {
 }
 
 /// E_j(s) and E_j′(s) (module doc).
-fn family_function(b: &Bending, c: f64, ivs: &[(f64, f64)], s: Complex64) -> Jet {
+fn family_function(b: &Bending, c: f64, modulus: Modulus, s: Complex64) -> Jet {
+    let ivs = modulus.ivs;
     let sj = Jet { v: s, d: Complex64::new(1.0, 0.0) };
     // P = Πᵢ(s + Ωᵢ); Q = P + Σᵢ Δᵢ s Π_{k≠i}(s + Ωₖ) = G·P
     let mut p = Jet::c(1.0);
@@ -361,6 +375,11 @@ fn family_function(b: &Bending, c: f64, ivs: &[(f64, f64)], s: Complex64) -> Jet
             }
         }
         q = q.add(term);
+    }
+    if modulus.loss != 0.0 {
+        // the hysteretic modulus G(s)(1 + iη) (`jet::Modulus`): Q = G·P times (1 + iη)
+        let h = Complex64::new(1.0, modulus.loss);
+        q = Jet { v: q.v * h, d: q.d * h };
     }
     let pp = sj.mul(sj.add(Jet::c(c))).mul(p);
     let entry = |m: f64, k: f64, n: f64| pp.scale(m).add(q.scale(k)).add(p.scale(n));
@@ -424,14 +443,15 @@ pub(crate) fn oscillatory_pairs(
 /// The families 1..=n_modes of a secular path (`spring_spectrum.rs`,
 /// `mass_blocks.rs`) into `roots`. `family(r0)` gives family r0 + 1's
 /// one-term forms (a, b, damping) and what its Newton step needs (the
-/// removed blocks); its starts come from `family_roots_into`, the path
+/// removed blocks); its starts come from `hysteretic_family_roots_into`
+/// with `modulus`'s loss factor (the coupled reference's starts), the path
 /// declines on a real start when `all` (real poles are left to the
 /// reference), and its oscillatory pairs come from [`oscillatory_pairs`]
 /// with `step(context, s)`. `false` when any part declines.
 pub(crate) fn secular_families<R>(
     n_modes: usize,
     all: bool,
-    ivs: &[(f64, f64)],
+    modulus: Modulus,
     roots: &mut Vec<Roots>,
     mut family: impl FnMut(usize) -> Option<((f64, f64, f64), R)>,
     mut step: impl FnMut(&R, Complex64) -> Complex64,
@@ -445,7 +465,7 @@ pub(crate) fn secular_families<R>(
     let mut starts = Roots::default();
     for (r0, out) in roots.iter_mut().enumerate().take(n_modes) {
         let Some(((a1, b1, damping), context)) = family(r0) else { return false };
-        if family_roots_into(a1, b1, damping, ivs, &mut starts).is_err() {
+        if hysteretic_family_roots_into(a1, b1, damping, modulus.ivs, modulus.loss, &mut starts).is_err() {
             return false;
         }
         if all && starts.iter().any(|s| s.im == 0.0) {
@@ -460,9 +480,9 @@ pub(crate) fn secular_families<R>(
 }
 
 /// Newton on E_j from `s0`; `None` without convergence.
-fn newton(b: &Bending, c: f64, ivs: &[(f64, f64)], s0: Complex64) -> Option<Complex64> {
+fn newton(b: &Bending, c: f64, modulus: Modulus, s0: Complex64) -> Option<Complex64> {
     newton_from(s0, |s| {
-        let e = family_function(b, c, ivs, s);
+        let e = family_function(b, c, modulus, s);
         e.v / e.d
     })
 }

@@ -89,6 +89,39 @@ impl<T: Num> Jet<T> {
     }
 }
 
+/// The modulus the secular paths relax the stiffness by: the internal
+/// variables' G(s) times (1 + iη) with a hysteretic loss factor η ≥ 0, as
+/// the coupled reference takes it (`ScaledModel::relaxation`: the modulus
+/// of positive frequencies, valid in the upper half plane where the
+/// oscillatory poles are found; a loss factor has no real poles). Only the
+/// relaxed stiffness K̃ carries it: the springs, the axial force and the
+/// foundation are elastic (`fe::scaling`'s module doc).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Modulus<'a> {
+    /// (Δᵢ, Ω̃ᵢ) of the active internal variables.
+    pub(crate) ivs: &'a [(f64, f64)],
+    /// η (0: none).
+    pub(crate) loss: f64,
+}
+
+impl<'a> Modulus<'a> {
+    /// The modulus of the internal variables alone (η = 0).
+    pub(crate) fn relaxed(ivs: &'a [(f64, f64)]) -> Self {
+        Modulus { ivs, loss: 0.0 }
+    }
+
+    /// G(s)(1 + iη) and its derivative at `s`; exactly [`relaxation`]'s
+    /// bits when η = 0.
+    pub(crate) fn at(&self, s: Complex64) -> Jet<Complex64> {
+        let g = relaxation(self.ivs, s);
+        if self.loss == 0.0 {
+            return g;
+        }
+        let h = Complex64::new(1.0, self.loss);
+        Jet { v: g.v * h, d: g.d * h }
+    }
+}
+
 /// G(s) = 1 + Σᵢ Δᵢ s/(s + Ω̃ᵢ) and G′(s) = Σᵢ Δᵢ Ω̃ᵢ/(s + Ω̃ᵢ)² of the internal
 /// variables `ivs` = (Δᵢ, Ω̃ᵢ) (`model.rs`: the relaxation factor of the
 /// stiffness).

@@ -73,7 +73,7 @@ use num_complex::Complex64;
 
 use crate::beam::fast::axial_spectrum::{secular_families, AxialBlocks};
 use crate::beam::fast::continuum_tail::MassTail;
-use crate::beam::fast::jet::relaxation;
+use crate::beam::fast::jet::Modulus;
 use crate::beam::fast::secular::{certified_eigenvalue, Block};
 use crate::beam::fast::spring_spectrum::{Jet, Num};
 use crate::beam::fe::element;
@@ -218,7 +218,7 @@ impl MassScratch {
     pub(crate) fn family_roots(
         &self,
         c: f64,
-        ivs: &[(f64, f64)],
+        modulus: Modulus,
         n_modes: usize,
         all: bool,
         roots: &mut Vec<Roots>,
@@ -228,8 +228,8 @@ impl MassScratch {
             let (a1, b1, beam_share) = self.one_term(lambda)?;
             Some(((a1, b1, c * beam_share), (removed, nr)))
         };
-        let step = |&(removed, nr): &([usize; 2], usize), s| newton_step(self, c, ivs, &removed[..nr], s);
-        secular_families(n_modes, all, ivs, roots, family, step)
+        let step = |&(removed, nr): &([usize; 2], usize), s| newton_step(self, c, modulus, &removed[..nr], s);
+        secular_families(n_modes, all, modulus, roots, family, step)
     }
 
     /// (a, b, c_x/c̃) of the one-term family of the eigenvector of λ (module doc).
@@ -330,13 +330,13 @@ impl AxialBlocks {
     /// oscillatory pairs only. `false` when the path declines (module doc):
     /// the caller then runs the reference.
     #[allow(clippy::too_many_arguments)]
-    pub fn mass_family_roots(
+    pub(crate) fn mass_family_roots(
         &self,
         t: f64,
         (axial, foundation): (f64, f64),
         (mass, x): (f64, f64),
         c: f64,
-        ivs: &[(f64, f64)],
+        modulus: Modulus,
         n_modes: usize,
         all: bool,
         scratch: &mut MassScratch,
@@ -345,7 +345,7 @@ impl AxialBlocks {
         if n_modes == 0 || !self.mass_setup(t, (axial, foundation), mass, x, n_modes, scratch) {
             return false;
         }
-        scratch.family_roots(c, ivs, n_modes, all, roots)
+        scratch.family_roots(c, modulus, n_modes, all, roots)
     }
 
     /// The lowest `n_modes` eigenvalues of the undamped relaxed pencil
@@ -368,10 +368,10 @@ impl AxialBlocks {
 
 /// The Newton step g/g′ of g(s) (module doc) at `s`; the iteration and its
 /// stopping rule are `axial_spectrum.rs`'s ([`secular_families`]).
-fn newton_step(scratch: &MassScratch, c: f64, ivs: &[(f64, f64)], removed: &[usize], s: Complex64) -> Complex64 {
+fn newton_step(scratch: &MassScratch, c: f64, modulus: Modulus, removed: &[usize], s: Complex64) -> Complex64 {
     let p = Jet { v: s * (s + c), d: 2.0 * s + c };
     let s2 = Jet { v: s * s, d: 2.0 * s };
-    let (e, _) = scratch.secular::<Complex64>(p, relaxation(ivs, s), s2, removed);
+    let (e, _) = scratch.secular::<Complex64>(p, modulus.at(s), s2, removed);
     e.v / e.d
 }
 

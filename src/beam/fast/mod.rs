@@ -27,6 +27,9 @@
 //! - `mass_blocks`: a point mass with viscous damping, an axial force or
 //!   internal variables (a rank-1 update, one scalar secular function per
 //!   pole);
+//! - `axial_spectrum`, `spring_spectrum`, `spring_mass` and `mass_blocks`
+//!   take a hysteretic loss factor as well (G(s)(1 + iη) in every block,
+//!   `jet::Modulus`; `axial_spectrum`'s module doc);
 //! - `shear_blocks`: the Timoshenko mesh as a mirror mesh split into 5 × 5
 //!   blocks bordered by χ₀, χ_L, s_L (det T̃(s) as block determinants times
 //!   a 3 × 3 Schur complement, the order by Haynsworth's inertia), and
@@ -38,7 +41,7 @@
 //!   (the mesh's continuum limit, within the mesh's discretisation error),
 //!   with `continuum_tail` (the blocks beyond the kept ones in closed form);
 //! - `jet`: a value and its derivative over f64 or Complex64, for the
-//!   secular functions.
+//!   secular functions, and the modulus G(s)(1 + iη) they relax K̃ by.
 //!
 //! - `gradient_blocks`: the strain gradient (l > 0, the C² mesh of
 //!   `fe::model::GradientMesh`) on a uniform simply supported mesh without

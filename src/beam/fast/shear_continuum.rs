@@ -112,7 +112,7 @@ use crate::beam::fast::axial_spectrum::{oscillatory_pairs, Sym2};
 #[cfg(doc)]
 use crate::beam::fast::continuum_tail::TAIL_TERMS;
 use crate::beam::fast::continuum_tail::{tail_consts, MassTail, SpringTail, TailPencil, MAX_BLOCKS, TAIL_RATIO};
-use crate::beam::fast::jet::relaxation;
+use crate::beam::fast::jet::{relaxation, Modulus};
 use crate::beam::fast::mass_blocks::MassScratch;
 use crate::beam::fast::secular::{block_spectrum, Block};
 use crate::beam::fast::spring_spectrum::{Jet, SpringScratch};
@@ -347,7 +347,7 @@ pub fn spring_family_roots(
     }
     scratch.tail = Some(tail(j_max));
     scratch.partial_fractions();
-    scratch.family_roots(0.0, ivs, n_modes, all, roots)
+    scratch.family_roots(0.0, Modulus::relaxed(ivs), n_modes, all, roots)
 }
 
 /// The poles of families 1..=n_modes (scaled units) of the continuum beam
@@ -397,7 +397,7 @@ pub fn mass_family_roots(
     scratch.mass = mass;
     let pencil = TailPencil { t: p.e2, g: p.shear, r2: p.r2 };
     scratch.tail = Some(MassTail { pencil, c: 1.0 - 2.0 * x, j_max });
-    scratch.family_roots(0.0, ivs, n_modes, all, roots)
+    scratch.family_roots(0.0, Modulus::relaxed(ivs), n_modes, all, roots)
 }
 
 /// The blocks j = 0..=J of `p` (module doc) and their spectrum into

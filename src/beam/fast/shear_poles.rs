@@ -5,6 +5,7 @@
 use num_complex::Complex64;
 
 use crate::beam::fast::axial_spectrum::secular_families;
+use crate::beam::fast::jet::Modulus;
 use crate::beam::fast::secular::CERTIFY_GAP;
 use crate::beam::fast::shear_blocks::ShearPencil;
 use crate::beam::linalg::dual::Dual;
@@ -41,7 +42,8 @@ pub fn family_roots(
         Some(det) => det.v / det.d,
         None => Complex64::new(f64::NAN, f64::NAN),
     };
-    secular_families(n_modes, all, ivs, roots, family, step)
+    // a loss factor is not taken on the Timoshenko paths (`modal.rs`)
+    secular_families(n_modes, all, Modulus::relaxed(ivs), roots, family, step)
 }
 
 /// The coefficients (s², s c̃, G(s), 1) at s with G = 1 + Σᵢ Δᵢ s/(s + Ωᵢ),

@@ -80,7 +80,7 @@
 use num_complex::Complex64;
 
 use crate::beam::fast::axial_spectrum::{secular_families, AxialBlocks};
-use crate::beam::fast::jet::relaxation;
+use crate::beam::fast::jet::Modulus;
 use crate::beam::fast::mass_blocks::MassScratch;
 use crate::beam::fast::secular::{certified_eigenvalue, RESIDUE_GAP};
 use crate::beam::fast::spring_spectrum::{Jet, Num};
@@ -376,7 +376,7 @@ impl SpringMassScratch {
 
     /// The poles of families 1..=n_modes into `roots` (every pole when
     /// `all`, else the oscillatory pairs); `false` when the path declines.
-    fn family_roots(&self, c: f64, ivs: &[(f64, f64)], n_modes: usize, all: bool, roots: &mut Vec<Roots>) -> bool {
+    fn family_roots(&self, c: f64, modulus: Modulus, n_modes: usize, all: bool, roots: &mut Vec<Roots>) -> bool {
         let family = |r0| {
             let lambda = self.eigenvalue(r0)?;
             let (a1, b1, beam_share) = self.one_term(lambda)?;
@@ -385,10 +385,10 @@ impl SpringMassScratch {
         let step = |&removed: &(usize, usize), s: Complex64| {
             let p = Jet { v: s * (s + c), d: 2.0 * s + c };
             let s2 = Jet { v: s * s, d: 2.0 * s };
-            let e = self.secular::<Complex64>(p, relaxation(ivs, s), s2, removed);
+            let e = self.secular::<Complex64>(p, modulus.at(s), s2, removed);
             e.v / e.d
         };
-        secular_families(n_modes, all, ivs, roots, family, step)
+        secular_families(n_modes, all, modulus, roots, family, step)
     }
 }
 
@@ -509,13 +509,13 @@ impl AxialBlocks {
     /// oscillatory pairs only. `false` when the path declines (module doc):
     /// the caller then runs the reference.
     #[allow(clippy::too_many_arguments)]
-    pub fn spring_mass_family_roots(
+    pub(crate) fn spring_mass_family_roots(
         &self,
         t: f64,
         spring: [f64; 2],
         mass: (f64, f64),
         c: f64,
-        ivs: &[(f64, f64)],
+        modulus: Modulus,
         n_modes: usize,
         all: bool,
         scratch: &mut SpringMassScratch,
@@ -524,7 +524,7 @@ impl AxialBlocks {
         if n_modes == 0 || !self.spring_mass_setup(t, spring, mass, n_modes, scratch) {
             return false;
         }
-        scratch.family_roots(c, ivs, n_modes, all, roots)
+        scratch.family_roots(c, modulus, n_modes, all, roots)
     }
 
     /// The lowest `n_modes` eigenvalues of the undamped relaxed pencil from

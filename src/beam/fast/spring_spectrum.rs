@@ -115,8 +115,7 @@ use num_complex::Complex64;
 
 use crate::beam::fast::axial_spectrum::{secular_families, AxialBlocks, Sym2};
 use crate::beam::fast::continuum_tail::SpringTail;
-use crate::beam::fast::jet::relaxation;
-pub(crate) use crate::beam::fast::jet::{Jet, Num};
+pub(crate) use crate::beam::fast::jet::{Jet, Modulus, Num};
 use crate::beam::fast::secular::{block_spectrum, certified_eigenvalue, Block};
 use crate::beam::solve::family::Roots;
 
@@ -496,7 +495,7 @@ impl SpringScratch {
     pub(crate) fn family_roots(
         &self,
         c: f64,
-        ivs: &[(f64, f64)],
+        modulus: Modulus,
         n_modes: usize,
         all: bool,
         roots: &mut Vec<Roots>,
@@ -506,8 +505,8 @@ impl SpringScratch {
             let (a1, b1) = self.one_term(lambda)?;
             Some(((a1, b1, c), (removed, nr)))
         };
-        let step = |&(removed, nr): &([usize; 3], usize), s| newton_step(self, c, ivs, &removed[..nr], s);
-        secular_families(n_modes, all, ivs, roots, family, step)
+        let step = |&(removed, nr): &([usize; 3], usize), s| newton_step(self, c, modulus, &removed[..nr], s);
+        secular_families(n_modes, all, modulus, roots, family, step)
     }
 
     /// [`Self::one_term`] from the flexibility F(λ) and F′(λ).
@@ -603,13 +602,13 @@ impl AxialBlocks {
     /// when `all`, else the oscillatory pairs only. `false` when the path
     /// declines (module doc): the caller then runs the reference.
     #[allow(clippy::too_many_arguments)]
-    pub fn spring_family_roots(
+    pub(crate) fn spring_family_roots(
         &self,
         t: f64,
         (axial, foundation): (f64, f64),
         spring: [f64; 2],
         c: f64,
-        ivs: &[(f64, f64)],
+        modulus: Modulus,
         n_modes: usize,
         all: bool,
         scratch: &mut SpringScratch,
@@ -618,7 +617,7 @@ impl AxialBlocks {
         if n_modes == 0 || !self.spring_setup(t, (axial, foundation), spring, n_modes, scratch) {
             return false;
         }
-        scratch.family_roots(c, ivs, n_modes, all, roots)
+        scratch.family_roots(c, modulus, n_modes, all, roots)
     }
 
     /// The lowest `n_modes` eigenvalues of the undamped relaxed pencil
@@ -641,9 +640,9 @@ impl AxialBlocks {
 
 /// The Newton step g/g′ of g(s) (module doc) at `s`; the iteration and its
 /// stopping rule are `axial_spectrum.rs`'s ([`secular_families`]).
-fn newton_step(scratch: &SpringScratch, c: f64, ivs: &[(f64, f64)], removed: &[usize], s: Complex64) -> Complex64 {
+fn newton_step(scratch: &SpringScratch, c: f64, modulus: Modulus, removed: &[usize], s: Complex64) -> Complex64 {
     let p = Jet { v: s * (s + c), d: 2.0 * s + c };
-    let e = scratch.secular::<Complex64>(p, relaxation(ivs, s), removed);
+    let e = scratch.secular::<Complex64>(p, modulus.at(s), removed);
     e.v / e.d
 }
 
