@@ -107,9 +107,10 @@ use crate::beam::spec::{BeamSpec, Support, MAX_INTERNAL_VARIABLES};
 /// a hysteretic loss factor too (whose poles are the oscillatory pairs
 /// alone, so [`Self::modal`] as well). So does a strain gradient (the C² mesh) on a simply
 /// supported mesh without springs or a point mass, with or without damping,
-/// internal variables, an axial force, a foundation or a loss factor (not
-/// beside a force): one 3 × 3 block per wavenumber (`gradient_blocks.rs`;
-/// with a force [`Self::modal`] only without internal variables). The other coupled
+/// internal variables, an axial force, a foundation or a loss factor: one
+/// 3 × 3 block per wavenumber (`gradient_blocks.rs`; with a force
+/// [`Self::modal`] only without internal variables, unless a loss factor
+/// leaves no real poles to ask for). The other coupled
 /// extensions (springs on other supports or with shear, point mass with C > 0, axial force on other supports
 /// or with shear, Timoshenko with C > 0) keep the RQI path: their poles need nonlinear RQI on T(s) whatever the pencil
 /// start costs (see `general_path`), and the pencil depends on 2–3 parameters.
@@ -341,11 +342,6 @@ impl ModalSolver {
             if beam.point_mass.is_some() || mesh.springs(&sc.spring).next().is_some() || n_modes == 0 {
                 return None;
             }
-            // a loss factor beside the force takes the coupled reference (the
-            // blocks' RQI here has no hysteretic modulus, unlike the cubic mesh's)
-            if sc.axial != 0.0 && beam.loss_factor != 0.0 {
-                return None;
-            }
             let Self { gradient_blocks, gradient_scratch, roots, lambdas, .. } = self;
             let blocks = gradient_blocks.get_or_insert_with(|| GradientBlocks::new(mesh)).as_ref()?;
             let (ivs, nv) = scaled_relaxations(beam, sc.omega_ref);
@@ -361,7 +357,8 @@ impl ModalSolver {
             } else {
                 let p = GradientPencil { t, gradient: l2, axial: sc.axial, foundation: sc.foundation };
                 let all = poles == Poles::All;
-                if !blocks.family_roots(&p, sc.c, &ivs[..nv], n_modes, all, gradient_scratch, roots) {
+                let modulus = Modulus { ivs: &ivs[..nv], loss: beam.loss_factor };
+                if !blocks.family_roots(&p, sc.c, modulus, n_modes, all, gradient_scratch, roots) {
                     return None;
                 }
             }

@@ -69,8 +69,10 @@
 //! energy sums as the reference's `family_approximations` forms them) and
 //! with its acceptance tests (`axial_spectrum::accept_pair`). Its real poles
 //! are left to the reference (`modal` with internal variables declines; the
-//! oscillatory `observables` take the path), and so is a loss factor beside
-//! a force (the coupled reference's hysteretic RQI).
+//! oscillatory `observables` take the path). A loss factor beside a force
+//! multiplies G(s) by (1 + iη) in the block and in the functional, from the
+//! reference's hysteretic one-term starts (`jet::Modulus`; the cubic mesh's
+//! blocks alike, `axial_spectrum.rs`).
 //!
 //! # Accuracy
 //! The block's bending eigenvector comes from three steps of
@@ -103,10 +105,10 @@
 use num_complex::Complex64;
 
 use crate::beam::fast::axial_spectrum::{accept_pair, INVARIANCE_TOL};
-use crate::beam::fast::jet::{relaxation, Num};
+use crate::beam::fast::jet::{Modulus, Num};
 use crate::beam::fe::element::{self, Mat6, GRADIENT_DPN};
 use crate::beam::fe::model::UnitMesh;
-use crate::beam::solve::family::{family_roots_into, Roots};
+use crate::beam::solve::family::{hysteretic_family_roots_into, Roots};
 use crate::beam::spec::Support;
 
 /// The stop of [`GradientBlocks::rqi`]: a move ≤ 1e-10·|s| (the vector was
@@ -421,7 +423,7 @@ impl GradientBlocks {
         &self,
         p: &GradientPencil,
         c: f64,
-        ivs: &[(f64, f64)],
+        modulus: Modulus,
         n_modes: usize,
         all: bool,
         scratch: &mut Vec<GradientBending>,
@@ -440,7 +442,7 @@ impl GradientBlocks {
             let [k2, m0, m1, k3] = self.forms(b.j, b.x);
             let mm = m0 + p.t * m1;
             let (a1, b1) = ((p.axial * (m1 + p.t * k2) + p.foundation * mm) / mm, (k2 + p.gradient * k3) / mm);
-            if family_roots_into(a1, b1, c, ivs, &mut starts).is_err() {
+            if hysteretic_family_roots_into(a1, b1, c, modulus.ivs, modulus.loss, &mut starts).is_err() {
                 return false;
             }
             if all && starts.iter().any(|s| s.im == 0.0) {
@@ -448,7 +450,7 @@ impl GradientBlocks {
             }
             let mut fam = Roots::default();
             for &s0 in starts.iter().filter(|s| s.im > 0.0) {
-                let Some(s) = self.rqi(p, b, c, ivs, s0) else {
+                let Some(s) = self.rqi(p, b, c, modulus, s0) else {
                     return false;
                 };
                 if !accept_pair(s0, s, &mut found, &mut nfound, &mut fam) {
@@ -484,12 +486,12 @@ impl GradientBlocks {
         p: &GradientPencil,
         b: &GradientBending,
         c: f64,
-        ivs: &[(f64, f64)],
+        modulus: Modulus,
         s0: Complex64,
     ) -> Option<Complex64> {
         let mut s = s0;
         for _ in 0..RQI_MAX_STEPS {
-            let g = relaxation(ivs, s).v;
+            let g = modulus.at(s).v;
             let t: [[Complex64; 3]; 3] =
                 std::array::from_fn(|i| std::array::from_fn(|j| s * (s + c) * b.m[i][j] + g * b.k[i][j] + b.n[i][j]));
             // cofactor (i, j): the minor without row i and column j, signed
@@ -518,7 +520,7 @@ impl GradientBlocks {
             let start = s;
             let mut converged = false;
             for _ in 0..30 {
-                let rel = relaxation(ivs, s);
+                let rel = modulus.at(s);
                 let f = s * s + s * c + a1 + b1 * rel.v;
                 let df = s * 2.0 + c + b1 * rel.d;
                 let step = f / df;

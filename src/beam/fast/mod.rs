@@ -47,15 +47,14 @@
 //!   `fe::model::GradientMesh`) on a uniform simply supported mesh without
 //!   springs or a point mass: 3 × 3 blocks (w, w′, w″ per node), with or
 //!   without relaxations, viscous damping, an axial force, a foundation, a
-//!   loss factor (not beside a force); the eigenvalues and the poles'
-//!   functional by Gauss energy sums on the block vector.
+//!   loss factor; the eigenvalues and the poles' functional by Gauss energy
+//!   sums on the block vector.
 //!
 //! Only `gradient_blocks` holds a strain gradient: every other path was
 //! derived for the fourth-order operator on the cubic (or Timoshenko) mesh
 //! and declines the C² mesh (the dispatch sends it to `gradient_blocks`
 //! first); a strain-gradient beam off that path's hypotheses (clamped or
-//! free ends, springs, a point mass, a loss factor beside a force) takes the
-//! reference solvers of `solve`.
+//! free ends, springs, a point mass) takes the reference solvers of `solve`.
 //!
 //! Invariant: used only by the dispatch (`beam::modal`) and by the beam's
 //! face for the certificates tests read; `tests/tidy.rs` holds every room of
