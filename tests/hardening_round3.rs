@@ -322,7 +322,7 @@ fn cases() -> Vec<Case> {
     // the numbering's refusals: two lines fit two numberings (546 characters
     // with the prior's description), a stated first mode no beam fits (396)
     for (extra, start) in [
-        (vec![], "invalid --first-mode = '': allowed a numbering the prior decides: lines from 9.300e11 rad/s fit both modes 1, 2 and 1, 3 of its beams; "),
+        (vec![], "invalid --first-mode = '': allowed a numbering the prior decides: lines from 1.480e11 Hz fit both modes 1, 2 and 1, 3 of its beams; "),
         (vec!["--first-mode", "9"], "invalid --first-mode = 9: allowed a lowest-mode number some beam of the prior fits, e.g. 1 "),
     ] {
         let mut args = vec!["identify", "rec.csv", "--beam", "beam.yaml"];

@@ -229,10 +229,11 @@ fn hz_terms(e: IdentifyError, text: &str) -> IdentifyError {
 }
 
 /// Every frequency written `X rad/s` in `e`'s value and allowed part shown
-/// in Hz when the record's abscissa is `frequency_hz` (the numbering's
-/// refusals: "lines from 1.480e11 Hz fit both …"; issue 69).
+/// in Hz when the record's abscissa is `frequency_hz` or `time_s` (the
+/// numbering's refusals: "lines from 1.480e11 Hz fit both …"; issue 69: the
+/// user of a record in Hz or in seconds never wrote rad/s).
 fn hz_values(mut e: InputError, text: &str) -> InputError {
-    if in_hz(text) {
+    if in_hz(text) || header_names(text).first().is_some_and(|c| c == "time_s") {
         for part in [&mut e.value, &mut e.allowed] {
             *part = rad_s_as_hz(part);
         }
